@@ -1,0 +1,33 @@
+"""drivetrain: size and analyse servo axes.
+
+Describe a load, the mechanism that moves it, the transmission and the motion; drivetrain
+computes what the motor must deliver, checks motors and gearboxes with every margin, and
+analyses the axis's dynamics. Heavy modules load on first use, so ``import drivetrain`` is fast.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+__version__ = "0.1.0"
+
+if TYPE_CHECKING:
+    from drivetrain.axis import Axis
+    from drivetrain.sizing import SizingResult
+
+
+def load_axis(path: str) -> Axis:
+    """Read and validate an axis file into an SI ``Axis``."""
+    from drivetrain.axis import load_axis as _load
+
+    return _load(path)
+
+
+def size(axis: Any, points_per_phase: int = 64) -> SizingResult:
+    """Size an axis (an ``Axis``, a mapping of the axis file, or a path to one)."""
+    from drivetrain.sizing import size as _size
+
+    return _size(axis, points_per_phase)
+
+
+__all__ = ["__version__", "load_axis", "size"]

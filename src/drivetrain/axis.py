@@ -1,0 +1,316 @@
+"""The axis file (YAML, v1): pydantic models that validate it, and the SI ``Axis`` it loads into.
+
+See docs/axis-file.md for every key, with one example per mechanism. Bad input raises
+``InputError`` naming the field path (``mechanism.load.mass: must be > 0 kg, got -3 kg``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal
+
+from pydantic import Field, ValidationError, model_validator
+
+from drivetrain.efficiency import EfficiencyModel
+from drivetrain.errors import InputError
+from drivetrain.fields import (
+    Acceleration,
+    ForcePos,
+    Inertia,
+    InertiaPos,
+    Length,
+    LengthAny,
+    Spec,
+    SpeedPos,
+    TorquePos,
+    Voltage,
+    input_error_from_pydantic,
+)
+from drivetrain.loads import G_STANDARD
+from drivetrain.mechanisms import Mechanism, MechanismSpec
+from drivetrain.stage import Stage, chain_inertia
+from drivetrain.transmission import TransmissionSpec
+
+if TYPE_CHECKING:
+    from drivetrain.profiles import Cycle
+
+MAX_FILE_BYTES = 1_000_000
+"""Largest axis file accepted [bytes]: a real axis is a few kB."""
+MAX_ALIASES = 100
+"""YAML aliases allowed: enough for shared blocks, far too few for an alias bomb."""
+MAX_NODES = 100_000
+
+
+
+class Margins(Spec):
+    """Safety factors and limits the user sets: required x factor must not exceed the available."""
+
+    torque: float = Field(default=1.0, ge=1.0, le=10.0)
+    rms_torque: float | None = Field(default=None, ge=1.0, le=10.0)
+    speed: float = Field(default=1.0, ge=1.0, le=10.0)
+    inertia_ratio: float = Field(default=5.0, gt=0.0, le=1000.0)
+
+
+class SelectSpec(Spec):
+    """``motor: {select: {...}}``: pick motors (and gearbox ratios) from the catalog."""
+
+    catalog: Literal["builtin", "user", "all"] = "all"
+    kind: Literal["ac_servo", "small_dc", "any"] = "ac_servo"
+    vendor: list[str] | str | None = None
+    voltage: Voltage | None = None
+    flange: Length | None = None
+    gearbox: Literal["auto", "none", "only"] = "auto"
+    gearbox_series: list[str] | str | None = None
+    max_inertia_ratio: float | None = Field(default=None, gt=0.0)
+    objective: Literal["smallest", "rms_utilisation", "inertia_match", "energy"] = "smallest"
+    top: int = Field(default=10, ge=1, le=1000)
+
+
+class MotorSpec(Spec):
+    """``motor:``: a given motor by its parameters or catalog id, or a catalog selection."""
+
+    name: str | None = None
+    id: str | None = None
+    inertia: InertiaPos | None = None
+    rated_torque: TorquePos | None = None
+    stall_torque: TorquePos | None = None
+    peak_torque: TorquePos | None = None
+    rated_speed: SpeedPos | None = None
+    max_speed: SpeedPos | None = None
+    select: SelectSpec | None = None
+    margins: Margins = Margins()
+
+    @model_validator(mode="after")
+    def _complete(self) -> MotorSpec:
+        if self.select is not None or self.id is not None:
+            return self
+        missing = [k for k in ("inertia", "rated_torque", "peak_torque", "max_speed") if getattr(self, k) is None]
+        if missing:
+            raise ValueError(f"a given motor needs {', '.join(missing)} (or an id from the catalog, or select)")
+        if self.peak_torque is not None and self.rated_torque is not None and self.peak_torque < self.rated_torque:
+            raise ValueError("peak_torque must be >= rated_torque")
+        return self
+
+
+class GuideSpec(Spec):
+    """Linear guide / actuator carriage: load offsets and ratings for the moment-load check.
+
+    Lecture, linear actuators: M_p = F_x (l_z + d_p), M_r = F_z l_y, M_y = F_x l_y.
+    """
+
+    l_x: LengthAny = 0.0
+    l_y: LengthAny = 0.0
+    l_z: LengthAny = 0.0
+    d_p: LengthAny = 0.0
+    d_r: LengthAny = 0.0
+    orientation: Literal["horizontal", "vertical", "wall"] = "horizontal"
+    rated_force: ForcePos | None = None
+    rated_pitch_moment: TorquePos | None = None
+    rated_roll_moment: TorquePos | None = None
+    rated_yaw_moment: TorquePos | None = None
+
+
+class AxisSpec(Spec):
+    """The whole axis file."""
+
+    axis: str = "axis"
+    gravity: Acceleration = G_STANDARD
+    efficiency_model: Literal["four_quadrant", "load_torque_only"] = "four_quadrant"
+    mechanism: MechanismSpec
+    transmission: list[TransmissionSpec] = []
+    profile: list[dict[str, Any]] = []
+    motor: MotorSpec | None = None
+    guide: GuideSpec | None = None
+    dynamics: dict[str, Any] | None = None
+    extra_inertia: Inertia = 0.0
+
+
+@dataclass(frozen=True)
+class MotorData:
+    """A motor in SI: inertia [kg m^2], torques [N m], speeds [rad/s]."""
+
+    name: str
+    inertia: float
+    rated_torque: float
+    peak_torque: float
+    rated_speed: float
+    max_speed: float
+    stall_torque: float | None = None
+    approximate_envelope: bool = True
+    source: str = "axis file"
+
+
+@dataclass(frozen=True)
+class Axis:
+    """An axis in SI, ready for the duty cycle, sizing and dynamics.
+
+    ``stages`` run from the motor outward: the transmission elements, then the mechanism's stage.
+    """
+
+    name: str
+    gravity: float
+    efficiency_model: EfficiencyModel
+    mechanism: Mechanism
+    transmission: tuple[Stage, ...]
+    spec: AxisSpec
+    motor: MotorData | None = None
+    raw: dict[str, Any] = field(default_factory=dict, compare=False)
+
+    @property
+    def stages(self) -> tuple[Stage, ...]:
+        """Transmission stages then the mechanism, from the motor outward."""
+        return (*self.transmission, self.mechanism.stage)
+
+    @property
+    def total_ratio(self) -> float:
+        """Motor angle per load travel: product of ratios [-] or [rad/m]."""
+        return math.prod(s.ratio for s in self.stages)
+
+    @property
+    def load_inertia(self) -> float:
+        """Everything but the motor, at the motor shaft [kg m^2]."""
+        return chain_inertia(list(self.stages)) + self.spec.extra_inertia
+
+    def cycle(self) -> Cycle:
+        """The motion profile as an exact cycle (InputError naming ``profile[i]`` if impossible)."""
+        from drivetrain.profiles import parse_profile
+
+        if not self.spec.profile:
+            raise InputError("profile", "is empty: give at least one move", has_value=False)
+        return parse_profile(self.spec.profile, self.mechanism.motion, "profile")
+
+
+def parse_axis(data: Any) -> Axis:
+    """Validate an axis-file mapping and build the SI ``Axis``."""
+    if not isinstance(data, dict):
+        raise InputError("", "an axis file must be a mapping of keys (axis, mechanism, transmission, profile, ...)",
+                         type(data).__name__)
+    try:
+        spec = AxisSpec.model_validate(data)
+    except ValidationError as exc:
+        raise input_error_from_pydantic(exc, data) from None
+    try:
+        mechanism = spec.mechanism.build(spec.gravity)
+        stages = tuple(t.build(k) for k, t in enumerate(spec.transmission))
+    except InputError as exc:
+        raise exc.at("") from None
+    motor = _motor_data(spec.motor) if spec.motor is not None else None
+    return Axis(name=spec.axis, gravity=spec.gravity, efficiency_model=spec.efficiency_model,
+                mechanism=mechanism, transmission=stages, spec=spec, motor=motor, raw=data)
+
+
+def _motor_data(m: MotorSpec) -> MotorData | None:
+    if m.select is not None:
+        return None
+    if m.id is not None and m.inertia is None:
+        from drivetrain import catalog
+
+        row = catalog.get(m.id)
+        return motor_from_catalog_row(row, m.name)
+    assert m.inertia is not None and m.rated_torque is not None and m.peak_torque is not None
+    assert m.max_speed is not None
+    return MotorData(name=m.name or m.id or "motor", inertia=m.inertia, rated_torque=m.rated_torque,
+                     peak_torque=m.peak_torque, rated_speed=m.rated_speed or m.max_speed, max_speed=m.max_speed,
+                     stall_torque=m.stall_torque)
+
+
+def motor_from_catalog_row(row: dict[str, Any], name: str | None = None) -> MotorData:
+    """A catalog motor row (SI) as MotorData."""
+    def num(key: str) -> float:
+        value = row.get(key)
+        if value is None or (isinstance(value, float) and math.isnan(value)):
+            raise InputError("motor.id", f"catalog motor has no {key}", row.get("id"))
+        return float(value)
+
+    stall = row.get("stall_torque")
+    return MotorData(
+        name=name or str(row.get("id")), inertia=num("rotor_inertia"), rated_torque=num("rated_torque"),
+        peak_torque=num("peak_torque"), rated_speed=num("rated_speed"), max_speed=num("max_speed"),
+        stall_torque=None if stall is None or (isinstance(stall, float) and math.isnan(stall)) else float(stall),
+        source=str(row.get("source", "catalog")),
+    )
+
+
+def read_yaml(path: str | Path) -> Any:
+    """Read an axis YAML file safely: size limit, safe loader, alias-bomb and depth guards."""
+    p = Path(path)
+    try:
+        size = p.stat().st_size
+    except OSError as exc:
+        raise InputError("file", f"cannot be read ({exc.strerror})", str(path)) from None
+    if size > MAX_FILE_BYTES:
+        raise InputError("file", f"is too large ({size} bytes; an axis file is at most {MAX_FILE_BYTES} bytes)",
+                         str(path))
+    try:
+        text = p.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError("file", f"cannot be read as UTF-8 text ({exc})", str(path)) from None
+    return parse_yaml(text, str(path))
+
+
+def parse_yaml(text: str, source: str = "<text>") -> Any:
+    """Parse YAML text with the safe loader and the same limits as files."""
+    import yaml
+
+    if len(text.encode("utf-8", "replace")) > MAX_FILE_BYTES:
+        raise InputError("file", f"is too large (an axis file is at most {MAX_FILE_BYTES} bytes)", _src(source))
+    try:
+        loader = yaml.SafeLoader(text)
+        try:
+            node = loader.get_single_node()
+        finally:
+            loader.dispose()
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        raise InputError("file", f"is not valid YAML{where}: {problem}", _src(source)) from None
+    if node is None:
+        raise InputError("file", "is empty", _src(source))
+    _check_graph(node, source)
+    try:
+        return yaml.SafeLoader(text).get_single_data()
+    except yaml.YAMLError as exc:
+        raise InputError("file", f"is not valid YAML: {exc}", _src(source)) from None
+
+
+def _src(source: str | None) -> str | None:
+    return None if source is None or source.startswith("<") else source
+
+
+def _check_graph(root: Any, source: str) -> None:
+    """Refuse alias bombs: count aliases and expanded nodes before constructing Python objects."""
+    import yaml
+
+    seen_ids: dict[int, int] = {}
+    aliases = 0
+
+    def expanded(node: Any, depth: int) -> int:
+        nonlocal aliases
+        if depth > 100:
+            raise InputError("file", "is nested too deeply (over 100 levels)", _src(source))
+        key = id(node)
+        if key in seen_ids:
+            aliases += 1
+            if aliases > MAX_ALIASES:
+                raise InputError("file", f"uses more than {MAX_ALIASES} YAML aliases", _src(source))
+            return seen_ids[key]
+        if isinstance(node, yaml.MappingNode):
+            n = 1 + sum(expanded(k, depth + 1) + expanded(v, depth + 1) for k, v in node.value)
+        elif isinstance(node, yaml.SequenceNode):
+            n = 1 + sum(expanded(v, depth + 1) for v in node.value)
+        else:
+            n = 1
+        seen_ids[key] = n
+        if n > MAX_NODES:
+            raise InputError("file", f"expands to more than {MAX_NODES} values (YAML alias bomb?)", _src(source))
+        return n
+
+    expanded(root, 0)
+
+
+def load_axis(path: str | Path) -> Axis:
+    """Read and validate an axis file."""
+    return parse_axis(read_yaml(path))

@@ -1,0 +1,307 @@
+"""The duty cycle: speed, torque and power at the motor shaft over the whole repeating cycle.
+
+Data flow (design.md): profile samples of the load -> mechanism external load -> each stage
+from the load side to the motor side with the four-quadrant rule -> motor-shaft torque (rotor
+excluded) -> metrics. With a motor, its rotor adds J_M alpha.
+
+Metric definitions follow the lecture's selection pages (Yaskawa): T_rms = sqrt(sum T_k^2 t_k
+/ t_c) over the whole cycle (dwells included: ERRATA, holding torque counts unless braked),
+t_am = 2 pi N_M (J_M + J_L) / (60 (T_PM - T_L)), t_dm = ... / (60 (T_PM + T_L)),
+P_o = 2 pi N_M T_L / 60, P_a = (2 pi N_M / 60)^2 J_L / t_a.
+Integrals use the profile's quadrature weights (Simpson per phase, both ends of every phase),
+so RMS and energies of piecewise-polynomial torques are exact to rounding.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from drivetrain.mechanisms.base import LinearLoad
+from drivetrain.stage import torque_in
+from drivetrain.units import to_rpm
+
+if TYPE_CHECKING:
+    from drivetrain.axis import Axis
+    from drivetrain.profiles import Cycle, Samples
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class DutyCycle:
+    """Motor-shaft quantities over one cycle, rotor excluded (SI arrays over samples).
+
+    ``torque`` [N m] is what the load side demands at the motor shaft; ``external`` [N m] its
+    external-load part (gravity, friction, thrust, springs) without inertia; ``omega`` [rad/s]
+    and ``alpha`` [rad/s^2] the motor-shaft speed and acceleration; ``weights`` [s] the
+    quadrature weights (sum = period); ``braked`` where a brake holds the load (no motor torque).
+    ``stage_torque`` holds the output torque of every stage [N m], motor side first.
+    """
+
+    samples: Samples
+    cycle: Cycle
+    omega: Array
+    alpha: Array
+    torque: Array
+    external: Array
+    braked: NDArray[np.bool_]
+    stage_torque: tuple[Array, ...]
+    stage_omega: tuple[Array, ...]
+    load_inertia: float
+    period: float
+
+    @property
+    def t(self) -> Array:
+        """Sample times [s]."""
+        return np.asarray(self.samples.t, dtype=float)
+
+    @property
+    def weights(self) -> Array:
+        """Quadrature weights [s]; sum(weights * f) integrates f over one period."""
+        return np.asarray(self.samples.weights, dtype=float)
+
+    def motor_torque(self, rotor_inertia: float | Array) -> Array:
+        """Motor torque with the rotor [N m]: T + J_M alpha (zero where braked).
+
+        ``rotor_inertia`` may be an array over candidates (shape (M,)): the result is (M, N).
+        """
+        j = np.asarray(rotor_inertia, dtype=float)
+        t = self.torque + j[..., None] * self.alpha if j.ndim else self.torque + float(j) * self.alpha
+        return np.where(self.braked, 0.0, t)
+
+
+def duty_cycle(axis: Axis, points_per_phase: int = 64) -> DutyCycle:
+    """Compute the motor-shaft duty cycle of ``axis`` over its profile."""
+    cycle = axis.cycle()
+    samples = cycle.sample(points_per_phase)
+    return duty_from_samples(axis, cycle, samples)
+
+
+def duty_from_samples(axis: Axis, cycle: Cycle, samples: Samples) -> DutyCycle:
+    """Propagate the load's demand through the mechanism and the transmission to the motor shaft.
+
+    Vectorised over samples; a Python loop runs only over the few stages.
+    """
+    x = np.asarray(samples.x, dtype=float)
+    v = np.asarray(samples.v, dtype=float)
+    a = np.asarray(samples.a, dtype=float)
+    direction = np.asarray(samples.direction, dtype=float)
+    thrust_override = np.asarray(samples.thrust, dtype=float)
+    mech = axis.mechanism
+    default_thrust = mech.load.thrust if isinstance(mech.load, LinearLoad) else mech.load.torque
+    thrust = np.where(np.isnan(thrust_override), default_thrust, thrust_override)
+    # Thrust is a process force of the moves; a dwell holds gravity and springs only.
+    thrust = np.where(direction == 0.0, 0.0, thrust)
+
+    stage = mech.stage
+    t_ext_in = mech.external_torque(x, v, direction, thrust, axis.gravity)
+    # The mechanism's "output" torque is the load force F (or load torque): F / i = F r.
+    t_out = t_ext_in * stage.ratio
+    ext_out = t_out
+    omega = v * stage.ratio
+    alpha = a * stage.ratio
+    model = axis.efficiency_model
+    torques: list[Array] = []
+    omegas: list[Array] = []
+    for st in reversed(axis.stages):
+        if st is not stage:
+            omega = omega * st.ratio
+            alpha = alpha * st.ratio
+        torques.append(t_out)
+        omegas.append(omega / st.ratio)
+        t_out, ext_out = torque_in(st, t_out, ext_out, omega, alpha, direction, model)
+    t_out = t_out + axis.spec.extra_inertia * alpha
+    braked = np.asarray(samples.braked, dtype=bool)
+    torque = np.where(braked, 0.0, t_out)
+    return DutyCycle(
+        samples=samples, cycle=cycle, omega=omega, alpha=alpha, torque=torque,
+        external=np.where(braked, 0.0, ext_out), braked=braked,
+        stage_torque=tuple(reversed(torques)), stage_omega=tuple(reversed(omegas)),
+        load_inertia=axis.load_inertia, period=float(cycle.period),
+    )
+
+
+def steady_state_torque(axis: Axis, load_speed: float) -> float:
+    """Motor-shaft torque (rotor excluded) at a constant load speed [N m]: the run torque T_L.
+
+    ``load_speed`` [m/s or rad/s], signed. Uses the same stage-by-stage propagation as the
+    duty cycle (lecture, Load Torque formulas of the selection pages).
+    """
+    s = _Const(load_speed)
+    duty = duty_from_samples(axis, _ConstCycle(), s)  # type: ignore[arg-type]
+    return float(duty.torque[0])
+
+
+class _Const:
+    """A one-sample stand-in for profile samples at constant speed."""
+
+    def __init__(self, v: float) -> None:
+        self.t = np.zeros(1)
+        self.x = np.zeros(1)
+        self.v = np.array([v])
+        self.a = np.zeros(1)
+        self.direction = np.array([np.sign(v)])
+        self.thrust = np.array([np.nan])
+        self.braked = np.zeros(1, dtype=bool)
+        self.holding = np.zeros(1, dtype=bool)
+        self.weights = np.ones(1)
+        self.phase = np.zeros(1, dtype=int)
+
+
+class _ConstCycle:
+    period = 1.0
+    phases: tuple[()] = ()
+
+
+def fanuc_accel_torque(speed: float, accel_time: float, position_gain: float, motor_inertia: float,
+                       load_inertia: float, efficiency: float) -> float:
+    """Acceleration torque of a linear accel/decel under a position loop [N m].
+
+    T_a = omega (1 / t_a) (J_M + J_L / eta) (1 - exp(-k_s t_a)): the position loop's first-order
+    lag (gain k_s [1/s]) rounds the corner, so the torque peak comes at t_a. FANUC AC Servo
+    Motor alpha-i series Descriptions B-65262EN/03, 3.2.4.1. ``speed`` [rad/s], times [s].
+    """
+    return speed / accel_time * (motor_inertia + load_inertia / efficiency) * (
+        1.0 - math.exp(-position_gain * accel_time))
+
+
+def fanuc_speed_at_peak_torque(speed: float, accel_time: float, position_gain: float) -> float:
+    """Motor speed when the acceleration torque peaks [same unit as ``speed``].
+
+    V_r = V_m (1 - (1 / (t_a k_s)) (1 - exp(-k_s t_a))) (FANUC B-65262EN/03, 3.2.4.1).
+    """
+    return speed * (1.0 - (1.0 - math.exp(-position_gain * accel_time)) / (accel_time * position_gain))
+
+
+def rms(values: Array, weights: Array, period: float) -> float:
+    """Root mean square over a cycle: sqrt(sum(w T^2) / t_c) [same unit as values].
+
+    Lecture, Torque Effective Value: T_rms = sqrt((T_P^2 t_a + T_L^2 t_c + T_S^2 t_d) / t_c).
+    """
+    return math.sqrt(float(np.sum(weights * values**2)) / period)
+
+
+def cubic_mean(values: Array, speeds: Array, weights: Array) -> float:
+    """Speed-weighted cubic mean T_av = (sum n_i t_i |T_i|^3 / sum n_i t_i)^(1/3) [N m].
+
+    Harmonic Drive / strain-wave gear selection (average load torque); see the example
+    harmonic_average_load_torque (published 89 N m). Standstill carries no weight.
+    """
+    n = np.abs(speeds)
+    den = float(np.sum(weights * n))
+    if den <= 0.0:
+        return float(np.max(np.abs(values))) if values.size else 0.0
+    return (float(np.sum(weights * n * np.abs(values) ** 3)) / den) ** (1.0 / 3.0)
+
+
+def signed_extreme(values: Array) -> float:
+    """The value of largest magnitude, with its sign (0 for an empty array)."""
+    if values.size == 0:
+        return 0.0
+    return float(values[int(np.argmax(np.abs(values)))])
+
+
+def minimum_accel_time(speed: float, motor_inertia: float, load_inertia: float, peak_torque: float,
+                       load_torque: float) -> float:
+    """t_am = 2 pi N_M (J_M + J_L) / (60 (T_PM - T_L)) [s] (lecture; ``speed`` in rad/s here).
+
+    ERRATA: the accel time must be at least t_am. Infinite when T_PM <= T_L.
+    """
+    margin = peak_torque - load_torque
+    return math.inf if margin <= 0.0 else speed * (motor_inertia + load_inertia) / margin
+
+
+def minimum_decel_time(speed: float, motor_inertia: float, load_inertia: float, peak_torque: float,
+                       load_torque: float) -> float:
+    """t_dm = 2 pi N_M (J_M + J_L) / (60 (T_PM + T_L)) [s] (lecture; ``speed`` in rad/s here)."""
+    margin = peak_torque + load_torque
+    return math.inf if margin <= 0.0 else speed * (motor_inertia + load_inertia) / margin
+
+
+def operation_power(speed: float, load_torque: float) -> float:
+    """P_o = 2 pi N_M T_L / 60 = omega T_L [W] (lecture, Load Operation Power)."""
+    return speed * load_torque
+
+
+def acceleration_power(speed: float, load_inertia: float, accel_time: float) -> float:
+    """P_a = (2 pi N_M / 60)^2 J_L / t_a = omega^2 J_L / t_a [W] (lecture, Load Acceleration Power)."""
+    return speed**2 * load_inertia / accel_time
+
+
+def gearbox_torque_split(motor_inertia: float, reflected_load_inertia: float) -> float:
+    """k = J_M / (J_M + J_LR) [-] (lecture, Dynamic Loading and Gearbox Sizing).
+
+    During pure acceleration a share k of the motor's torque accelerates its own rotor; only
+    (1 - k) passes through the gearbox, so T_GR = (1 - k) T_M for a purely inertial load.
+    """
+    return motor_inertia / (motor_inertia + reflected_load_inertia)
+
+
+def gearbox_peak_torque(motor_peak_torque: float, motor_inertia: float, reflected_load_inertia: float,
+                        load_torque: float = 0.0) -> float:
+    """Torque through the gearbox when the motor gives ``motor_peak_torque`` [N m, motor side].
+
+    T_GR = (1 - k)(T_M - T_L) + T_L with k = J_M / (J_M + J_LR): the static load torque T_L
+    passes entirely, the accelerating surplus splits by inertia (lecture, gearbox sizing).
+    """
+    k = gearbox_torque_split(motor_inertia, reflected_load_inertia)
+    return (1.0 - k) * (motor_peak_torque - load_torque) + load_torque
+
+
+def phase_table(duty: DutyCycle, torque: Array) -> list[dict[str, Any]]:
+    """Every accel, run, decel and dwell in order, with its span, largest torque (signed) and top speed."""
+    phase_idx = np.asarray(duty.samples.phase)
+    rows: list[dict[str, Any]] = []
+    for k, ph in enumerate(duty.cycle.phases):
+        mask = phase_idx == k
+        rows.append({
+            "kind": ph.kind, "move": ph.move, "step": ph.step, "t0_s": float(ph.t0),
+            "t1_s": float(ph.t1), "torque_Nm": signed_extreme(torque[mask]),
+            "speed_rpm": float(to_rpm(np.max(np.abs(duty.omega[mask])))) if mask.any() else 0.0,
+        })
+    return rows
+
+
+def first_move_torques(duty: DutyCycle, torque: Array) -> dict[str, float]:
+    """Signed accel, run and decel torques of the first move, and the holding torque [N m]."""
+    phase_idx = np.asarray(duty.samples.phase)
+    out = {"accel": 0.0, "run": 0.0, "decel": 0.0}
+    first = next((ph.move for ph in duty.cycle.phases if ph.kind != "dwell"), None)
+    for k, ph in enumerate(duty.cycle.phases):
+        if ph.move == first and ph.kind in out:
+            mask = phase_idx == k
+            out[ph.kind] = signed_extreme(torque[mask])
+    holding = np.asarray(duty.samples.holding, dtype=bool)
+    out["holding"] = signed_extreme(torque[holding])
+    return out
+
+
+def load_metrics(duty: DutyCycle, torque: Array | None = None) -> dict[str, Any]:
+    """The load's demand at the motor shaft (rotor excluded unless ``torque`` includes it)."""
+    t = duty.torque if torque is None else torque
+    w = duty.weights
+    power = t * duty.omega
+    k_peak = int(np.argmax(np.abs(t)))
+    per = first_move_torques(duty, t)
+    return {
+        "cycle_time_s": duty.period,
+        "load_inertia_kgm2": duty.load_inertia,
+        "peak_torque_Nm": float(abs(t[k_peak])),
+        "peak_torque_speed_rpm": float(to_rpm(abs(duty.omega[k_peak]))),
+        "rms_torque_Nm": rms(t, w, duty.period),
+        "max_speed_rpm": float(to_rpm(np.max(np.abs(duty.omega)))),
+        "mean_speed_rpm": float(to_rpm(np.sum(w * np.abs(duty.omega)) / duty.period)),
+        "accel_torque_Nm": per["accel"],
+        "run_torque_Nm": per["run"],
+        "decel_torque_Nm": per["decel"],
+        "holding_torque_Nm": per["holding"],
+        "peak_power_W": float(np.max(np.abs(power))),
+        "average_power_W": float(np.sum(w * power) / duty.period),
+        "regen_energy_J": float(-np.sum(w * np.minimum(power, 0.0))),
+        "segments": phase_table(duty, t),
+    }

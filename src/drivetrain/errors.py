@@ -1,0 +1,57 @@
+"""The one error type for bad input: it names the field, the value and the rule it broke."""
+
+from __future__ import annotations
+
+from typing import Any
+
+
+class InputError(ValueError):
+    """Bad user input.
+
+    ``field`` is a dotted path into the axis file (``mechanism.load.mass``,
+    ``profile[2].time``); ``rule`` says what was expected; ``value`` is what was given.
+    The CLI prints ``str(err)`` and exits with status 2; the web API answers 422 with it.
+    """
+
+    def __init__(self, field: str, rule: str, value: Any = None, *, has_value: bool = True) -> None:
+        self.field = field
+        self.rule = rule
+        self.value = value
+        self.has_value = has_value and value is not None
+        super().__init__(self.message)
+
+    @property
+    def message(self) -> str:
+        where = f"{self.field}: " if self.field else ""
+        if self.has_value:
+            return f"{where}{self.rule}, got {format_value(self.value)}"
+        return f"{where}{self.rule}"
+
+    def at(self, prefix: str) -> InputError:
+        """Return the same error with ``prefix`` prepended to its field path."""
+        if not prefix:
+            return self
+        sep = "" if self.field.startswith("[") or not self.field else "."
+        return InputError(f"{prefix}{sep}{self.field}", self.rule, self.value, has_value=self.has_value)
+
+
+class InputErrors(InputError):
+    """Several input errors at once (e.g. every bad row of a catalog import)."""
+
+    def __init__(self, errors: list[InputError]) -> None:
+        self.errors = errors
+        first = errors[0] if errors else InputError("", "invalid input", has_value=False)
+        super().__init__(first.field, first.rule, first.value, has_value=first.has_value)
+
+    @property
+    def message(self) -> str:
+        return "\n".join(e.message for e in self.errors)
+
+    def __str__(self) -> str:
+        return self.message
+
+
+def format_value(value: Any) -> str:
+    """Short, readable rendering of a user value for an error message."""
+    text = repr(value) if isinstance(value, str) and (not value or value != value.strip()) else str(value)
+    return text if len(text) <= 80 else text[:77] + "..."

@@ -1,0 +1,85 @@
+"""Chain loop with drive and passive sprockets (ServoSoft chain-loop page of the lecture).
+
+J_1 = n_PR J_PR (r_DR / r_PR)^2 + m_Loop r_DR^2, J_DM = n_DR J_DR + J_1,
+T_DM = n_DR J_DR alpha + Q(J_1 alpha + (m_Loop g +- F_Thrust) r_DR), Q = 1/eta motoring, eta braking.
+The page's resisting force m_Loop g is the loop's weight dragged on its guide with a friction
+coefficient of 1; ``loop_friction`` sets the real coefficient (1 reproduces the page).
+Products carried on the loop are an ordinary linear ``load`` (mass, friction, thrust).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from drivetrain.fields import (
+    Angle,
+    BackEfficiency,
+    Coefficient,
+    Efficiency,
+    Length,
+    MassNonNeg,
+    Spec,
+)
+from drivetrain.inertia import linear_mass_reflected
+from drivetrain.loads import coulomb_friction, normal_force
+from drivetrain.mechanisms.base import Array, LinearLoad, LinearLoadSpec, Mechanism, WheelSpec
+from drivetrain.stage import Stage
+
+
+@dataclass(frozen=True)
+class ChainLoad(LinearLoad):
+    """Carried load plus the loop's own weight dragged on its guide (friction ``loop_friction``)."""
+
+    loop_mass: float = 0.0
+    loop_friction: float = 1.0
+
+    def force(self, position: ArrayLike, speed: ArrayLike, direction: ArrayLike, thrust: ArrayLike | None,
+              g: float) -> Array:
+        """Carried-load force plus mu_loop m_Loop g cos(alpha) against the motion [N]."""
+        drag = coulomb_friction(normal_force(self.loop_mass, self.incline, g), self.loop_friction,
+                                self.loop_friction, speed, direction)
+        return np.asarray(super().force(position, speed, direction, thrust, g) + drag, dtype=float)
+
+
+class ChainSpec(Spec):
+    """``mechanism: {type: chain, diameter: ..., loop_mass: ..., drive_sprockets: ..., passive_sprockets: [...]}``."""
+
+    type: Literal["chain"]
+    diameter: Length
+    drive_sprocket: WheelSpec = WheelSpec()
+    drive_sprockets: int = 1
+    passive_sprockets: list[WheelSpec] = []
+    loop_mass: MassNonNeg = 0.0
+    loop_friction: Coefficient = 1.0
+    incline: Angle = 0.0
+    efficiency: Efficiency = 1.0
+    back_efficiency: BackEfficiency | None = None
+    load: LinearLoadSpec | None = None
+
+    def build(self, g: float) -> Mechanism:
+        """n_DR J_DR outside the losses; passive sprockets, loop and carried load inside."""
+        r = self.diameter / 2.0
+        j_dr = self.drive_sprockets * self.drive_sprocket.inertia_si("mechanism.drive_sprocket")
+        j_pr = 0.0
+        for k, spr in enumerate(self.passive_sprockets):
+            r_pr = (spr.diameter or self.diameter) / 2.0
+            j_pr += spr.count * spr.inertia_si(f"mechanism.passive_sprockets[{k}]") * (r / r_pr) ** 2
+        base = self.load.build(self.incline) if self.load is not None else None
+        load = ChainLoad(
+            mass=base.mass if base else 0.0, counterweight=base.counterweight if base else 0.0,
+            incline=self.incline, friction=base.friction if base else 0.0,
+            static_friction=base.static_friction if base else 0.0, thrust=base.thrust if base else 0.0,
+            loop_mass=self.loop_mass, loop_friction=self.loop_friction,
+        )
+        j_loop = linear_mass_reflected(self.loop_mass, r)
+        j_load = linear_mass_reflected(load.moving_mass, r)
+        stage = Stage(name="chain", kind="chain", ratio=1.0 / r, inertia_in=j_dr,
+                      inertia_inside=j_pr + j_loop + j_load, efficiency=self.efficiency,
+                      back_efficiency=self.efficiency if self.back_efficiency is None else self.back_efficiency)
+        return Mechanism(type="chain", motion="linear", stage=stage, load=load,
+                         inertia_parts={"drive sprockets": j_dr, "passive sprockets": j_pr,
+                                        "loop m_Loop r^2": j_loop, "carried load": j_load})

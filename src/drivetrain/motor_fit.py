@@ -1,0 +1,188 @@
+"""How well motors fit a duty cycle, vectorised over candidate motors.
+
+The per-sample work is done once per duty cycle; the per-motor work uses closed forms in the
+rotor inertia J_M, so thousands of motors cost little more than one:
+
+* RMS: T_m = T + J_M alpha, so sum w T_m^2 = S_TT + 2 J_M S_Ta + J_M^2 S_aa (exact).
+* Peak against the intermittent envelope: per speed bin, max_k |T_k + J_M alpha_k| is the
+  support function of the points (alpha_k, T_k), so only their convex-hull vertices matter.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from drivetrain.checks import Check, margin_of
+from drivetrain.envelope import continuous_torque, intermittent_torque
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Demand:
+    """A duty cycle reduced to what motor checks need (motor-shaft, rotor excluded, SI)."""
+
+    omega: Array
+    alpha: Array
+    torque: Array
+    weights: Array
+    period: float
+    load_inertia: float
+    hull_speed: Array  # (B,) upper-edge speed of each bin [rad/s]
+    hull_torque: Array  # (B, V) torque of hull vertices (padded with the first vertex)
+    hull_alpha: Array  # (B, V)
+
+    @property
+    def max_speed(self) -> float:
+        """Largest |omega| [rad/s]."""
+        return float(np.max(np.abs(self.omega)))
+
+    @property
+    def mean_speed(self) -> float:
+        """Time-mean |omega| over the cycle [rad/s]."""
+        return float(np.sum(self.weights * np.abs(self.omega)) / self.period)
+
+
+def demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: float, load_inertia: float,
+           bins: int = 64) -> Demand:
+    """Reduce samples to a Demand: speed bins and the convex hull of (alpha, T) in each."""
+    w = np.abs(omega)
+    top = float(w.max()) if w.size else 0.0
+    edges = np.linspace(0.0, top if top > 0 else 1.0, bins + 1)
+    idx = np.clip(np.searchsorted(edges, w, side="left") - 1, 0, bins - 1)
+    speeds: list[float] = []
+    verts: list[tuple[Array, Array]] = []
+    for b in np.unique(idx):
+        sel = idx == b
+        a_b, t_b = alpha[sel], torque[sel]
+        speeds.append(float(edges[b + 1]))
+        verts.append(_hull_points(a_b, t_b))
+    width = max(len(v[0]) for v in verts)
+    ht = np.array([np.pad(t, (0, width - len(t)), mode="edge") for _, t in verts])
+    ha = np.array([np.pad(a, (0, width - len(a)), mode="edge") for a, _ in verts])
+    return Demand(omega=omega, alpha=alpha, torque=torque, weights=weights, period=period,
+                  load_inertia=load_inertia, hull_speed=np.array(speeds), hull_torque=ht, hull_alpha=ha)
+
+
+def _hull_points(alpha: Array, torque: Array) -> tuple[Array, Array]:
+    """Vertices of the convex hull of the points (alpha, T) (all points if degenerate)."""
+    pts = np.unique(np.column_stack([alpha, torque]), axis=0)
+    if len(pts) <= 3:
+        return pts[:, 0], pts[:, 1]
+    # Monotone-chain convex hull (Andrew's algorithm), O(n log n).
+    def half(points: Array) -> list[Array]:
+        out: list[Array] = []
+        for p in points:
+            while len(out) >= 2 and np.cross(out[-1] - out[-2], p - out[-2]) <= 0:
+                out.pop()
+            out.append(p)
+        return out
+
+    lower = half(pts)
+    upper = half(pts[::-1])
+    hull = np.array(lower[:-1] + upper[:-1])
+    return hull[:, 0], hull[:, 1]
+
+
+@dataclass(frozen=True)
+class MotorArrays:
+    """Candidate motors as arrays (SI), one entry per candidate."""
+
+    inertia: Array
+    rated_torque: Array
+    peak_torque: Array
+    rated_speed: Array
+    max_speed: Array
+    stall_torque: Array  # NaN where unknown
+    approximate: NDArray[np.bool_]
+
+
+@dataclass(frozen=True)
+class Fit:
+    """Per-candidate check results (arrays over candidates)."""
+
+    names: tuple[str, ...]
+    required: dict[str, Array]
+    available: dict[str, Array]
+    margin: dict[str, Array]
+    units: dict[str, str]
+    approximate: dict[str, NDArray[np.bool_]]
+    peak_torque: Array
+    rms_torque: Array
+    inertia_ratio: Array
+
+    @property
+    def ok(self) -> NDArray[np.bool_]:
+        """True where every check passes."""
+        out = np.ones_like(self.peak_torque, dtype=bool)
+        for name in self.names:
+            out &= self.margin[name] >= 0.0
+        return out
+
+    def checks(self, k: int) -> list[Check]:
+        """Check objects of candidate ``k``."""
+        return [Check(n, float(self.required[n][k]), float(self.available[n][k]), self.units[n],
+                      bool(self.margin[n][k] >= 0.0), float(self.margin[n][k]), bool(self.approximate[n][k]))
+                for n in self.names]
+
+    def first_failure(self, k: int) -> str:
+        """The failing check with the worst margin, as a sentence ('' if all pass)."""
+        bad = [(float(self.margin[n][k]), n) for n in self.names if self.margin[n][k] < 0.0]
+        if not bad:
+            return ""
+        m, n = min(bad)
+        return (f"{n}: required {self.required[n][k]:.4g} {self.units[n]} > available "
+                f"{self.available[n][k]:.4g} {self.units[n]} ({m * 100:.1f} %)")
+
+
+def fit_motors(d: Demand, motors: MotorArrays, *, torque_margin: float = 1.0, rms_margin: float = 1.0,
+               speed_margin: float = 1.0, inertia_ratio_limit: float = 5.0,
+               speed_limit: Array | None = None) -> Fit:
+    """Check every candidate motor against the demand (arrays over M candidates).
+
+    Checks: ``peak_torque`` (|T + J_M alpha| x margin against the intermittent envelope at
+    the speed where it occurs), ``rms_torque`` (RMS x margin against the continuous torque at
+    the mean speed; lecture, Torque Effective Value), ``max_speed`` (x margin against the
+    motor's max speed, and ``speed_limit`` such as a gearbox's max input speed), and
+    ``inertia_ratio`` (J_L / J_M against the user's limit; the lecture recommends below 5:1).
+    """
+    j = motors.inertia
+    # Peak: per bin, max over hull vertices of |T + J alpha| (M, B).
+    vals = np.abs(d.hull_torque[None, :, :] + j[:, None, None] * d.hull_alpha[None, :, :]).max(axis=2)
+    env_int = intermittent_torque(motors.peak_torque, motors.rated_torque, motors.rated_speed, motors.max_speed,
+                                  d.hull_speed, motors.stall_torque).torque
+    req_bins = vals * torque_margin
+    m = margin_of(req_bins, env_int)
+    worst = np.argmin(m, axis=1)
+    rows = np.arange(len(j))
+    peak_req, peak_av, peak_m = req_bins[rows, worst], env_int[rows, worst], m[rows, worst]
+    # RMS in closed form.
+    w = d.weights
+    s_tt = float(np.sum(w * d.torque**2))
+    s_ta = float(np.sum(w * d.torque * d.alpha))
+    s_aa = float(np.sum(w * d.alpha**2))
+    rms_t = np.sqrt(np.maximum(s_tt + 2.0 * j * s_ta + j**2 * s_aa, 0.0) / d.period)
+    cont = continuous_torque(motors.rated_torque, motors.rated_speed, motors.max_speed,
+                             np.array([d.mean_speed]), motors.stall_torque).torque[:, 0]
+    rms_req = rms_t * rms_margin
+    speed_req = np.full_like(j, d.max_speed * speed_margin)
+    speed_av = motors.max_speed if speed_limit is None else np.minimum(motors.max_speed, speed_limit)
+    ratio = d.load_inertia / j
+    approx = motors.approximate
+    names = ("peak_torque", "rms_torque", "max_speed", "inertia_ratio")
+    return Fit(
+        names=names,
+        required={"peak_torque": peak_req, "rms_torque": rms_req, "max_speed": speed_req * 60 / (2 * np.pi),
+                  "inertia_ratio": ratio},
+        available={"peak_torque": peak_av, "rms_torque": cont, "max_speed": speed_av * 60 / (2 * np.pi),
+                   "inertia_ratio": np.full_like(j, inertia_ratio_limit)},
+        margin={"peak_torque": peak_m, "rms_torque": margin_of(rms_req, cont),
+                "max_speed": margin_of(speed_req, speed_av), "inertia_ratio": margin_of(ratio, inertia_ratio_limit)},
+        units={"peak_torque": "N*m", "rms_torque": "N*m", "max_speed": "rpm", "inertia_ratio": "-"},
+        approximate={"peak_torque": approx, "rms_torque": approx, "max_speed": np.zeros_like(approx),
+                     "inertia_ratio": np.zeros_like(approx)},
+        peak_torque=np.max(vals, axis=1), rms_torque=rms_t, inertia_ratio=ratio,
+    )
