@@ -214,7 +214,9 @@ class Kinematics(NamedTuple):
 class Segment:
     """One exact piece on [t0, t1] [s]: ``x(tau) = sum(coeffs[k] tau^k) + A sin(w tau + p)``.
 
-    ``tau = t - t0`` is local time [s]; ``coeffs`` [m/s^k or rad/s^k] hold DEGREE + 1 ascending
+    ``tau = t - t0`` is local time [s], from 0 to ``span`` [s]: the piece's exact duration, which
+    ``t1 - t0`` matches only to the rounding of absolute time (local time keeps a short jerk
+    piece late in a long cycle exact). ``coeffs`` [m/s^k or rad/s^k] hold DEGREE + 1 ascending
     coefficients; ``sine`` is ``(A [m or rad], w [rad/s], p [rad])``, all zero except in cam-law
     pieces. ``step`` and ``phase`` index ``Cycle.steps`` and ``Cycle.phases``.
     """
@@ -224,11 +226,13 @@ class Segment:
     coeffs: tuple[float, ...]
     step: int
     phase: int
+    span: float
     sine: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def evaluate(self, t: npt.ArrayLike) -> Kinematics:
-        """x, v, a, j at times ``t`` [s] (the piece's formula, also outside [t0, t1])."""
-        return _PieceTable((self,)).evaluate_in(np.zeros(np.shape(t), dtype=np.intp), np.asarray(t, float))
+        """x, v, a, j at times ``t`` [s] in [t0, t1] (clipped to it)."""
+        tt = np.asarray(t, dtype=float)
+        return _PieceTable((self,)).evaluate_in(np.zeros(tt.shape, dtype=np.intp), tt)
 
 
 class Phase(NamedTuple):
@@ -320,6 +324,7 @@ class _PieceTable:
     def __init__(self, segments: Sequence[Segment]) -> None:
         self.t0 = np.array([s.t0 for s in segments], dtype=float)
         self.t1 = np.array([s.t1 for s in segments], dtype=float)
+        self.span = np.array([s.span for s in segments], dtype=float)
         self.coeffs = np.array([s.coeffs for s in segments], dtype=float).reshape(len(segments), _N_COEF)
         sine = np.array([s.sine for s in segments], dtype=float).reshape(len(segments), 3)
         self.amp, self.omega, self.phase = sine[:, 0], sine[:, 1], sine[:, 2]
@@ -329,7 +334,11 @@ class _PieceTable:
         return np.clip(np.searchsorted(self.t0, t, side="right") - 1, 0, len(self.t0) - 1)
 
     def evaluate_in(self, idx: npt.NDArray[np.intp], t: FloatArray) -> Kinematics:
-        tau = t - self.t0[idx]
+        """Evaluate segment ``idx`` at absolute times ``t`` (local time clipped to the piece)."""
+        return self.evaluate_local(idx, np.clip(t - self.t0[idx], 0.0, self.span[idx]))
+
+    def evaluate_local(self, idx: npt.NDArray[np.intp], tau: FloatArray) -> Kinematics:
+        """Evaluate segment ``idx`` at local times ``tau`` [s]."""
         x, v, a, j = evaluate_pieces(self.coeffs[idx], self.amp[idx], self.omega[idx], self.phase[idx], tau)
         return Kinematics(x, v, a, j)
 
@@ -372,7 +381,7 @@ class Cycle:
         simpson[1:-1:2], simpson[2:-1:2] = 4.0, 2.0
         weights = (dur[:, None] / (3.0 * (n - 1))) * simpson[None, :]
         seg = np.repeat(np.arange(nseg, dtype=np.intp), n)
-        kin = tab.evaluate_in(seg, t.ravel())
+        kin = tab.evaluate_local(seg, (tab.span[:, None] * frac[None, :]).ravel())
         step_of = np.array([s.step for s in self.segments], dtype=np.intp)
         phase_of = np.array([s.phase for s in self.segments], dtype=np.intp)
         steps = self.steps
@@ -396,6 +405,7 @@ class _Piece(NamedTuple):
     kind: PhaseKind
     t0: float
     t1: float
+    span: float
     coeffs: tuple[float, ...]
     sine: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
@@ -419,11 +429,7 @@ def _poly(x: float, v: float, a: float, j: float) -> tuple[float, ...]:
 
 
 def _grid(t0: float, duration: float, dts: Sequence[float]) -> list[tuple[float, float]]:
-    """Absolute spans of consecutive pieces; the last ends exactly at ``t0 + duration``.
-
-    Coefficients are then built from these spans (not the nominal ``dts``), so that each piece
-    evaluated at its own end lands exactly where the next one starts, up to rounding of x only.
-    """
+    """Absolute spans of consecutive pieces of durations ``dts``; the last ends at ``t0 + duration``."""
     t_end = t0 + duration
     ends = np.minimum(t0 + np.cumsum(dts), t_end)
     ends[-1] = t_end
@@ -449,36 +455,35 @@ def _double_s_pieces(
     spans = _grid(t0, duration, [p[0] for p in head + tail])
     pieces: list[_Piece] = []
     x, v = x0, 0.0
-    for k, ((t_a, t_b), (_, a, _, j)) in enumerate(zip(spans, head, strict=False)):
-        dt = t_b - t_a
+    for k, ((t_a, t_b), (dt, a, _, j)) in enumerate(zip(spans, head, strict=False)):
         if k == len(head) - 1:
             v = sign * v_peak  # cruise at the exact peak speed
         if dt > 0.0:
-            pieces.append(_Piece("run" if k == len(head) - 1 else "accel", t_a, t_b, _poly(x, v, a, j)))
+            pieces.append(_Piece("run" if k == len(head) - 1 else "accel", t_a, t_b, dt, _poly(x, v, a, j)))
             x, v = x + dt * (v + dt * (a / 2.0 + dt * j / 6.0)), v + dt * (a + dt * j / 2.0)
     back: list[_Piece] = []
     x, v = x0 + distance, 0.0
-    for (t_a, t_b), (_, _, a_end, j) in zip(reversed(spans[len(head):]), reversed(tail), strict=True):
-        dt = t_b - t_a
+    for (t_a, t_b), (dt, _, a_end, j) in zip(reversed(spans[len(head):]), reversed(tail), strict=True):
         if dt > 0.0:
             a = a_end - j * dt
             v = v - dt * (a + dt * j / 2.0)
             x = x - dt * (v + dt * (a / 2.0 + dt * j / 6.0))
-            back.append(_Piece("decel", t_a, t_b, _poly(x, v, a, j)))
+            back.append(_Piece("decel", t_a, t_b, dt, _poly(x, v, a, j)))
     return pieces + back[::-1]
 
 
 def _cam_pieces(t0: float, duration: float, x0: float, distance: float, law: str) -> list[_Piece]:
     """Pieces of a cam-law move: ``x = x0 + h s(t / T)`` scaled into each piece's local time."""
     cam = cam_law(law).pieces
+    dts = [(p.u1 - p.u0) * duration for p in cam]
     scale = distance / duration ** np.arange(_N_COEF)
     pieces = []
-    for p, (t_a, t_b) in zip(cam, _grid(t0, duration, [(p.u1 - p.u0) * duration for p in cam]), strict=True):
+    for p, dt, (t_a, t_b) in zip(cam, dts, _grid(t0, duration, dts), strict=True):
         coeffs = np.asarray(p.poly) * scale
         coeffs[0] += x0
         kind: PhaseKind = "accel" if p.u1 <= 0.5 else "decel"
         sine = (distance * p.amp, p.omega / duration, p.phase)
-        pieces.append(_Piece(kind, t_a, t_b, tuple(float(c) for c in coeffs), sine))
+        pieces.append(_Piece(kind, t_a, t_b, dt, tuple(float(c) for c in coeffs), sine))
     return pieces
 
 
@@ -553,7 +558,7 @@ def _parse_dwell(p: _StepParser, index: int, t0: float, x0: float) -> _Parsed:
     braked = p.choice("holding", HOLDING, "motor") == "brake"
     holding: Literal["motor", "brake"] = "brake" if braked else "motor"
     step = Step(index, "dwell", "dwell", t0, duration, x0, 0.0, 0, holding=holding)
-    return _Parsed(step, [_Piece("dwell", t0, step.t1, _poly(x0, 0.0, 0.0, 0.0))])
+    return _Parsed(step, [_Piece("dwell", t0, step.t1, duration, _poly(x0, 0.0, 0.0, 0.0))])
 
 
 def _parse_thrust(p: _StepParser) -> float | None:
@@ -717,7 +722,7 @@ def _place(parsed: Sequence[_Parsed]) -> tuple[list[Segment], list[Phase]]:
             else:
                 phases[-1] = phases[-1]._replace(t1=piece.t1)
             phase = len(phases) - 1
-            segments.append(Segment(piece.t0, piece.t1, piece.coeffs, step.index, phase, piece.sine))
+            segments.append(Segment(piece.t0, piece.t1, piece.coeffs, step.index, phase, piece.span, piece.sine))
     return segments, phases
 
 
@@ -814,8 +819,8 @@ def _ruckig_segments(prof: Any) -> list[Segment]:
     t = 0.0
     for dt, x, v, a, j in pieces:
         if dt > 0.0:
-            segments.append(Segment(t, t + dt, _poly(x, v, a, j), 0, 0))
+            segments.append(Segment(t, t + dt, _poly(x, v, a, j), 0, 0, dt))
             t += dt
     if not segments:  # already at the target
-        segments.append(Segment(0.0, 0.0, _poly(prof.p[7], prof.v[7], prof.a[7], 0.0), 0, 0))
+        segments.append(Segment(0.0, 0.0, _poly(prof.p[7], prof.v[7], prof.a[7], 0.0), 0, 0, 0.0))
     return segments

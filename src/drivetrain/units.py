@@ -66,7 +66,7 @@ def registry() -> pint.UnitRegistry:
     """The one shared pint registry (created on first use)."""
     import pint
 
-    ureg = pint.UnitRegistry(autoconvert_offset_to_baseunit=True)
+    ureg: pint.UnitRegistry = pint.UnitRegistry(autoconvert_offset_to_baseunit=True)
     ureg.define("kgf = kilogram * gravity = kilogram_force")
     return ureg
 
@@ -124,7 +124,7 @@ def _parse_string(text: str, quantity: str, field: str) -> float:
     ureg = registry()
     si_unit, _ = QUANTITIES[quantity]
     try:
-        q = ureg.Quantity(norm)
+        q: Any = ureg.Quantity(norm)
     except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError, ValueError,
             TypeError, AttributeError, SyntaxError, AssertionError, KeyError, ZeroDivisionError) as exc:
         raise InputError(field, f"is not a quantity with units of {_describe(quantity)} ({exc})", text) from None
