@@ -288,6 +288,8 @@ def load_metrics(duty: DutyCycle, torque: Array | None = None) -> dict[str, Any]
     power = t * duty.omega
     k_peak = int(np.argmax(np.abs(t)))
     per = first_move_torques(duty, t)
+    top = float(np.max(np.abs(duty.omega)))
+    ramp = next((ph.t1 - ph.t0 for ph in duty.cycle.phases if ph.kind == "accel"), 0.0)
     return {
         "cycle_time_s": duty.period,
         "load_inertia_kgm2": duty.load_inertia,
@@ -303,5 +305,7 @@ def load_metrics(duty: DutyCycle, torque: Array | None = None) -> dict[str, Any]
         "peak_power_W": float(np.max(np.abs(power))),
         "average_power_W": float(np.sum(w * power) / duty.period),
         "regen_energy_J": float(-np.sum(w * np.minimum(power, 0.0))),
+        "operation_power_W": operation_power(top, abs(per["run"])),
+        "acceleration_power_W": acceleration_power(top, duty.load_inertia, ramp) if ramp > 0 else None,
         "segments": phase_table(duty, t),
     }

@@ -1,7 +1,7 @@
 """Motion profiles: moves and dwells in a repeating cycle, their exact segments and sampling.
 
 A profile is a list of steps, run in order; the cycle repeats. A step is a move or a dwell
-(axis file, see ``docs``/design.md)::
+(the axis file's ``profile:`` key, as in design.md)::
 
     {move: 200 mm, time: 0.5 s, accel: 0.1 s[, decel: 0.1 s]}       trapezoid, given ramp times
     {move: 200 mm, time: 0.5 s, shape: trapezoid | triangle | s_curve
@@ -420,6 +420,7 @@ class _Ramp(NamedTuple):
 
     @property
     def jerk(self) -> float:
+        """Jerk [m/s^3] of the jerk pieces (0 for a trapezoid ramp)."""
         return self.accel / self.t_jerk if self.t_jerk > 0.0 else 0.0
 
 
@@ -513,41 +514,50 @@ class _StepParser:
         self.unit = "m" if motion == "linear" else "rad"
 
     def field(self, key: str) -> str:
+        """Field path of ``key`` for error messages."""
         return f"{self.path}.{key}"
 
     def value(self, key: str, quantity: str) -> float:
+        """SI value of ``key`` as ``quantity`` (see units.parse)."""
         return units.parse(self.raw[key], quantity, self.field(key))
 
     def positive(self, key: str, quantity: str) -> float:
+        """SI value of ``key``, which must be > 0."""
         value = self.value(key, quantity)
         if value <= 0.0:
             raise InputError(self.field(key), "must be positive", self.raw[key])
         return value
 
     def nonzero(self, key: str, quantity: str, hint: str) -> float:
+        """Signed SI value of ``key``, which must not be 0."""
         value = self.value(key, quantity)
         if value == 0.0:
             raise InputError(self.field(key), f"must not be zero ({hint})", self.raw[key])
         return value
 
     def only(self, allowed: tuple[str, ...], what: str) -> None:
+        """Reject keys that do not belong to this form of step."""
         for key in self.raw:
             if key not in allowed:
                 raise InputError(self.field(key), f"does not apply to {what}; it takes: {', '.join(allowed)}",
                                  self.raw[key])
 
     def choice(self, key: str, valid: tuple[str, ...], default: str) -> str:
+        """The value of ``key`` (or ``default``), which must be one of ``valid``."""
         value = self.raw.get(key, default)
         if value not in valid:
             raise InputError(self.field(key), f"unknown {key}; valid: {', '.join(valid)}", value)
         return str(value)
 
     def require(self, key: str, rule: str) -> None:
+        """Raise naming ``key`` when it is missing."""
         if key not in self.raw:
             raise InputError(self.field(key), rule, has_value=False)
 
 
 class _Parsed(NamedTuple):
+    """A parsed step and its pieces in absolute time."""
+
     step: Step
     pieces: list[_Piece]
 

@@ -160,6 +160,7 @@ def motor_result(axis: Axis, duty: DutyCycle, motor: MotorData) -> dict[str, Any
     n = d.max_speed
     first = _first_move_ramp_times(duty)
     checks: list[Check] = fit.checks(0)
+    gearbox = _gearbox_split(axis, motor, duty, run)
     return {
         "name": motor.name,
         "source": motor.source,
@@ -177,11 +178,32 @@ def motor_result(axis: Axis, duty: DutyCycle, motor: MotorData) -> dict[str, Any
         "min_decel_time_s": minimum_decel_time(n, motor.inertia, duty.load_inertia, motor.peak_torque, run),
         "operation_power_W": operation_power(n, run),
         "acceleration_power_W": acceleration_power(n, duty.load_inertia, first) if first > 0 else None,
+        **gearbox,
         "ok": bool(fit.ok[0]),
         "failed": fit.first_failure(0),
         "checks": [c.to_dict() for c in checks],
         "segments": with_rotor["segments"],
     }
+
+
+def _gearbox_split(axis: Axis, motor: MotorData, duty: DutyCycle, run_torque: float) -> dict[str, Any]:
+    """The lecture's gearbox torque split for the first gearbox from the motor, if any.
+
+    k = J_M / (J_M + J_LR); at the motor's peak torque only (1 - k)(T_M - T_L) + T_L passes the
+    gearbox (motor side), times i eta at its output: the gearbox need not be sized to the motor's peak.
+    """
+    from drivetrain.duty import gearbox_peak_torque, gearbox_torque_split
+
+    for k, st in enumerate(axis.transmission):
+        if st.kind != "gearbox":
+            continue
+        j_before = sum(s.inertia for s in axis.transmission[: k + 1])
+        j_lr = duty.load_inertia - j_before
+        t_gb = gearbox_peak_torque(motor.peak_torque, motor.inertia + j_before, j_lr, run_torque)
+        return {"gearbox_torque_split_k": gearbox_torque_split(motor.inertia + j_before, j_lr),
+                "gearbox_output_torque_at_motor_peak_Nm": t_gb * st.ratio * st.efficiency,
+                "gearbox_output_peak_torque_Nm": float(np.max(np.abs(duty.stage_torque[k])))}
+    return {}
 
 
 def _first_move_ramp_times(duty: DutyCycle) -> float:
@@ -201,6 +223,14 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64) -
     duty = duty_cycle(axis, points_per_phase)
     metrics = load_metrics(duty)
     result = SizingResult(axis=axis, duty=duty, metrics=metrics)
+    if axis.spec.guide is not None and axis.mechanism.motion == "linear":
+        from drivetrain.guides import guide_report
+
+        result.extras["guide"] = guide_report(axis, duty)
+    if axis.mechanism.slip_limit is not None:
+        from drivetrain.guides import slip_check
+
+        result.extras["slip_check"] = slip_check(float(np.max(np.abs(duty.samples.a))), axis.mechanism.slip_limit)
     if axis.motor is not None:
         result.motor = motor_result(axis, duty, axis.motor)
     return result

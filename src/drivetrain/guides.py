@@ -1,0 +1,80 @@
+"""Linear actuators and guides: moment loads on the carriage and the RMS force over the cycle.
+
+Lecture, linear actuator pages: with the load's weight W_L and the thrust F_x along the travel,
+offsets l_x, l_y, l_z of the load's centre from the carriage and d_p, d_r of the carriage's
+pitch and roll axes,
+    horizontal: F_z = W_L, M_p = F_z l_x + F_x (l_z + d_p), M_r = F_z l_y, M_y = F_x l_y;
+    vertical:   F_y = W_L, M_p = F_x (l_z + d_p), M_r = F_y (l_z + d_r);
+    wall:       F_y = W_L (sideways), M_p = F_x (l_z + d_p), M_y = F_x l_y, M_r = F_y (l_z + d_r);
+and F_T,RMS = sqrt((F_acc^2 t_a + F_vel^2 t_v + F_dec^2 t_d + F_off^2 t_off) / (t_a + t_v + t_d + t_off)),
+computed here exactly with the profile's quadrature weights. Forces [N], moments [N m].
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+Array = NDArray[np.float64]
+
+
+def carriage_moments(thrust: Array, weight: float, l_x: float, l_y: float, l_z: float, d_p: float, d_r: float,
+                     orientation: str) -> dict[str, Array]:
+    """Normal force and pitch, roll, yaw moments on the carriage over the cycle [N, N m].
+
+    ``thrust`` is F_x along the travel (process force plus m a), ``weight`` W_L = m g [N].
+    """
+    fx = np.asarray(thrust, dtype=float)
+    if orientation == "horizontal":
+        return {"normal_N": np.full_like(fx, weight), "pitch_Nm": weight * l_x + fx * (l_z + d_p),
+                "roll_Nm": np.full_like(fx, weight * l_y), "yaw_Nm": fx * l_y}
+    if orientation == "vertical":
+        return {"normal_N": np.zeros_like(fx), "pitch_Nm": fx * (l_z + d_p),
+                "roll_Nm": np.full_like(fx, weight * (l_z + d_r)), "yaw_Nm": np.zeros_like(fx)}
+    return {"normal_N": np.full_like(fx, weight), "pitch_Nm": fx * (l_z + d_p),
+            "roll_Nm": np.full_like(fx, weight * (l_z + d_r)), "yaw_Nm": fx * l_y}
+
+
+def rms_force(force: Array, weights: Array, period: float) -> float:
+    """F_T,RMS = sqrt(sum(w F^2) / t_cycle) [N] (lecture, linear actuator RMS force)."""
+    return math.sqrt(float(np.sum(weights * np.asarray(force) ** 2)) / period)
+
+
+def guide_report(axis: Any, duty: Any) -> dict[str, Any]:
+    """Forces and moments on the carriage of a linear axis, checked against the guide's ratings."""
+    spec = axis.spec.guide
+    load = axis.mechanism.load
+    s = duty.samples
+    a = np.asarray(s.a, dtype=float)
+    thrust = np.asarray(s.thrust, dtype=float)
+    f_proc = np.where(np.isnan(thrust), load.thrust, thrust)
+    f_proc = np.where(np.asarray(s.direction) == 0, 0.0, f_proc)
+    f_x = load.mass * a + f_proc
+    weight = load.mass * axis.gravity
+    mom = carriage_moments(f_x, weight, spec.l_x, spec.l_y, spec.l_z, spec.d_p, spec.d_r, spec.orientation)
+    out: dict[str, Any] = {
+        "actuator_rms_force_N": rms_force(f_x + weight * math.sin(load.incline), duty.weights, duty.period),
+        "peak_thrust_N": float(np.max(np.abs(f_x))),
+    }
+    checks = []
+    for key, rating in (("normal_N", spec.rated_force), ("pitch_Nm", spec.rated_pitch_moment),
+                        ("roll_Nm", spec.rated_roll_moment), ("yaw_Nm", spec.rated_yaw_moment)):
+        peak = float(np.max(np.abs(mom[key])))
+        out[f"peak_{key}"] = peak
+        if rating is not None:
+            margin = rating / peak - 1.0 if peak > 0 else math.inf
+            checks.append({"name": f"guide_{key.split('_')[0]}", "required": peak, "available": rating,
+                           "unit": key.split("_")[1], "margin": margin, "ok": margin >= 0.0, "approximate": False})
+    out["checks"] = checks
+    out["ok"] = all(c["ok"] for c in checks)
+    return out
+
+
+def slip_check(max_accel: float, limit: float) -> dict[str, Any]:
+    """The load must not slip on its carrier: a_max < mu_0 g cos(alpha) (lecture, inclined plane)."""
+    margin = limit / max_accel - 1.0 if max_accel > 0 else math.inf
+    return {"name": "slip_limit", "required": max_accel, "available": limit, "unit": "m/s^2",
+            "margin": margin, "ok": margin >= 0.0, "approximate": False}
