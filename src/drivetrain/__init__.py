@@ -30,4 +30,15 @@ def size(axis: Any, points_per_phase: int = 64) -> SizingResult:
     return _size(axis, points_per_phase)
 
 
-__all__ = ["__version__", "load_axis", "size"]
+def simulate(axis: Any, **kwargs: Any) -> Any:
+    """Closed-loop simulation of an axis on its own profile (``dynamics.axis_model.simulate_axis``)."""
+    from drivetrain.axis import Axis, parse_axis
+    from drivetrain.axis import load_axis as _load
+    from drivetrain.dynamics.axis_model import simulate_axis
+
+    if not isinstance(axis, Axis):
+        axis = parse_axis(axis) if isinstance(axis, dict) else _load(axis)
+    return simulate_axis(axis, **kwargs)
+
+
+__all__ = ["__version__", "load_axis", "simulate", "size"]

@@ -54,7 +54,12 @@ class Margins(Spec):
 
 
 class SelectSpec(Spec):
-    """``motor: {select: {...}}``: pick motors (and gearbox ratios) from the catalog."""
+    """``motor: {select: {...}}``: pick motors (and gearbox ratios) from the catalog.
+
+    ``gearbox``: ``auto`` tries every catalog gearbox ratio and direct drive, unless the axis's
+    transmission already has a gearbox (then motors go direct onto it); ``none`` direct drive
+    only; ``only`` catalog gearboxes only.
+    """
 
     catalog: Literal["builtin", "user", "all"] = "all"
     kind: Literal["ac_servo", "small_dc", "any"] = "ac_servo"
@@ -207,7 +212,10 @@ def _motor_data(m: MotorSpec) -> MotorData | None:
     if m.id is not None and m.inertia is None:
         from drivetrain import catalog
 
-        row = catalog.get(m.id)
+        try:
+            row = catalog.get(m.id)
+        except InputError as exc:
+            raise exc.at("motor") from None
         return motor_from_catalog_row(row, m.name)
     assert m.inertia is not None and m.rated_torque is not None and m.peak_torque is not None
     assert m.max_speed is not None
@@ -217,19 +225,19 @@ def _motor_data(m: MotorSpec) -> MotorData | None:
 
 
 def motor_from_catalog_row(row: dict[str, Any], name: str | None = None) -> MotorData:
-    """A catalog motor row (SI) as MotorData."""
+    """A catalog motor record (``catalog.get``: SI values keyed with their unit) as MotorData."""
     def num(key: str) -> float:
         value = row.get(key)
         if value is None or (isinstance(value, float) and math.isnan(value)):
-            raise InputError("motor.id", f"catalog motor has no {key}", row.get("id"))
+            raise InputError("motor.id", f"the catalog motor has no {key}", row.get("id"))
         return float(value)
 
-    stall = row.get("stall_torque")
+    stall = row.get("stall_torque_Nm")
     return MotorData(
-        name=name or str(row.get("id")), inertia=num("rotor_inertia"), rated_torque=num("rated_torque"),
-        peak_torque=num("peak_torque"), rated_speed=num("rated_speed"), max_speed=num("max_speed"),
-        stall_torque=None if stall is None or (isinstance(stall, float) and math.isnan(stall)) else float(stall),
-        source=str(row.get("source", "catalog")),
+        name=name or str(row.get("id")), inertia=num("rotor_inertia_kgm2"), rated_torque=num("rated_torque_Nm"),
+        peak_torque=num("peak_torque_Nm"), rated_speed=num("rated_speed_rad_s"), max_speed=num("max_speed_rad_s"),
+        stall_torque=None if stall is None else float(stall), approximate_envelope=row.get("curve") is None,
+        source=f"{row.get('vendor', '')} {row.get('id')}: {row.get('source', 'catalog')}",
     )
 
 

@@ -40,8 +40,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--top", type=int, default=10)
     p.set_defaults(handler=_cmd_select)
 
+    p = sub.add_parser("modes", help="natural frequencies, two-mass resonance and critical speeds of the axis")
+    p.add_argument("axis")
+    p.add_argument("--json", action="store_true", help="print only the JSON on standard output")
+    p.set_defaults(handler=_cmd_modes)
+
+    p = sub.add_parser("simulate", help="closed-loop nonlinear simulation of the axis on its own profile")
+    p.add_argument("axis")
+    p.add_argument("--json", action="store_true", help="print only the JSON on standard output")
+    p.add_argument("--csv", metavar="FILE", help="write the simulated time series to FILE")
+    p.add_argument("--plot", metavar="FILE", help="write a figure (PNG, PDF or SVG) to FILE")
+    p.add_argument("--cycles", type=int, default=None, help="profile repetitions (default: dynamics.cycles or 1)")
+    p.add_argument("--bandwidth", type=float, default=None, help="velocity-loop bandwidth [Hz] (default: tuned)")
+    p.set_defaults(handler=_cmd_simulate)
+
     _optional_parser(sub, "drivetrain.catalog.cli")
-    _optional_parser(sub, "drivetrain.dynamics.cli")
     _optional_parser(sub, "drivetrain.web.cli")
     return parser
 
@@ -76,12 +89,7 @@ def _cmd_size(args: argparse.Namespace) -> int:
 
         raise InputError("--points", "must be between 3 and 100000", args.points)
     result = size(args.axis, points_per_phase=args.points)
-    if getattr(args, "explain", None):
-        from drivetrain.errors import InputError
-
-        explain = getattr(result, "explain", None)
-        if explain is None:
-            raise InputError("--explain", "needs a catalog selection (motor: {select: ...})", args.explain)
+    explanation = result.explain(args.explain) if args.explain else ""
     if args.csv:
         _write_csv(args.csv, result.series())
     if args.report:
@@ -92,12 +100,94 @@ def _cmd_size(args: argparse.Namespace) -> int:
         print(json.dumps(_jsonable(result.to_dict()), indent=2))
         return 0
     _print_table(result)
-    if args.explain:
-        print(result.explain(args.explain))  # type: ignore[attr-defined]
+    if explanation:
+        print(explanation)
     if args.csv:
         print(f"time series written to {args.csv}")
     if args.report:
         print(f"report written to {Path(args.report).resolve()}")
+    return 0
+
+
+def _cmd_modes(args: argparse.Namespace) -> int:
+    from drivetrain.axis import load_axis
+    from drivetrain.dynamics import modes_summary
+    from drivetrain.dynamics.axis_model import model
+    from drivetrain.dynamics.linear import critical_speeds, excitation_orders
+
+    axis = load_axis(args.axis)
+    dyn = model(axis)
+    out: dict[str, Any] = {"axis": axis.name, "motor": dyn.motor, **modes_summary(dyn.chain)}
+    if axis.spec.profile and out["natural_frequencies_Hz"]:
+        from drivetrain.duty import duty_cycle
+
+        ratio = math.prod(s.ratio for s in dyn.stages) / axis.total_ratio
+        top = float(abs(duty_cycle(axis).omega).max()) * ratio
+        out["critical_speeds"] = [
+            {"excitation": c.excitation, "order": c.order, "speed_rpm": c.speed_rad_s * 60 / (2 * math.pi),
+             "natural_frequency_Hz": c.frequency_hz}
+            for c in critical_speeds(out["natural_frequencies_Hz"], 0.0, top, excitation_orders())]
+    if args.json:
+        print(json.dumps(_jsonable(out), indent=2))
+        return 0
+    from rich.console import Console
+
+    console = Console(width=None if sys.stdout.isatty() else 120)
+    console.print(f"[bold]{axis.name}[/] with motor {dyn.motor}: {len(dyn.chain.inertia)} inertias at the motor shaft")
+    if not out["natural_frequencies_Hz"]:
+        console.print("rigid drive train: no stiffness given (add stiffness to a coupling, gearbox or belt, or "
+                      "a dynamics.chain), so there is no resonance to report")
+        return 0
+    console.print("natural frequencies: " + ", ".join(f"{f:.1f} Hz" for f in out["natural_frequencies_Hz"]))
+    console.print(f"two-mass resonance {out['resonance_Hz']:.1f} Hz, anti-resonance {out['anti_resonance_Hz']:.1f} Hz")
+    for c in out.get("critical_speeds", []):
+        console.print(f"critical speed: {c['excitation']} crosses {c['natural_frequency_Hz']:.1f} Hz at "
+                      f"{c['speed_rpm']:.0f} rpm")
+    return 0
+
+
+def _cmd_simulate(args: argparse.Namespace) -> int:
+    from drivetrain.axis import load_axis
+    from drivetrain.dynamics.axis_model import simulate_axis
+
+    axis = load_axis(args.axis)
+    res = simulate_axis(axis, cycles=args.cycles, velocity_bandwidth_hz=args.bandwidth)
+    out = {"axis": axis.name, **res.to_dict()}
+    if args.csv:
+        import io
+
+        buf = io.StringIO()
+        res.to_pandas().to_csv(buf)
+        _write_atomic(args.csv, buf.getvalue())
+    if args.plot:
+        fig = res.plot()
+        target = Path(args.plot)
+        target.parent.mkdir(parents=True, exist_ok=True)
+        tmp = target.with_name(f".{target.stem}.tmp{target.suffix}")
+        fig.savefig(tmp, dpi=120)
+        tmp.replace(target)
+    if args.json:
+        print(json.dumps(_jsonable(out), indent=2))
+        return 0
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title=f"{axis.name}: closed-loop simulation")
+    t.add_column("quantity")
+    t.add_column("value", justify="right")
+    t.add_row("simulated time", f"{out['duration_s']:.3g} s")
+    t.add_row("max following error (motor)", f"{out['max_following_error_rad'] * 1e3:.4g} mrad")
+    t.add_row("max load position error", f"{out['max_load_error_rad'] * 1e3:.4g} mrad")
+    t.add_row("load vibration amplitude", f"{out['load_vibration_amplitude_rad'] * 1e3:.4g} mrad")
+    settle = [f"{v * 1e3:.1f}" if v is not None else "-" for v in out["settling_time_s"]]
+    t.add_row("settling time per stop", ", ".join(settle) + " ms")
+    t.add_row("peak / RMS motor torque", f"{out['peak_torque_Nm']:.4g} / {out['rms_torque_Nm']:.4g} N*m")
+    t.add_row("peak shaft torque per spring", ", ".join(f"{v:.4g}" for v in out["peak_shaft_torque_Nm"]) + " N*m")
+    t.add_row("motor energy", f"{out['energy_J']:.4g} J")
+    Console(width=None if sys.stdout.isatty() else 120).print(t)
+    for path, what in ((args.csv, "time series"), (args.plot, "figure")):
+        if path:
+            print(f"{what} written to {Path(path).resolve()}")
     return 0
 
 
@@ -150,7 +240,7 @@ def _print_table(result: Any) -> None:
     from rich.console import Console
     from rich.table import Table
 
-    console = Console()
+    console = Console(width=None if sys.stdout.isatty() else 120)
     m = result.metrics
     t = Table(title=f"{result.axis.name}: demand at the motor shaft (rotor excluded)")
     t.add_column("quantity")
@@ -199,15 +289,36 @@ def _print_checks(console: Any, title: str, block: dict[str, Any]) -> None:
 def _print_candidates(console: Any, result: Any) -> None:
     from rich.table import Table
 
-    t = Table(title="candidates (best first)")
-    for col in ("rank", "motor", "gearbox", "ratio", "J_L/J_M", "peak margin", "RMS margin", "ok / reason"):
-        t.add_column(col)
-    for k, c in enumerate(result.candidates, 1):
+    sel = result.selection or {}
+    t = Table(title=f"candidates: {sel.get('passing', '?')} of {sel.get('evaluated', '?')} pass "
+                    f"(ranked by {sel.get('objective', '?')}; rejected ones below with the reason)")
+    for col in ("rank", "motor", "gearbox", "ratio", "J_L/J_M", "peak margin", "RMS margin", "ok / why not"):
+        t.add_column(col, no_wrap=col in ("motor", "gearbox"))
+    for c in result.candidates:
         checks = {ch["name"]: ch for ch in c["checks"]}
-        t.add_row(str(k), c["motor"], c.get("gearbox") or "-", f"{c['ratio']:.4g}", f"{c['inertia_ratio']:.3g}",
-                  f"{checks['peak_torque']['margin'] * 100:+.0f} %", f"{checks['rms_torque']['margin'] * 100:+.0f} %",
-                  "yes" if c["ok"] else c.get("failed", "NO"))
+        why = "yes"
+        if not c["ok"]:
+            worst = min((ch for ch in c["checks"] if not ch["ok"]), key=lambda ch: ch["margin"] or 0.0)
+            why = f"{worst['name']} {worst['margin'] * 100:+.0f} %"
+        t.add_row(str(c["rank"]) if c.get("rank") else "-", c["motor"], c.get("gearbox") or "direct",
+                  f"{c['ratio']:.4g}", f"{c['inertia_ratio']:.3g}", f"{checks['peak_torque']['margin'] * 100:+.0f} %",
+                  f"{checks['rms_torque']['margin'] * 100:+.0f} %", why)
     console.print(t)
+    if sel.get("selected"):
+        pick = sel["selected"]
+        console.print(f"selected: {pick['motor']} ({pick['vendor']})"
+                      + (f" + {pick['gearbox']}" if pick.get("gearbox") else ", direct drive"))
+        nxt = sel.get("next_smaller")
+        if nxt:
+            console.print(f"next smaller motor {nxt['motor']} fails: {nxt['failed']}")
+        opt = sel.get("optimal_ratio")
+        if opt:
+            near = opt.get("nearest_catalog_ratio")
+            console.print(f"optimal ratio for {opt['motor']}: {opt['min_rms_ratio']:.3g} (min RMS), "
+                          f"{opt['inertia_match_ratio']:.3g} (inertia match)"
+                          + (f", nearest catalog ratio {near:g}" if near else ""))
+    elif sel.get("advice"):
+        console.print(f"[bold red]{sel['advice']}[/]")
 
 
 def main(argv: Sequence[str] | None = None) -> int:

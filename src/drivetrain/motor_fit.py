@@ -67,24 +67,31 @@ def demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: fl
                   load_inertia=load_inertia, hull_speed=np.array(speeds), hull_torque=ht, hull_alpha=ha)
 
 
-def _hull_points(alpha: Array, torque: Array) -> tuple[Array, Array]:
-    """Vertices of the convex hull of the points (alpha, T) (all points if degenerate)."""
-    pts = np.unique(np.column_stack([alpha, torque]), axis=0)
-    if len(pts) <= 3:
-        return pts[:, 0], pts[:, 1]
-    # Monotone-chain convex hull (Andrew's algorithm), O(n log n).
-    def half(points: Array) -> list[Array]:
-        out: list[Array] = []
-        for p in points:
-            while len(out) >= 2 and np.cross(out[-1] - out[-2], p - out[-2]) <= 0:
-                out.pop()
-            out.append(p)
-        return out
+def scaled(d: Demand, ratio: float) -> Demand:
+    """The demand behind an ideal ratio i: speeds and accelerations x i, torques / i, inertia / i^2.
 
-    lower = half(pts)
-    upper = half(pts[::-1])
-    hull = np.array(lower[:-1] + upper[:-1])
-    return hull[:, 0], hull[:, 1]
+    A lossy stage of efficiency eta scales the same way once its losses are applied at i = 1
+    (T_in = Q(T_out / i) = Q(T_out) / i), and a linear map keeps the convex-hull vertices, so
+    the hull needs no recomputation.
+    """
+    return Demand(omega=d.omega * ratio, alpha=d.alpha * ratio, torque=d.torque / ratio, weights=d.weights,
+                  period=d.period, load_inertia=d.load_inertia / ratio**2, hull_speed=d.hull_speed * ratio,
+                  hull_torque=d.hull_torque / ratio, hull_alpha=d.hull_alpha * ratio)
+
+
+def _hull_points(alpha: Array, torque: Array) -> tuple[Array, Array]:
+    """Vertices of the convex hull of the points (alpha, T) (qhull; extremes if degenerate)."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    pts = np.column_stack([alpha, torque])
+    if len(pts) > 3:
+        try:
+            idx = ConvexHull(pts).vertices
+            return alpha[idx], torque[idx]
+        except QhullError:
+            pass  # collinear or coincident points: their extremes are the hull
+    idx = np.unique([np.argmin(alpha), np.argmax(alpha), np.argmin(torque), np.argmax(torque)])
+    return alpha[idx], torque[idx]
 
 
 @dataclass(frozen=True)
@@ -140,7 +147,8 @@ class Fit:
 
 def fit_motors(d: Demand, motors: MotorArrays, *, torque_margin: float = 1.0, rms_margin: float = 1.0,
                speed_margin: float = 1.0, inertia_ratio_limit: float = 5.0,
-               speed_limit: Array | None = None) -> Fit:
+               speed_limit: Array | None = None, extra_inertia: Array | None = None,
+               index: NDArray[np.intp] | None = None) -> Fit:
     """Check every candidate motor against the demand (arrays over M candidates).
 
     Checks: ``peak_torque`` (|T + J_M alpha| x margin against the intermittent envelope at
@@ -148,12 +156,26 @@ def fit_motors(d: Demand, motors: MotorArrays, *, torque_margin: float = 1.0, rm
     the mean speed; lecture, Torque Effective Value), ``max_speed`` (x margin against the
     motor's max speed, and ``speed_limit`` such as a gearbox's max input speed), and
     ``inertia_ratio`` (J_L / J_M against the user's limit; the lecture recommends below 5:1).
+    ``extra_inertia`` (per candidate, e.g. a catalog gearbox's input inertia [kg m^2]) turns with
+    the motor shaft and counts on the load side of the inertia ratio. With ``index``, ``motors``
+    holds each motor once and candidate k is motor ``index[k]``: envelopes are then computed
+    once per motor, not once per candidate.
     """
-    j = motors.inertia
+    idx = np.arange(len(motors.inertia)) if index is None else index
+    # Envelopes per distinct motor, gathered per candidate.
+    env_motor = intermittent_torque(motors.peak_torque, motors.rated_torque, motors.rated_speed, motors.max_speed,
+                                    d.hull_speed, motors.stall_torque).torque
+    cont_motor = continuous_torque(motors.rated_torque, motors.rated_speed, motors.max_speed,
+                                   np.array([d.mean_speed]), motors.stall_torque).torque[:, 0]
+    env_int, cont = env_motor[idx], cont_motor[idx]
+    j_m = motors.inertia[idx]
+    extra = np.zeros_like(j_m) if extra_inertia is None else extra_inertia
+    j = j_m + extra
     # Peak: per bin, max over hull vertices of |T + J alpha| (M, B).
-    vals = np.abs(d.hull_torque[None, :, :] + j[:, None, None] * d.hull_alpha[None, :, :]).max(axis=2)
-    env_int = intermittent_torque(motors.peak_torque, motors.rated_torque, motors.rated_speed, motors.max_speed,
-                                  d.hull_speed, motors.stall_torque).torque
+    # (a loop over the few hull vertices: numpy reduces a short last axis slowly)
+    vals = np.abs(d.hull_torque[None, :, 0] + j[:, None] * d.hull_alpha[None, :, 0])
+    for v in range(1, d.hull_torque.shape[1]):
+        np.maximum(vals, np.abs(d.hull_torque[None, :, v] + j[:, None] * d.hull_alpha[None, :, v]), out=vals)
     req_bins = vals * torque_margin
     m = margin_of(req_bins, env_int)
     worst = np.argmin(m, axis=1)
@@ -165,13 +187,12 @@ def fit_motors(d: Demand, motors: MotorArrays, *, torque_margin: float = 1.0, rm
     s_ta = float(np.sum(w * d.torque * d.alpha))
     s_aa = float(np.sum(w * d.alpha**2))
     rms_t = np.sqrt(np.maximum(s_tt + 2.0 * j * s_ta + j**2 * s_aa, 0.0) / d.period)
-    cont = continuous_torque(motors.rated_torque, motors.rated_speed, motors.max_speed,
-                             np.array([d.mean_speed]), motors.stall_torque).torque[:, 0]
     rms_req = rms_t * rms_margin
     speed_req = np.full_like(j, d.max_speed * speed_margin)
-    speed_av = motors.max_speed if speed_limit is None else np.minimum(motors.max_speed, speed_limit)
-    ratio = d.load_inertia / j
-    approx = motors.approximate
+    max_speed = motors.max_speed[idx]
+    speed_av = max_speed if speed_limit is None else np.minimum(max_speed, speed_limit)
+    ratio = (d.load_inertia + extra) / j_m
+    approx = motors.approximate[idx]
     names = ("peak_torque", "rms_torque", "max_speed", "inertia_ratio")
     return Fit(
         names=names,

@@ -66,10 +66,19 @@ class SizingResult:
         if self.motor is not None:
             out["motor"] = self.motor
         if self.selection is not None:
-            out["selection"] = self.selection
+            out["selection"] = {k: v for k, v in self.selection.items() if not k.startswith("_")}
         if self.candidates:
             out["candidates"] = self.candidates
         return out
+
+    def explain(self, model: str) -> str:
+        """Why a catalog motor was accepted or rejected (needs a catalog selection)."""
+        from drivetrain.errors import InputError
+        from drivetrain.selection import explain
+
+        if self.selection is None:
+            raise InputError("--explain", "needs a catalog selection (motor: {select: ...})", model)
+        return explain(self.selection, model)
 
     def series(self) -> dict[str, np.ndarray]:
         """The sampled cycle as columns (SI): time, load motion, motor-shaft speed and torque."""
@@ -233,4 +242,10 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64) -
         result.extras["slip_check"] = slip_check(float(np.max(np.abs(duty.samples.a))), axis.mechanism.slip_limit)
     if axis.motor is not None:
         result.motor = motor_result(axis, duty, axis.motor)
+    elif axis.spec.motor is not None and axis.spec.motor.select is not None:
+        from drivetrain.selection import select
+
+        chosen = select(axis, duty, axis.spec.motor.select, axis.spec.motor.margins)
+        result.candidates = chosen["candidates"]
+        result.selection = chosen["selection"]
     return result

@@ -1,0 +1,216 @@
+"""The component catalog: motors, gearboxes and drives from several vendors, with their sources.
+
+The shipped data (``drivetrain/catalog/data``, provenance in ``data/SOURCES.md``) is built into
+an SQLite database on first use; the user's own imports live in a second database next to it.
+Queries see both and return arrays (SI, NaN where a value is unknown)::
+
+    from drivetrain import catalog
+    m = catalog.motors(vendor="Yaskawa")          # MotorTable of numpy arrays
+    m.rated_torque, m.rotor_inertia, m.ids        # [N m], [kg m^2], ids
+    catalog.get("SGM7J-04A")                      # one row as a dict, with source and notes
+    catalog.import_file("my_motors.csv")          # validated, one transaction
+    catalog.export("motors.json", "motor", "json")
+
+The data folder is ``$DRIVETRAIN_DATA_DIR`` or the platform's user data folder.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING, Any
+
+from drivetrain import units
+from drivetrain.catalog import db
+from drivetrain.catalog.schema import DATA_VERSION, DRIVE, GEARBOX, MOTOR, ROW_TABLES, TableSpec
+from drivetrain.errors import InputError
+
+if TYPE_CHECKING:
+    from drivetrain.catalog.importer import ImportReport, export, import_file
+    from drivetrain.catalog.tables import DriveTable, GearboxTable, MotorTable
+
+_LAZY = {"ImportReport": "importer", "export": "importer", "import_file": "importer", "DriveTable": "tables",
+         "GearboxTable": "tables", "MotorTable": "tables"}
+
+
+def __getattr__(name: str) -> Any:
+    """numpy-backed parts load on first use, so the CLI's --help stays fast."""
+    if name in _LAZY:
+        import importlib
+
+        return getattr(importlib.import_module(f"drivetrain.catalog.{_LAZY[name]}"), name)
+    raise AttributeError(name)
+
+__all__ = [
+    "DATA_VERSION",
+    "DriveTable",
+    "GearboxTable",
+    "ImportReport",
+    "MotorTable",
+    "drives",
+    "export",
+    "gearboxes",
+    "get",
+    "import_file",
+    "motors",
+]
+
+VOLTAGE_TOLERANCE = 0.15
+"""Relative window of the voltage filter: vendors name one mains family 200/230 V or 400/460 V."""
+FLANGE_TOLERANCE = 0.5e-3
+"""[m] flange filter window: flange widths are whole millimetres."""
+
+Names = str | Sequence[str] | None
+
+
+def motors(
+    vendor: Names = None,
+    kind: str | None = None,
+    voltage: float | str | None = None,
+    flange: float | str | None = None,
+    ids: Iterable[str] | None = None,
+) -> MotorTable:
+    """Motors of the shipped and user catalogs as arrays (SI).
+
+    Args:
+        vendor: case-insensitive part of the vendor name ("yaskawa"), or several.
+        kind: "ac_servo" or "small_dc".
+        voltage: voltage class, e.g. 400 or "400 V"; matches within 15 % (400 also finds
+            460 V motors). Motors whose voltage is unknown are left out.
+        flange: square flange width, e.g. "80 mm" or 0.08 [m]; matches within 0.5 mm.
+        ids: exactly these motors, in this order (an unknown id is an InputError).
+
+    An empty result is not an error; a vendor or kind that matches nothing in the catalog is.
+    """
+    with db.reader() as rd:
+        rows = rd.rows(MOTOR)
+        rows = _filter(MOTOR, rows, vendor, kind, ids)
+        if voltage is not None:
+            v = units.parse(voltage, "voltage", "voltage", allow_zero=False)
+            rows = [
+                r for r in rows if r["voltage_V"] is not None and abs(r["voltage_V"] - v) <= VOLTAGE_TOLERANCE * abs(v)
+            ]
+        if flange is not None:
+            f = units.parse(flange, "length", "flange", allow_zero=False)
+            rows = [r for r in rows if r["flange_m"] is not None and abs(r["flange_m"] - f) <= FLANGE_TOLERANCE]
+        points = rd.curves([r["id"] for r in rows])
+    from drivetrain.catalog.tables import MotorTable
+    from drivetrain.envelope import Curve
+
+    curves = {mid: Curve.from_points(p) for mid, p in points.items()}
+    return MotorTable.from_db(rows, curves)
+
+
+def gearboxes(
+    vendor: Names = None, series: Names = None, kind: str | None = None, ids: Iterable[str] | None = None
+) -> GearboxTable:
+    """Gearboxes (one row per model and ratio) as arrays (SI).
+
+    Args:
+        vendor: case-insensitive part of the vendor name, or several.
+        series: series name(s), case-insensitive ("GPB", "GPBR").
+        kind: "servo_gearbox" (precision gearboxes for servo motors) or "small_gearhead".
+        ids: exactly these rows, in this order.
+    """
+    with db.reader() as rd:
+        rows = _filter(GEARBOX, rd.rows(GEARBOX), vendor, kind, ids)
+    if series is not None:
+        wanted = _names("series", series)
+        known = {str(r["series"]).lower() for r in rows if r["series"]}
+        unknown = [s for s in wanted if s not in known]
+        if unknown:
+            raise InputError(
+                "series", f"no gearbox series matches (known: {', '.join(sorted(known))})", ", ".join(unknown)
+            )
+        rows = [r for r in rows if str(r["series"] or "").lower() in wanted]
+    from drivetrain.catalog.tables import GearboxTable
+
+    return GearboxTable.from_rows(rows)
+
+
+def drives(vendor: Names = None, voltage: float | str | None = None, ids: Iterable[str] | None = None) -> DriveTable:
+    """Servo drives as arrays (SI). The shipped catalog has none (data/SOURCES.md); imports add them."""
+    with db.reader() as rd:
+        rows = _filter(DRIVE, rd.rows(DRIVE), vendor, None, ids)
+    if voltage is not None:
+        v = units.parse(voltage, "voltage", "voltage", allow_zero=False)
+        rows = [r for r in rows if r["voltage_V"] is not None and abs(r["voltage_V"] - v) <= VOLTAGE_TOLERANCE * abs(v)]
+    from drivetrain.catalog.tables import DriveTable
+
+    return DriveTable.from_rows(rows)
+
+
+def get(id: str) -> dict[str, Any]:
+    """One motor, gearbox or drive by id, as a dict: SI values keyed with their unit, plus
+    ``table``, ``origin`` ("builtin" or "user"), ``source``, ``notes``, ``derived`` (fields not
+    read from a datasheet) and, for motors, ``curve`` (None: envelope derived, approximate).
+
+    Raises InputError('id', ...) naming close matches, or why the shipped data left it out.
+    """
+    with db.reader() as rd:
+        for spec in ROW_TABLES:
+            found = rd.rows(spec, "id = ?", (id,))
+            if found:
+                return _record(spec, found[0], rd.curves([id]).get(id))
+        rejected = rd.rejected(id)
+        known = list(rd.ids())
+    if rejected is not None:
+        raise InputError(
+            "id",
+            f"no motor, gearbox or drive with this id: the shipped data leaves it out ({rejected['reason']})",
+            id,
+        )
+    raise InputError("id", "no motor, gearbox or drive with this id" + _did_you_mean(id, known), id)
+
+
+def _record(
+    spec: TableSpec,
+    row: dict[str, Any],
+    points: list[tuple[float, float | None, float | None]] | None,
+) -> dict[str, Any]:
+    record: dict[str, Any] = {"table": spec.name, **row}
+    if spec is MOTOR:
+        record["derived"] = [d for d in (row.get("derived") or "").split(",") if d]
+        from drivetrain.envelope import Curve
+
+        record["curve"] = None if not points else Curve.from_points(points).to_dict()
+    return record
+
+
+def _did_you_mean(value: str, known: Sequence[str]) -> str:
+    by_upper = {k.upper(): k for k in known}
+    close = difflib.get_close_matches(value.upper(), list(by_upper), n=3, cutoff=0.6)
+    return f"; did you mean {', '.join(by_upper[c] for c in close)}?" if close else ""
+
+
+def _names(field: str, value: str | Sequence[str]) -> list[str]:
+    items = [value] if isinstance(value, str) else list(value)
+    if not items or not all(isinstance(v, str) and v.strip() for v in items):
+        raise InputError(field, "must be a name or a list of names", value)
+    return [v.strip().lower() for v in items]
+
+
+def _filter(
+    spec: TableSpec, rows: list[dict[str, Any]], vendor: Names, kind: str | None, ids: Iterable[str] | None
+) -> list[dict[str, Any]]:
+    if kind is not None:
+        if kind not in spec.kinds:
+            raise InputError("kind", f"must be one of {', '.join(spec.kinds)}", kind)
+        rows = [r for r in rows if r["kind"] == kind]
+    if vendor is not None:
+        wanted = _names("vendor", vendor)
+        vendors = sorted({str(r["vendor"]) for r in rows})
+        unknown = [w for w in wanted if not any(w in v.lower() for v in vendors)]
+        if unknown:
+            raise InputError(
+                "vendor", f"no {spec.name} vendor matches (known: {', '.join(vendors)})", ", ".join(unknown)
+            )
+        rows = [r for r in rows if any(w in str(r["vendor"]).lower() for w in wanted)]
+    if ids is not None:
+        by_id = {r["id"]: r for r in rows}
+        wanted_ids = [ids] if isinstance(ids, str) else list(ids)
+        missing = [i for i in wanted_ids if i not in by_id]
+        if missing:
+            raise InputError("ids", f"no {spec.name} with this id" + _did_you_mean(missing[0], list(by_id)), missing[0])
+        rows = [by_id[i] for i in wanted_ids]
+    return rows

@@ -1,0 +1,279 @@
+"""``drivetrain catalog``: list, show, import and export catalog components.
+
+The main CLI calls :func:`add_parser` with its sub-parsers and dispatches to :func:`run` (set as
+``handler`` on the parsed arguments). Bad input raises InputError; the main CLI prints it and exits
+with status 2. No physics here: every number comes from ``drivetrain.catalog``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+from drivetrain.catalog.schema import DRIVE, GEARBOX, MOTOR, TABLES, TEXT, TableSpec
+
+if TYPE_CHECKING:
+    from rich.console import Console
+
+LIST_KINDS = ("motor", "gearbox", "drive")
+_PLURAL = {"motor": "motors", "gearbox": "gearboxes", "drive": "drives"}
+DEFAULT_LIMIT = 50
+_PIPE_WIDTH = 200
+_VENDOR_WIDTH = 24
+
+# (column title, field name) per table for `catalog list`; values shown in the field's export unit
+_LIST_COLUMNS: dict[str, tuple[tuple[str, str], ...]] = {
+    "motor": (
+        ("id", "id"),
+        ("vendor", "vendor"),
+        ("series", "series"),
+        ("T rated N·m", "rated_torque"),
+        ("T peak N·m", "peak_torque"),
+        ("n rated rpm", "rated_speed"),
+        ("n max rpm", "max_speed"),
+        ("J kg·cm²", "rotor_inertia"),
+        ("V", "voltage"),
+        ("origin", "origin"),
+    ),
+    "gearbox": (
+        ("id", "id"),
+        ("vendor", "vendor"),
+        ("series", "series"),
+        ("i", "ratio"),
+        ("stages", "stages"),
+        ("T2N N·m", "rated_output_torque"),
+        ("eta", "efficiency"),
+        ("n1N rpm", "rated_input_speed"),
+        ("J1 kg·cm²", "inertia_input"),
+        ("backlash arcmin", "backlash"),
+        ("origin", "origin"),
+    ),
+    "drive": (
+        ("id", "id"),
+        ("vendor", "vendor"),
+        ("series", "series"),
+        ("I cont A", "continuous_current"),
+        ("I peak A", "peak_current"),
+        ("V", "voltage"),
+        ("origin", "origin"),
+    ),
+}
+
+
+def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
+    """Register ``catalog`` and its sub-commands on the main CLI's sub-parsers."""
+    parser = subparsers.add_parser(
+        "catalog",
+        help="list, show, import and export motors, gearboxes and drives",
+        description="The component catalog: shipped data (with sources) plus your own imports.",
+    )
+    sub = parser.add_subparsers(dest="catalog_command", metavar="COMMAND", required=True)
+
+    p = sub.add_parser("list", help="list components (motors by default)")
+    p.add_argument("--vendor", help="part of the vendor name, case-insensitive")
+    p.add_argument("--kind", choices=LIST_KINDS, default="motor", help="table to list (default: motor)")
+    p.add_argument(
+        "--limit",
+        type=int,
+        default=DEFAULT_LIMIT,
+        metavar="N",
+        help=f"show at most N rows (default {DEFAULT_LIMIT}; 0: all)",
+    )
+    p.add_argument("--json", action="store_true", help="print JSON (SI, unit in each key)")
+
+    p = sub.add_parser("show", help="show one component with its source and notes")
+    p.add_argument("id", metavar="ID")
+    p.add_argument("--json", action="store_true", help="print JSON (SI, unit in each key)")
+
+    p = sub.add_parser("import", help="import a CSV or JSON file into your catalog (all rows or none)")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("--kind", choices=tuple(TABLES), help="table (default: from the file)")
+
+    p = sub.add_parser("export", help="export a table as CSV or JSON with unit headers")
+    p.add_argument("--kind", choices=tuple(TABLES), default="motor", help="table (default: motor)")
+    p.add_argument("--format", choices=("csv", "json"), default="csv")
+    p.add_argument(
+        "--origin",
+        choices=("all", "builtin", "user"),
+        default="all",
+        help="shipped rows, your imports, or both (default)",
+    )
+    p.add_argument("--output", "-o", metavar="FILE", help="write to FILE (default: standard output)")
+
+    parser.set_defaults(handler=run)
+    return parser
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run a ``catalog`` sub-command; returns the exit status. Raises InputError on bad input."""
+    handlers = {"list": _list, "show": _show, "import": _import, "export": _export}
+    return handlers[args.catalog_command](args)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Stand-alone entry (``python -m drivetrain.catalog.cli``): same commands, status 2 on bad input."""
+    from drivetrain.errors import InputError
+
+    parser = argparse.ArgumentParser(prog="drivetrain")
+    add_parser(parser.add_subparsers(dest="command", required=True))
+    args = parser.parse_args(argv)
+    try:
+        return run(args)
+    except InputError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+
+
+# ---------------------------------------------------------------------------------- handlers
+
+
+def _console() -> Console:
+    from rich.console import Console
+
+    console = Console(soft_wrap=False)
+    # piped output: rich would squeeze tables to 80 columns; a file reader can scroll instead
+    return console if console.is_terminal else Console(soft_wrap=False, width=_PIPE_WIDTH)
+
+
+def _list(args: argparse.Namespace) -> int:
+    from drivetrain import catalog
+    from drivetrain.errors import InputError
+
+    if args.limit < 0:
+        raise InputError("--limit", "must be >= 0", args.limit)
+    table: catalog.MotorTable | catalog.GearboxTable | catalog.DriveTable
+    if args.kind == "motor":
+        table = catalog.motors(vendor=args.vendor)
+    elif args.kind == "gearbox":
+        table = catalog.gearboxes(vendor=args.vendor)
+    else:
+        table = catalog.drives(vendor=args.vendor)
+    shown = len(table) if args.limit == 0 else min(args.limit, len(table))
+    if args.json:
+        print(json.dumps([table.row(i) for i in range(shown)], indent=1, ensure_ascii=False))
+        return 0
+    console = _console()
+    if len(table) == 0:
+        console.print(_empty_message(args.kind, args.vendor))
+        return 0
+    spec = TABLES[args.kind]
+    from rich.table import Table
+
+    out = Table(title=f"{_PLURAL[args.kind]} ({shown} of {len(table)})", title_justify="left")
+    for title, name in _LIST_COLUMNS[args.kind]:
+        out.add_column(title, no_wrap=True, overflow="ellipsis", max_width=_VENDOR_WIDTH if name == "vendor" else None)
+    for i in range(shown):
+        row = table.row(i)
+        cells = [_cell(spec, name, row) for _, name in _LIST_COLUMNS[args.kind]]
+        if args.kind == "motor" and row.get("approx_rated"):
+            cells[3] += " (derived)"
+        out.add_row(*cells)
+    console.print(out)
+    if shown < len(table):
+        console.print(f"{len(table) - shown} more; use --limit 0 to list all, or --vendor to narrow")
+    return 0
+
+
+def _empty_message(kind: str, vendor: str | None) -> str:
+    if kind == "drive":
+        return (
+            "no drives in the catalog: the shipped data has none (no sourced drive data); "
+            "add yours with `drivetrain catalog import FILE --kind drive`"
+        )
+    return f"no {_PLURAL[kind]}" + (f" from vendor {vendor!r}" if vendor else "")
+
+
+def _cell(spec: TableSpec, name: str, row: dict[str, Any]) -> str:
+    fld = next((f for f in spec.fields if f.name == name), None)
+    key = "id" if name == "id" else (fld.column if fld else name)
+    value = row.get(key)
+    if value is None or value == "":
+        return "-"
+    if fld is None or fld.quantity == TEXT:
+        return str(value)
+    from drivetrain.catalog.importer import display
+
+    shown = display(fld, value)
+    return _number(shown) if isinstance(shown, float) else str(shown)
+
+
+def _number(x: float) -> str:
+    """Four significant digits without exponent in the usual range (10000, 0.1194, 3.342)."""
+    if x != 0 and not 1e-4 <= abs(x) < 1e7:
+        return f"{x:.4g}"
+    import numpy as np
+
+    return np.format_float_positional(x, precision=4, unique=False, fractional=False, trim="-")
+
+
+def _show(args: argparse.Namespace) -> int:
+    from drivetrain import catalog
+
+    record = catalog.get(args.id)
+    if args.json:
+        print(json.dumps(record, indent=1, ensure_ascii=False))
+        return 0
+    spec = {"motor": MOTOR, "gearbox": GEARBOX, "drive": DRIVE}[record["table"]]
+    from rich.table import Table
+
+    out = Table(title=f"{record['table']} {record['id']}", title_justify="left", show_header=False)
+    out.add_column("field", style="bold", no_wrap=True)
+    out.add_column("value")
+    provenance = ("source", "notes", "rated_torque_basis", "derived")
+    for fld in spec.fields:
+        if fld.name in provenance or fld.name == "id":
+            continue
+        value = record.get(fld.column)
+        if value is None or value == "":
+            continue
+        out.add_row(fld.name, _with_unit(spec, fld.name, record))
+    out.add_row("origin", "shipped catalog" if record["origin"] == "builtin" else "your import")
+    out.add_row("source", str(record.get("source") or "-"))
+    if record.get("notes"):
+        out.add_row("notes", str(record["notes"]))
+    if record["table"] == "motor":
+        if record.get("rated_torque_basis"):
+            out.add_row("rated_torque_basis", str(record["rated_torque_basis"]))
+        derived = record.get("derived") or []
+        out.add_row("derived", ", ".join(derived) + " (not read from a datasheet)" if derived else "none")
+        out.add_row(
+            "speed-torque curve",
+            f"{len(record['curve']['speed_rad_s'])} points"
+            if record.get("curve")
+            else "none: envelope derived from the ratings (approximate, see drivetrain.envelope)",
+        )
+    _console().print(out)
+    return 0
+
+
+def _with_unit(spec: TableSpec, name: str, record: dict[str, Any]) -> str:
+    fld = spec.field(name)
+    text = _cell(spec, name, {fld.column: record.get(fld.column)})
+    return f"{text} {fld.unit}" if fld.unit and fld.quantity != TEXT else text
+
+
+def _import(args: argparse.Namespace) -> int:
+    from drivetrain import catalog
+
+    report = catalog.import_file(args.file, kind=args.kind)
+    _console().print(str(report))
+    return 0
+
+
+def _export(args: argparse.Namespace) -> int:
+    from drivetrain.catalog.importer import export, export_text
+
+    if args.output:
+        count = export(args.output, args.kind, args.format, origin=args.origin)
+        print(f"exported {count} {args.kind} row(s) to {args.output}", file=sys.stderr)
+    else:
+        text, _ = export_text(args.kind, args.format, origin=args.origin)
+        sys.stdout.write(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

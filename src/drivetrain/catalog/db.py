@@ -1,0 +1,369 @@
+"""The embedded SQLite catalog: a shipped database built from package data, and a user database.
+
+Two files live in the data folder (``DRIVETRAIN_DATA_DIR``, else the platform's user data
+folder, e.g. ``~/.local/share/drivetrain``):
+
+* ``catalog.sqlite`` is built on first use from the CSV files shipped in
+  ``drivetrain/catalog/data`` and rebuilt whenever their version or content changes. It is
+  written to a temporary file and moved into place, so a reader never sees half of it, and it is
+  only ever opened read-only.
+* ``user.sqlite`` holds the user's imports. Every import is one transaction.
+
+Queries see the union of both; each row carries ``origin`` = ``"builtin"`` or ``"user"``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import os
+import re
+import sys
+import tempfile
+import time
+from collections.abc import Iterator, Sequence
+from importlib import resources
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from drivetrain.catalog.schema import (
+    CURVE,
+    DATA_VERSION,
+    GEARBOX,
+    REJECTS_FILE,
+    ROW_TABLES,
+    SCHEMA_VERSION,
+    SHIPPED_FILES,
+    ShippedFile,
+    TableSpec,
+    ddl,
+)
+from drivetrain.errors import InputError, InputErrors
+
+if TYPE_CHECKING:
+    import sqlite3
+
+    from drivetrain.catalog.records import Row
+
+BUILTIN_NAME = "catalog.sqlite"
+USER_NAME = "user.sqlite"
+ENV_DATA_DIR = "DRIVETRAIN_DATA_DIR"
+_STALE_TEMP_S = 3600.0  # a build temp file this old was left by a killed process
+
+_verified: set[Path] = set()  # shipped databases checked up to date in this process
+
+
+# ---------------------------------------------------------------------------------- places
+
+
+def data_dir() -> Path:
+    """The folder holding both databases: $DRIVETRAIN_DATA_DIR, else the platform's user data folder."""
+    env = os.environ.get(ENV_DATA_DIR)
+    if env:
+        return Path(env).expanduser().resolve()
+    home = Path.home()
+    if sys.platform == "win32":
+        base = Path(os.environ.get("LOCALAPPDATA") or home / "AppData" / "Local")
+    elif sys.platform == "darwin":
+        base = home / "Library" / "Application Support"
+    else:
+        base = Path(os.environ.get("XDG_DATA_HOME") or home / ".local" / "share")
+    return (base / "drivetrain").resolve()
+
+
+def user_db_path(directory: Path | None = None) -> Path:
+    return (directory or data_dir()) / USER_NAME
+
+
+def shipped_text(filename: str) -> str:
+    """Text of a file shipped in drivetrain/catalog/data (read through importlib.resources)."""
+    return resources.files("drivetrain.catalog").joinpath("data", filename).read_text(encoding="utf-8")
+
+
+def build_stamp() -> str:
+    """Identifies the shipped data: DATA_VERSION, schema version and a hash of the files."""
+    digest = hashlib.sha256()
+    for name in [f.filename for f in SHIPPED_FILES] + [REJECTS_FILE]:
+        digest.update(name.encode())
+        digest.update(shipped_text(name).encode())
+    return f"{DATA_VERSION}/schema-{SCHEMA_VERSION}/{digest.hexdigest()[:16]}"
+
+
+# ---------------------------------------------------------------------------------- shipped database
+
+
+def builtin_db(directory: Path | None = None) -> Path:
+    """Path of the shipped database in ``directory``, built or rebuilt first if it is missing or stale."""
+    path = (directory or data_dir()) / BUILTIN_NAME
+    if path in _verified and path.exists():
+        return path
+    stamp = build_stamp()
+    if _stamp_of(path) != stamp:
+        try:
+            _build(path, stamp)
+        except OSError as exc:
+            if _stamp_of(path) != stamp:  # not built meanwhile by another process either
+                raise InputError(
+                    ENV_DATA_DIR,
+                    f"cannot write the catalog database in {path.parent} ({exc.strerror or exc}); "
+                    f"set {ENV_DATA_DIR} to a writable folder",
+                    str(path.parent),
+                ) from None
+    _verified.add(path)
+    return path
+
+
+def _stamp_of(path: Path) -> str | None:
+    import sqlite3
+
+    if not path.exists():
+        return None
+    try:
+        conn = sqlite3.connect(_ro_uri(path), uri=True)
+        try:
+            row = conn.execute("SELECT value FROM meta WHERE key = 'stamp'").fetchone()
+        finally:
+            conn.close()
+    except sqlite3.Error:
+        return None  # unreadable or foreign file: rebuild it
+    return str(row[0]) if row else None
+
+
+def _build(path: Path, stamp: str) -> None:
+    """Write the shipped database to a temporary file, then move it into place atomically."""
+    import sqlite3
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    _remove_stale_temps(path.parent)
+    fd, tmp_name = tempfile.mkstemp(prefix=".catalog-", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    tmp = Path(tmp_name)
+    try:
+        conn = sqlite3.connect(tmp, isolation_level=None)
+        try:
+            conn.execute("BEGIN")
+            for statement in ddl():
+                conn.execute(statement)
+            for shipped, rows in shipped_rows():
+                insert_rows(conn, "main", shipped.table, rows)
+            conn.executemany("INSERT INTO rejects VALUES (?, ?, ?, ?, ?, ?)", _rejects())
+            conn.executemany(
+                "INSERT INTO meta VALUES (?, ?)",
+                [
+                    ("stamp", stamp),
+                    ("data_version", DATA_VERSION),
+                    ("schema_version", str(SCHEMA_VERSION)),
+                    ("origin", "builtin"),
+                ],
+            )
+            conn.execute("COMMIT")
+        finally:
+            conn.close()
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def _remove_stale_temps(directory: Path) -> None:
+    for tmp in directory.glob(".catalog-*.tmp"):
+        with contextlib.suppress(OSError):
+            if time.time() - tmp.stat().st_mtime > _STALE_TEMP_S:
+                tmp.unlink()
+
+
+def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
+    """Every shipped file converted and validated; a problem is a packaging bug, so it raises."""
+    from drivetrain.catalog.records import parse_rows, read_csv
+
+    for shipped in SHIPPED_FILES:
+        raw = read_csv(shipped_text(shipped.filename), shipped.filename)
+        parsed = parse_rows(
+            raw, shipped.table, kind=shipped.kind, constants=dict(shipped.constants), derived=shipped.derived
+        )
+        if parsed.errors:
+            raise RuntimeError(f"shipped catalog data is invalid:\n{InputErrors(parsed.errors)}")
+        for row in parsed.rows:
+            m = re.match(shipped.model_pattern, row.id or "") if shipped.model_pattern else None
+            if m is not None:
+                row.values["model"] = m.group(1)
+            if shipped.table is GEARBOX and shipped.kind == "servo_gearbox":
+                # right-angle series end in R (GPBR, GPDR, GPVR, GPER; data/SOURCES.md)
+                row.values["right_angle"] = int(str(row.values.get("series", "")).endswith("R"))
+        yield shipped, parsed.rows
+
+
+def _rejects() -> Iterator[tuple[str, ...]]:
+    import csv
+    import io
+
+    for r in csv.DictReader(io.StringIO(shipped_text(REJECTS_FILE))):
+        yield r["target_file"], r["id"], r["vendor"], r["reason"], r["source"], r["source_values"]
+
+
+# ---------------------------------------------------------------------------------- writing
+
+
+def insert_rows(conn: sqlite3.Connection, schema: str, spec: TableSpec, rows: Sequence[Row]) -> int:
+    """Insert converted rows (and motors' curve points) into ``schema``; the caller owns the transaction."""
+    columns = [f.column for f in spec.fields]
+    sql = f"INSERT INTO {schema}.{spec.sql} ({', '.join(columns)}) VALUES ({', '.join('?' * len(columns))})"
+    conn.executemany(sql, _values(spec, rows))
+    points = [p for r in rows for p in r.curve]
+    if points:
+        insert_rows(conn, schema, CURVE, points)
+    return len(rows)
+
+
+def _values(spec: TableSpec, rows: Sequence[Row]) -> Iterator[tuple[Any, ...]]:
+    for row in rows:
+        yield tuple(row.values.get(f.name) for f in spec.fields)
+
+
+@contextlib.contextmanager
+def user_writer(directory: Path | None = None) -> Iterator[sqlite3.Connection]:
+    """A connection in one write transaction on the user database (created if absent).
+
+    The transaction commits when the block ends normally and rolls back on any exception; a
+    killed process leaves a journal that SQLite rolls back on the next open, so the file is never
+    half-written.
+    """
+    import sqlite3
+
+    directory = directory or data_dir()
+    builtin_db(directory)  # creates the folder, and the user rows' ids were checked against it
+    conn = sqlite3.connect(user_db_path(directory), isolation_level=None, timeout=30.0)
+    try:
+        conn.execute("PRAGMA synchronous = FULL")
+        _ensure_user_schema(conn)
+        conn.execute("BEGIN IMMEDIATE")
+        try:
+            yield conn
+        except BaseException:
+            conn.execute("ROLLBACK")
+            raise
+        conn.execute("COMMIT")
+    finally:
+        conn.close()
+
+
+def _ensure_user_schema(conn: sqlite3.Connection) -> None:
+    conn.execute("BEGIN IMMEDIATE")
+    try:
+        has_meta = conn.execute("SELECT 1 FROM sqlite_master WHERE type = 'table' AND name = 'meta'").fetchone()
+        if not has_meta:
+            for statement in ddl():
+                conn.execute(statement)
+            conn.executemany(
+                "INSERT INTO meta VALUES (?, ?)",
+                [("schema_version", str(SCHEMA_VERSION)), ("origin", "user")],
+            )
+        conn.execute("COMMIT")
+    except BaseException:
+        conn.execute("ROLLBACK")
+        raise
+    _check_user_version(conn, "main")
+
+
+def _check_user_version(conn: sqlite3.Connection, schema: str) -> None:
+    row = conn.execute(f"SELECT value FROM {schema}.meta WHERE key = 'schema_version'").fetchone()
+    if row is None or row[0] != str(SCHEMA_VERSION):
+        found = row[0] if row else "none"
+        raise InputError(
+            "catalog",
+            f"the user catalog has schema version {found}, this drivetrain reads "
+            f"version {SCHEMA_VERSION}; export it with the drivetrain that wrote it and "
+            "re-import",
+            str(user_path_of(conn, schema)),
+        )
+
+
+def user_path_of(conn: sqlite3.Connection, schema: str) -> str:
+    return next((str(r[2]) for r in conn.execute("PRAGMA database_list") if r[1] == schema), "")
+
+
+# ---------------------------------------------------------------------------------- reading
+
+
+@contextlib.contextmanager
+def reader(directory: Path | None = None) -> Iterator[Reader]:
+    """A read connection seeing the shipped database (``builtin``) and, if it exists, the user one."""
+    import sqlite3
+
+    directory = directory or data_dir()
+    builtin = builtin_db(directory)
+    conn = sqlite3.connect(":memory:", uri=True, timeout=30.0)
+    try:
+        conn.execute("ATTACH DATABASE ? AS builtin", (_ro_uri(builtin),))
+        user = user_db_path(directory)
+        has_user = user.exists()
+        if has_user:
+            # read-write on purpose: a journal left by a killed import is rolled back on open
+            conn.execute("ATTACH DATABASE ? AS user", (str(user),))
+            has_user = bool(
+                conn.execute("SELECT 1 FROM user.sqlite_master WHERE type = 'table' AND name = 'meta'").fetchone()
+            )
+            if has_user:
+                _check_user_version(conn, "user")
+        yield Reader(conn, has_user)
+    finally:
+        conn.close()
+
+
+class Reader:
+    """Queries over the union of the shipped and user databases."""
+
+    def __init__(self, conn: sqlite3.Connection, has_user: bool) -> None:
+        self.conn = conn
+        self.has_user = has_user
+
+    def _union(self, table: str, columns: str) -> str:
+        parts = [f"SELECT {columns}, 'builtin' AS origin, 0 AS _db, rowid AS _rowid FROM builtin.{table}"]
+        if self.has_user:
+            parts.append(f"SELECT {columns}, 'user' AS origin, 1 AS _db, rowid AS _rowid FROM user.{table}")
+        return " UNION ALL ".join(parts)
+
+    def rows(self, spec: TableSpec, where: str = "", params: Sequence[Any] = ()) -> list[dict[str, Any]]:
+        """Rows of ``spec`` as dicts keyed by column (plus ``origin``), shipped rows first, in file order."""
+        columns = [f.column for f in spec.fields]
+        sql = f"SELECT * FROM ({self._union(spec.sql, ', '.join(columns))})"
+        if where:
+            sql += f" WHERE {where}"
+        sql += " ORDER BY _db, _rowid"
+        cursor = self.conn.execute(sql, tuple(params))
+        names = [d[0] for d in cursor.description]
+        return [{k: v for k, v in zip(names, r, strict=True) if not k.startswith("_")} for r in cursor]
+
+    def ids(self) -> dict[str, tuple[str, str]]:
+        """Every row id -> (table name, origin)."""
+        found: dict[str, tuple[str, str]] = {}
+        for spec in ROW_TABLES:
+            for rid, origin in self.conn.execute(f"SELECT id, origin FROM ({self._union(spec.sql, 'id')})"):
+                found[rid] = (spec.name, origin)
+        return found
+
+    def curves(
+        self, motor_ids: Sequence[str] | None = None
+    ) -> dict[str, list[tuple[float, float | None, float | None]]]:
+        """Speed-torque points per motor id: (speed [rad/s], continuous [N m], peak [N m]), by speed."""
+        cols = "motor_id, speed_rad_s, continuous_torque_Nm, peak_torque_Nm"
+        sql = f"SELECT {cols} FROM ({self._union(CURVE.sql, cols)}) ORDER BY motor_id, speed_rad_s"
+        wanted = None if motor_ids is None else set(motor_ids)
+        out: dict[str, list[tuple[float, float | None, float | None]]] = {}
+        for mid, speed, cont, peak in self.conn.execute(sql):
+            if wanted is None or mid in wanted:
+                out.setdefault(mid, []).append((speed, cont, peak))
+        return out
+
+    def rejected(self, rid: str) -> dict[str, str] | None:
+        """The shipped data's reject record for ``rid`` (a row left out, with the reason), if any."""
+        cursor = self.conn.execute("SELECT * FROM builtin.rejects WHERE id = ?", (rid,))
+        row = cursor.fetchone()
+        return None if row is None else dict(zip([d[0] for d in cursor.description], row, strict=True))
+
+    def count(self, spec: TableSpec, origin: str | None = None) -> int:
+        dbs = [d for d in ("builtin", "user") if origin in (None, d) and (d == "builtin" or self.has_user)]
+        return sum(int(self.conn.execute(f"SELECT count(*) FROM {d}.{spec.sql}").fetchone()[0]) for d in dbs)
+
+
+def _ro_uri(path: Path) -> str:
+    return path.resolve().as_uri() + "?mode=ro"

@@ -1,0 +1,318 @@
+"""Import user motors, gearboxes, drives and curve points into the user database; export any table.
+
+An import validates every row first and reports all problems together, each as
+``file:line:column`` (an ``InputErrors``); only a clean file is written, in one SQLite
+transaction, so an import either lands whole or not at all, even if the process is killed.
+The shipped database is never written.
+
+Exports write unit headers in catalogue units (``rated_speed [rpm]``,
+``rotor_inertia [kg*cm^2]``) and re-import unchanged; files are written to a temporary name
+and moved into place, so an existing file is never left half-written.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import functools
+import io
+import json
+import math
+import os
+import tempfile
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from drivetrain.catalog import db
+from drivetrain.catalog.records import (
+    HEADER_LINE,
+    Parsed,
+    Row,
+    infer_table,
+    parse_quantity,
+    parse_rows,
+    read_text,
+)
+from drivetrain.catalog.schema import CURVE, DATA_VERSION, FLAG, MOTOR, TABLES, TEXT, Field, TableSpec
+from drivetrain.errors import InputError, InputErrors
+
+if TYPE_CHECKING:
+    import sqlite3
+
+FORMATS = ("csv", "json")
+
+
+@dataclass(frozen=True)
+class ImportReport:
+    """What an import wrote: the table, how many rows (and curve points), their ids, the database."""
+
+    path: str
+    table: str
+    rows: int
+    curve_points: int
+    ids: tuple[str, ...]
+    database: str
+
+    def __str__(self) -> str:
+        points = f" and {self.curve_points} curve point(s)" if self.curve_points else ""
+        return f"imported {self.rows} {self.table} row(s){points} from {self.path} into {self.database}"
+
+
+# ---------------------------------------------------------------------------------- import
+
+
+def import_file(
+    path: str | os.PathLike[str], kind: str | None = None, *, directory: Path | None = None
+) -> ImportReport:
+    """Validate ``path`` (CSV or JSON) and add its rows to the user database in one transaction.
+
+    ``kind`` is the table: "motor", "gearbox", "drive" or "curve" (default: from the file's
+    ``table`` key or its columns). Raises InputErrors listing every bad cell, missing column and
+    duplicate id as ``file:line:column``; nothing is written then.
+    """
+    filename = os.fspath(path)
+    text = _read(filename)
+    raw = read_text(text, filename)
+    spec = _table(kind, raw.table, raw.headers, filename)
+    parsed = parse_rows(raw, spec)
+    _default_source(parsed.rows, Path(filename).name)
+    with db.reader(directory) as rd:
+        existing = rd.ids()
+        motor_curves = rd.curves() if spec in (MOTOR, CURVE) else {}
+    errors = parsed.errors + _cross_row_errors(parsed, filename, existing, motor_curves)
+    if errors:
+        raise InputErrors(sorted(errors, key=_error_order))
+    import sqlite3
+
+    try:
+        with db.user_writer(directory) as conn:
+            write_rows(conn, spec, parsed.rows)
+            database = db.user_path_of(conn, "main")
+    except sqlite3.IntegrityError as exc:  # another import added the same id since the check above
+        raise InputError(
+            filename, f"conflicts with rows imported meanwhile ({exc}); nothing was imported", has_value=False
+        ) from None
+    points = sum(len(r.curve) for r in parsed.rows) + (len(parsed.rows) if spec is CURVE else 0)
+    ids = tuple(r.id or "" for r in parsed.rows) if spec is not CURVE else ()
+    return ImportReport(filename, spec.name, len(parsed.rows) if spec is not CURVE else 0, points, ids, database)
+
+
+def _default_source(rows: Sequence[Row], name: str) -> None:
+    """A row without a source still has one: the file it came from."""
+    for row in rows:
+        row.values.setdefault("source", f"imported from {name}")
+        for point in row.curve:
+            point.values.setdefault("source", row.values["source"])
+
+
+def write_rows(conn: sqlite3.Connection, spec: TableSpec, rows: Sequence[Row]) -> int:
+    """The one place an import writes: insert ``rows`` inside the caller's transaction."""
+    return db.insert_rows(conn, "main", spec, rows)
+
+
+def _read(filename: str) -> str:
+    try:
+        data = Path(filename).read_bytes()
+    except FileNotFoundError:
+        raise InputError("file", "no such file", filename) from None
+    except OSError as exc:
+        raise InputError("file", f"cannot be read ({exc.strerror})", filename) from None
+    try:
+        return data.decode("utf-8-sig")  # Excel writes a byte-order mark
+    except UnicodeDecodeError as exc:
+        raise InputError(filename, f"is not UTF-8 text (byte {exc.start})", has_value=False) from None
+
+
+def _table(kind: str | None, declared: str | None, headers: list[str], filename: str) -> TableSpec:
+    name = kind or declared
+    if name is not None:
+        if name not in TABLES:
+            raise InputError("kind", f"must be one of {', '.join(TABLES)}", name)
+        return TABLES[name]
+    spec = infer_table(headers)
+    if spec is None:
+        raise InputError(
+            "kind",
+            f"cannot tell whether {filename} holds motors, gearboxes, drives or curve "
+            "points; pass kind (--kind motor|gearbox|drive|curve)",
+            has_value=False,
+        )
+    return spec
+
+
+def _cross_row_errors(
+    parsed: Parsed,
+    filename: str,
+    existing: dict[str, tuple[str, str]],
+    curves: dict[str, list[tuple[float, float | None, float | None]]],
+) -> list[InputError]:
+    """Duplicate ids (in the file, against both databases) and curve points' motors and speeds."""
+    errors: list[InputError] = []
+    if parsed.spec is CURVE:
+        return _curve_errors(parsed.rows, filename, existing, set(), curves)
+    first_line: dict[str, int] = {}
+    for row in parsed.rows:
+        rid = row.id
+        if rid is None:
+            continue
+        if rid in first_line:
+            errors.append(row.error(filename, "id", f"duplicate id: already used at line {first_line[rid]}"))
+        elif rid in existing:
+            table, origin = existing[rid]
+            place = "the shipped catalog" if origin == "builtin" else "your catalog"
+            errors.append(row.error(filename, "id", f"duplicate id: a {table} with this id is already in {place}"))
+        first_line.setdefault(rid, row.line)
+    if parsed.spec is MOTOR:
+        points = [p for r in parsed.rows for p in r.curve]
+        errors.extend(_curve_errors(points, filename, existing, set(first_line), curves))
+    return errors
+
+
+def _curve_errors(
+    points: Sequence[Row],
+    filename: str,
+    existing: dict[str, tuple[str, str]],
+    motors_here: set[str],
+    curves: dict[str, list[tuple[float, float | None, float | None]]],
+) -> list[InputError]:
+    errors: list[InputError] = []
+    seen: dict[tuple[str, float], int] = {}
+    for p in points:
+        mid, speed = p.values.get("motor_id"), p.values.get("speed")
+        if not isinstance(mid, str) or not isinstance(speed, float):
+            continue
+        if mid not in motors_here and existing.get(mid, ("",))[0] != "motor":
+            errors.append(p.error(filename, "motor_id", "no motor with this id in the file or the catalog"))
+        key = (mid, speed)
+        if key in seen:
+            errors.append(
+                p.error(filename, "speed", f"this motor already has a point at this speed (line {seen[key]})")
+            )
+        elif any(math.isclose(s, speed, rel_tol=1e-12, abs_tol=1e-12) for s, _, _ in curves.get(mid, [])):
+            errors.append(
+                p.error(filename, "speed", "this motor's curve in the catalog already has a point at this speed")
+            )
+        seen.setdefault(key, p.line)
+    return errors
+
+
+def _error_order(e: InputError) -> tuple[int, str]:
+    parts = e.field.rsplit(":", 2)
+    try:
+        return int(parts[1]), e.field
+    except (IndexError, ValueError):
+        return HEADER_LINE, e.field
+
+
+# ---------------------------------------------------------------------------------- export
+
+
+def export(
+    path: str | os.PathLike[str],
+    kind: str = "motor",
+    format: str = "csv",
+    *,
+    origin: str = "all",
+    ids: Iterable[str] | None = None,
+    directory: Path | None = None,
+) -> int:
+    """Write the rows of table ``kind`` to ``path`` as CSV or JSON with unit headers; return the count.
+
+    ``origin`` picks "builtin" (shipped), "user" (imported) or "all" rows; ``ids`` limits the
+    export to those ids. JSON nests each motor's curve points under "curve"; CSV exports them
+    with ``kind="curve"``. The file re-imports as it is (with ids not already in the catalog).
+    """
+    text, count = export_text(kind, format, origin=origin, ids=ids, directory=directory)
+    _write_atomic(Path(path), text)
+    return count
+
+
+def export_text(
+    kind: str = "motor",
+    format: str = "csv",
+    *,
+    origin: str = "all",
+    ids: Iterable[str] | None = None,
+    directory: Path | None = None,
+) -> tuple[str, int]:
+    """The export file's text and its row count (see :func:`export`)."""
+    if kind not in TABLES:
+        raise InputError("kind", f"must be one of {', '.join(TABLES)}", kind)
+    if format not in FORMATS:
+        raise InputError("format", f"must be one of {', '.join(FORMATS)}", format)
+    if origin not in ("all", "builtin", "user"):
+        raise InputError("origin", "must be all, builtin or user", origin)
+    spec = TABLES[kind]
+    wanted = None if ids is None else set(ids)
+    with db.reader(directory) as rd:
+        rows = [r for r in rd.rows(spec) if origin in ("all", r["origin"])]
+        id_key = "motor_id" if spec is CURVE else "id"
+        if wanted is not None:
+            rows = [r for r in rows if r[id_key] in wanted]
+        curves = rd.curves([r["id"] for r in rows]) if spec is MOTOR and format == "json" else {}
+    headers = [header(f) for f in spec.fields]
+    records = [[display(f, r.get(f.column)) for f in spec.fields] for r in rows]
+    if format == "csv":
+        return _csv_text(headers, records), len(rows)
+    out_rows: list[dict[str, Any]] = []
+    for r, values in zip(rows, records, strict=True):
+        obj = {h: v for h, v in zip(headers, values, strict=True) if v is not None}
+        if r.get("id") in curves:
+            obj["curve"] = [_curve_point(p) for p in curves[r["id"]]]
+        out_rows.append(obj)
+    doc = {"table": spec.name, "data_version": DATA_VERSION, "rows": out_rows}
+    return json.dumps(doc, indent=1, ensure_ascii=False) + "\n", len(rows)
+
+
+def header(fld: Field) -> str:
+    """Export header of a field: ``name [unit]``, or the bare name for text and pure numbers."""
+    return f"{fld.name} [{fld.unit}]" if fld.unit else fld.name
+
+
+def display(fld: Field, value: Any) -> Any:
+    """A stored SI value in the field's export unit, rounded to 12 significant digits."""
+    if fld.quantity == FLAG and value is not None:
+        return "yes" if value else "no"
+    if value is None or fld.quantity == TEXT or not fld.unit or fld.unit == "dB":
+        return value
+    return float(f"{value / _unit_si(fld.unit, fld.quantity):.12g}")
+
+
+@functools.cache
+def _unit_si(unit: str, quantity: str) -> float:
+    return parse_quantity(f"1 {unit}", quantity, unit)
+
+
+def _curve_point(point: tuple[float, float | None, float | None]) -> dict[str, float]:
+    names = ("speed", "continuous_torque", "peak_torque")
+    out: dict[str, float] = {}
+    for name, value in zip(names, point, strict=True):
+        fld = CURVE.field(name)
+        if value is not None:
+            out[header(fld)] = display(fld, value)
+    return out
+
+
+def _csv_text(headers: list[str], records: list[list[Any]]) -> str:
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(headers)
+    writer.writerows([["" if v is None else (repr(v) if isinstance(v, float) else v) for v in rec] for rec in records])
+    return buffer.getvalue()
+
+
+def _write_atomic(path: Path, text: str) -> None:
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}-", suffix=".tmp", dir=path.parent)
+    except OSError as exc:
+        raise InputError("output", f"cannot be written ({exc.strerror})", str(path)) from None
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as f:
+            f.write(text)
+        os.replace(tmp_name, path)
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp_name)

@@ -1,0 +1,304 @@
+"""The catalog's tables: every field with its quantity, SI database column and display unit.
+
+This module is the one place that says what a motor, gearbox, drive or speed-torque curve
+point is made of. The database schema, the importer, the exporter and the array tables are all
+generated from these lists, so a field added here appears everywhere at once.
+
+Naming: a field's ``name`` is what users write in a CSV/JSON header (``rotor_inertia``,
+optionally with a unit: ``rotor_inertia [kg*cm^2]``); its ``column`` is the SQLite column and
+the key of ``catalog.get()`` dicts, in SI with the unit in the name (``rotor_inertia_kgm2``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+DATA_VERSION = "2026.11-1"
+"""Version of the shipped data files; the cached database is rebuilt when it changes."""
+
+SCHEMA_VERSION = 1
+"""Version of the SQLite layout; a user database of another version is refused, not migrated."""
+
+# Non-numeric field types; every other ``quantity`` is a units.QUANTITIES key or in EXTRA_QUANTITIES.
+TEXT = "text"
+INTEGER = "integer"
+FLAG = "flag"
+DECIBEL = "decibel"
+
+# Quantities units.py does not know: name -> (SI unit for pint, description).
+EXTRA_QUANTITIES: dict[str, tuple[str, str]] = {
+    "torque_constant": ("N*m/A", "torque constant (N*m/A)"),
+    "resistance": ("ohm", "resistance (ohm)"),
+    "inductance": ("H", "inductance (H)"),
+    "capacitance": ("F", "capacitance (F)"),
+    "thermal_resistance": ("K/W", "thermal resistance (K/W)"),
+}
+
+
+@dataclass(frozen=True)
+class Field:
+    """One field of a catalog table.
+
+    name: header name in import files and the Python attribute name.
+    quantity: a units.QUANTITIES key, an EXTRA_QUANTITIES key, or TEXT / INTEGER / FLAG / DECIBEL.
+    column: SQLite column and dict key, SI with the unit in the name.
+    unit: unit used in export headers and tables (a human catalogue unit, e.g. rpm, kg*cm^2).
+    positive: a given value must be > 0 (``False``: >= 0 allowed, or a sign is meaningful).
+    """
+
+    name: str
+    quantity: str
+    column: str
+    unit: str = ""
+    positive: bool = True
+
+    @property
+    def numeric(self) -> bool:
+        return self.quantity not in (TEXT, FLAG)
+
+
+def _text(name: str) -> Field:
+    return Field(name, TEXT, name)
+
+
+_COMMON_HEAD = (_text("id"), _text("kind"), _text("vendor"), _text("series"), _text("model"))
+_COMMON_TAIL = (_text("source"), _text("notes"))
+
+MOTOR_FIELDS: tuple[Field, ...] = (
+    *_COMMON_HEAD,
+    _text("type"),
+    Field("rated_power", "power", "rated_power_W", "W"),
+    Field("rated_torque", "torque", "rated_torque_Nm", "N*m"),
+    Field("stall_torque", "torque", "stall_torque_Nm", "N*m"),
+    Field("peak_torque", "torque", "peak_torque_Nm", "N*m"),
+    Field("rated_speed", "angular_speed", "rated_speed_rad_s", "rpm"),
+    Field("max_speed", "angular_speed", "max_speed_rad_s", "rpm"),
+    Field("rotor_inertia", "inertia", "rotor_inertia_kgm2", "kg*cm^2"),
+    Field("rotor_inertia_brake", "inertia", "rotor_inertia_brake_kgm2", "kg*cm^2"),
+    Field("brake", FLAG, "brake"),
+    Field("mass", "mass", "mass_kg", "kg"),
+    Field("flange", "length", "flange_m", "mm"),
+    Field("shaft_diameter", "length", "shaft_diameter_m", "mm"),
+    Field("pilot_diameter", "length", "pilot_diameter_m", "mm"),
+    Field("bolt_circle", "length", "bolt_circle_m", "mm"),
+    Field("voltage", "voltage", "voltage_V", "V"),
+    Field("torque_constant", "torque_constant", "torque_constant_Nm_per_A", "N*m/A"),
+    Field("winding_resistance", "resistance", "winding_resistance_ohm", "ohm"),
+    Field("winding_inductance", "inductance", "winding_inductance_H", "mH"),
+    Field("rated_current", "current", "rated_current_A", "A"),
+    Field("no_load_current", "current", "no_load_current_A", "A", positive=False),
+    Field("no_load_speed", "angular_speed", "no_load_speed_rad_s", "rpm"),
+    Field("max_continuous_speed", "angular_speed", "max_continuous_speed_rad_s", "rpm"),
+    Field("rth_winding_housing", "thermal_resistance", "rth_winding_housing_K_per_W", "K/W"),
+    Field("rth_housing_ambient", "thermal_resistance", "rth_housing_ambient_K_per_W", "K/W"),
+    _text("rated_torque_basis"),
+    _text("derived"),
+    *_COMMON_TAIL,
+)
+
+GEARBOX_FIELDS: tuple[Field, ...] = (
+    *_COMMON_HEAD,
+    _text("type"),
+    Field("ratio", "dimensionless", "ratio"),
+    Field("stages", INTEGER, "stages"),
+    Field("rated_output_torque", "torque", "rated_output_torque_Nm", "N*m"),
+    Field("max_output_torque", "torque", "max_output_torque_Nm", "N*m"),
+    Field("emergency_stop_torque", "torque", "emergency_stop_torque_Nm", "N*m"),
+    Field("efficiency", "dimensionless", "efficiency"),
+    Field("max_input_speed", "angular_speed", "max_input_speed_rad_s", "rpm"),
+    Field("rated_input_speed", "angular_speed", "rated_input_speed_rad_s", "rpm"),
+    Field("inertia_input", "inertia", "inertia_input_kgm2", "kg*cm^2"),
+    Field("backlash", "angle", "backlash_rad", "arcmin", positive=False),
+    Field("torsional_stiffness", "torsional_stiffness", "torsional_stiffness_Nm_per_rad", "N*m/arcmin"),
+    Field("max_radial_load", "force", "max_radial_load_N", "N"),
+    Field("max_axial_load", "force", "max_axial_load_N", "N"),
+    Field("max_tilting_moment", "torque", "max_tilting_moment_Nm", "N*m"),
+    Field("mass", "mass", "mass_kg", "kg"),
+    Field("noise", DECIBEL, "noise_dB", "dB"),
+    Field("input_bore_max", "length", "input_bore_max_m", "mm"),
+    Field("direction", INTEGER, "direction", positive=False),
+    Field("right_angle", FLAG, "right_angle"),
+    *_COMMON_TAIL,
+)
+
+DRIVE_FIELDS: tuple[Field, ...] = (
+    *_COMMON_HEAD,
+    Field("continuous_current", "current", "continuous_current_A", "A"),
+    Field("peak_current", "current", "peak_current_A", "A"),
+    Field("voltage", "voltage", "voltage_V", "V"),
+    Field("rated_power", "power", "rated_power_W", "W"),
+    Field("dc_bus_capacitance", "capacitance", "dc_bus_capacitance_F", "uF"),
+    Field("braking_resistor", "resistance", "braking_resistor_ohm", "ohm"),
+    Field("braking_resistor_power", "power", "braking_resistor_power_W", "W"),
+    *_COMMON_TAIL,
+)
+
+CURVE_FIELDS: tuple[Field, ...] = (
+    _text("motor_id"),
+    Field("speed", "angular_speed", "speed_rad_s", "rpm", positive=False),
+    Field("continuous_torque", "torque", "continuous_torque_Nm", "N*m", positive=False),
+    Field("peak_torque", "torque", "peak_torque_Nm", "N*m", positive=False),
+    _text("source"),
+)
+
+
+@dataclass(frozen=True)
+class TableSpec:
+    """A catalog table: its fields, SQL name, kinds (with the default) and required fields per kind."""
+
+    name: str
+    sql: str
+    fields: tuple[Field, ...]
+    kinds: tuple[str, ...]
+    required: dict[str, tuple[str, ...]]
+    aliases: dict[str, str]
+
+    @property
+    def default_kind(self) -> str:
+        return self.kinds[0] if self.kinds else ""
+
+    def field(self, name: str) -> Field:
+        return next(f for f in self.fields if f.name == name)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(f.name for f in self.fields)
+
+
+MOTOR = TableSpec(
+    name="motor",
+    sql="motors",
+    fields=MOTOR_FIELDS,
+    kinds=("ac_servo", "small_dc"),
+    required={
+        "ac_servo": (
+            "id",
+            "vendor",
+            "rated_torque",
+            "peak_torque",
+            "rated_speed",
+            "max_speed",
+            "rotor_inertia",
+        ),
+        # what MGDB-style data always carries (check_catalog.py's small-motor rules)
+        "small_dc": (
+            "id",
+            "vendor",
+            "voltage",
+            "torque_constant",
+            "winding_resistance",
+            "no_load_speed",
+            "rotor_inertia",
+        ),
+    },
+    aliases={
+        "voltage_class": "voltage",
+        "nominal_voltage": "voltage",
+        "nominal_torque": "rated_torque",
+        "nominal_speed": "rated_speed",
+        "nominal_current": "rated_current",
+        "terminal_resistance": "winding_resistance",
+        "terminal_inductance": "winding_inductance",
+        "max_intermittent_torque": "peak_torque",
+        "max_intermittent_speed": "max_speed",
+        "max_continuous_power": "rated_power",
+    },
+)
+
+GEARBOX = TableSpec(
+    name="gearbox",
+    sql="gearboxes",
+    fields=GEARBOX_FIELDS,
+    kinds=("servo_gearbox", "small_gearhead"),
+    required={
+        "servo_gearbox": ("id", "vendor", "ratio", "efficiency", "rated_output_torque"),
+        "small_gearhead": ("id", "vendor", "ratio", "efficiency", "rated_output_torque", "max_output_torque"),
+    },
+    aliases={
+        "max_continuous_torque": "rated_output_torque",
+        "max_intermittent_torque": "max_output_torque",
+        "input_inertia": "inertia_input",
+    },
+)
+
+DRIVE = TableSpec(
+    name="drive",
+    sql="drives",
+    fields=DRIVE_FIELDS,
+    kinds=("servo_drive",),
+    required={"servo_drive": ("id", "vendor", "continuous_current", "peak_current", "voltage")},
+    aliases={},
+)
+
+CURVE = TableSpec(
+    name="curve",
+    sql="motor_curves",
+    fields=CURVE_FIELDS,
+    kinds=(),
+    required={"": ("motor_id", "speed")},
+    aliases={},
+)
+
+TABLES: dict[str, TableSpec] = {t.name: t for t in (MOTOR, GEARBOX, DRIVE, CURVE)}
+ROW_TABLES: tuple[TableSpec, ...] = (MOTOR, GEARBOX, DRIVE)
+"""Tables whose rows have an id (unique across all of them and across both databases)."""
+
+
+@dataclass(frozen=True)
+class ShippedFile:
+    """A data file inside the package and how its rows enter the database."""
+
+    filename: str
+    table: TableSpec
+    kind: str
+    constants: tuple[tuple[str, str], ...] = ()
+    derived: tuple[str, ...] = ()
+    model_pattern: str = ""  # regex whose first group, applied to the id, is the model name
+
+
+SHIPPED_FILES: tuple[ShippedFile, ...] = (
+    # data/SOURCES.md: the id is the vendor's model code
+    ShippedFile("motors_ac_servo.csv", MOTOR, "ac_servo", model_pattern=r"^(.*)$"),
+    # data/SOURCES.md: MGDB stall torque, nominal torque and nominal speed are derived columns
+    ShippedFile("motors_small_dc.csv", MOTOR, "small_dc", derived=("stall_torque", "rated_torque", "rated_speed")),
+    # data/SOURCES.md: every row of this file is a precision planetary gearbox
+    # ids are model-stage-ratio (GPB042-L1-i3): the model is the id without the ratio
+    ShippedFile(
+        "gearboxes_planetary.csv",
+        GEARBOX,
+        "servo_gearbox",
+        constants=(("type", "planetary"),),
+        model_pattern=r"^(.*)-i[0-9.]+$",
+    ),
+    ShippedFile("gearboxes_small.csv", GEARBOX, "small_gearhead"),
+    ShippedFile("drives.csv", DRIVE, "servo_drive"),
+)
+REJECTS_FILE = "rejects.csv"
+
+
+def sql_type(field: Field) -> str:
+    if field.quantity == TEXT:
+        return "TEXT"
+    if field.quantity in (INTEGER, FLAG):
+        return "INTEGER"
+    return "REAL"
+
+
+def ddl() -> list[str]:
+    """CREATE statements for one database (the shipped one and the user one share them)."""
+    statements = ["CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT NOT NULL)"]
+    for spec in ROW_TABLES:
+        cols = ",\n  ".join(
+            f"{f.column} {sql_type(f)}"
+            + (" PRIMARY KEY" if f.name == "id" else "")
+            + (" NOT NULL" if f.name in ("kind", "vendor", "source") else "")
+            for f in spec.fields
+        )
+        kinds = ", ".join(f"'{k}'" for k in spec.kinds)
+        statements.append(f"CREATE TABLE {spec.sql} (\n  {cols},\n  CHECK (kind IN ({kinds}))\n)")
+    cols = ",\n  ".join(f"{f.column} {sql_type(f)}" for f in CURVE.fields)
+    statements.append(f"CREATE TABLE {CURVE.sql} (\n  {cols},\n  PRIMARY KEY (motor_id, speed_rad_s)\n)")
+    statements.append(
+        "CREATE TABLE rejects (target_file TEXT, id TEXT, vendor TEXT, reason TEXT, source TEXT, source_values TEXT)"
+    )
+    return statements

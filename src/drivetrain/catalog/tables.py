@@ -1,0 +1,187 @@
+"""Catalog query results as arrays: one numpy array per field, SI, NaN where a value is unknown.
+
+Selection works on whole columns at once (every motor against every ratio), so a query returns
+a table of arrays rather than a list of objects. ``row(i)`` gives one row back as a dict keyed
+like ``catalog.get()`` (SI with the unit in the key).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, ClassVar, Self
+
+import numpy as np
+from numpy.typing import NDArray
+
+from drivetrain.catalog.schema import DRIVE, GEARBOX, MOTOR, TableSpec
+from drivetrain.envelope import Curve
+
+FloatArray = NDArray[np.float64]
+StrArray = NDArray[np.str_]
+BoolArray = NDArray[np.bool_]
+
+
+@dataclass(frozen=True, eq=False)
+class _Table:
+    """Common columns and behaviour; subclasses add their numeric arrays."""
+
+    SPEC: ClassVar[TableSpec]
+
+    ids: StrArray
+    kind: StrArray
+    vendor: StrArray
+    series: StrArray
+    model: StrArray
+    source: StrArray
+    notes: StrArray
+    origin: StrArray  # "builtin" (shipped) or "user" (imported)
+
+    def __len__(self) -> int:
+        return len(self.ids)
+
+    def take(self, index: Sequence[int] | NDArray[Any]) -> Self:
+        """A table of the rows at ``index`` (integer positions or a boolean mask), in that order."""
+        idx = np.asarray(index)
+        changes = {f.name: _take(getattr(self, f.name), idx) for f in dataclasses.fields(self)}
+        return dataclasses.replace(self, **changes)
+
+    def row(self, i: int) -> dict[str, Any]:
+        """Row ``i`` as a dict keyed by database column (SI, unit in the key); unknown values are None."""
+        out: dict[str, Any] = {}
+        for f in dataclasses.fields(self):
+            value = getattr(self, f.name)[i]
+            key = _KEYS.get(f.name) or self._column(f.name)
+            out[key] = _plain(value)
+        return out
+
+    @classmethod
+    def _column(cls, name: str) -> str:
+        return next((f.column for f in cls.SPEC.fields if f.name == name), name)
+
+    @classmethod
+    def from_rows(cls, rows: Sequence[dict[str, Any]], **extra: Any) -> Self:
+        """Build the table from database rows (dicts keyed by column)."""
+        arrays: dict[str, Any] = {}
+        for f in dataclasses.fields(cls):
+            if f.name in extra:
+                arrays[f.name] = extra[f.name]
+                continue
+            column = "id" if f.name == "ids" else cls._column(f.name)
+            values = [r.get(column) for r in rows]
+            if f.type == "StrArray":
+                arrays[f.name] = np.array(["" if v is None else str(v) for v in values], dtype=str)
+            elif f.type == "BoolArray":
+                arrays[f.name] = np.array([bool(v) for v in values], dtype=bool)
+            elif f.type == "FloatArray":
+                arrays[f.name] = np.array([math.nan if v is None else float(v) for v in values], dtype=float)
+        return cls(**arrays)
+
+
+_KEYS = {"ids": "id"}
+
+
+def _take(value: Any, idx: NDArray[Any]) -> Any:
+    if isinstance(value, np.ndarray):
+        return value[idx]
+    if isinstance(value, tuple):  # per-row tuples (curves)
+        positions = np.flatnonzero(idx) if idx.dtype == bool else idx
+        return tuple(value[int(i)] for i in positions)
+    return value
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and math.isnan(value):
+        return None
+    return value
+
+
+@dataclass(frozen=True, eq=False)
+class MotorTable(_Table):
+    """Motors as arrays [SI]: torques [N m], speeds [rad/s], inertia [kg m^2], mass [kg], flange [m]...
+
+    ``approx_rated`` is True where the rated torque or speed was derived (e.g. P/omega for the
+    shipped FANUC rows), not read from a datasheet; ``derived`` lists the derived fields.
+    ``curves[i]`` is the motor's speed-torque curve, or None where the envelope must be derived
+    from the ratings (see drivetrain.envelope).
+    """
+
+    SPEC: ClassVar[TableSpec] = MOTOR
+
+    type: StrArray
+    rated_power: FloatArray  # [W]
+    rated_torque: FloatArray  # [N m]
+    stall_torque: FloatArray  # [N m]
+    peak_torque: FloatArray  # [N m]
+    rated_speed: FloatArray  # [rad/s]
+    max_speed: FloatArray  # [rad/s]
+    rotor_inertia: FloatArray  # [kg m^2]
+    rotor_inertia_brake: FloatArray  # [kg m^2]
+    mass: FloatArray  # [kg]
+    flange: FloatArray  # [m]
+    voltage: FloatArray  # [V] supply class (AC servo) or nominal terminal voltage (small DC)
+    torque_constant: FloatArray  # [N m/A]
+    winding_resistance: FloatArray  # [ohm]
+    winding_inductance: FloatArray  # [H]
+    rated_current: FloatArray  # [A]
+    no_load_speed: FloatArray  # [rad/s]
+    rated_torque_basis: StrArray
+    derived: StrArray
+    approx_rated: BoolArray
+    has_curve: BoolArray
+    curves: tuple[Curve | None, ...]
+
+    @classmethod
+    def from_db(cls, rows: Sequence[dict[str, Any]], curves: dict[str, Curve]) -> MotorTable:
+        derived = [set(filter(None, (r.get("derived") or "").split(","))) for r in rows]
+        approx = np.array([bool(d & {"rated_torque", "rated_speed"}) for d in derived], dtype=bool)
+        per_row = tuple(curves.get(r["id"]) for r in rows)
+        has = np.array([c is not None for c in per_row], dtype=bool)
+        return cls.from_rows(rows, approx_rated=approx, has_curve=has, curves=per_row)
+
+    def row(self, i: int) -> dict[str, Any]:
+        out = super().row(i)
+        curve = out.pop("curves")
+        out["curve"] = None if curve is None else curve.to_dict()
+        return out
+
+
+@dataclass(frozen=True, eq=False)
+class GearboxTable(_Table):
+    """Gearboxes as arrays [SI], one row per model and ratio (ratio = input / output speed)."""
+
+    SPEC: ClassVar[TableSpec] = GEARBOX
+
+    type: StrArray
+    ratio: FloatArray  # [-]
+    stages: FloatArray  # [-] (NaN where unknown)
+    rated_output_torque: FloatArray  # [N m]
+    max_output_torque: FloatArray  # [N m] peak/acceleration rating (empty for the shipped G+ rows)
+    emergency_stop_torque: FloatArray  # [N m]
+    efficiency: FloatArray  # [-]
+    max_input_speed: FloatArray  # [rad/s]
+    rated_input_speed: FloatArray  # [rad/s]
+    inertia_input: FloatArray  # [kg m^2] at the input shaft
+    backlash: FloatArray  # [rad]
+    torsional_stiffness: FloatArray  # [N m/rad]
+    max_radial_load: FloatArray  # [N]
+    max_axial_load: FloatArray  # [N]
+    mass: FloatArray  # [kg]
+
+
+@dataclass(frozen=True, eq=False)
+class DriveTable(_Table):
+    """Servo drives as arrays [SI]."""
+
+    SPEC: ClassVar[TableSpec] = DRIVE
+
+    continuous_current: FloatArray  # [A]
+    peak_current: FloatArray  # [A]
+    voltage: FloatArray  # [V]
+    rated_power: FloatArray  # [W]
+    dc_bus_capacitance: FloatArray  # [F]
+    braking_resistor: FloatArray  # [ohm]

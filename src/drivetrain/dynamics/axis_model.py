@@ -1,0 +1,226 @@
+"""The dynamic model of an axis file: its compliant chain, its servo loop and its reference.
+
+``model(axis)`` builds the N-mass chain at the motor shaft, either from the explicit
+``dynamics: {chain: [...]}`` of the axis file or from the stiffness, damping and backlash of
+its transmission elements (``model_from_stages``), with the motor the axis names or selects
+(a selected catalog gearbox enters with its catalog stiffness and backlash). ``simulate_axis``
+runs the closed-loop simulation on the axis's own duty-cycle profile.
+
+The ``dynamics:`` block (all optional)::
+
+    dynamics:
+      chain: [{inertia: ...}, {stiffness: ..., damping: ..., backlash: ...}, {inertia: ...}]
+      motor_inertia: 1.2 kg*cm^2        # overrides the motor's rotor inertia
+      loop: {velocity_bandwidth: 80 Hz, notch: true, current_bandwidth: 2000 Hz,
+             torque_limit: 4 N*m, encoder_counts: 1048576, lowpass: 1500 Hz}
+            # or given gains: {velocity_kp: 0.05 (N m s/rad), velocity_ti: 0.01 (s), position_kv: 60 (1/s)}
+      friction: {coulomb: 0.1 N*m, static: 0.15 N*m, viscous: 1e-4 N*m*s/rad,
+                 stribeck_speed: 0.05 rad/s, method: exponential}   # at the load, motor shaft
+      load_torque: 0.3 N*m              # constant torque at the motor shaft (default: gravity)
+      cycles: 1                         # profile repetitions to simulate
+      step: 100 us
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from drivetrain.errors import InputError
+from drivetrain.stage import Stage
+from drivetrain.units import parse
+
+if TYPE_CHECKING:
+    from drivetrain.axis import Axis
+    from drivetrain.dynamics.chain import Chain
+    from drivetrain.dynamics.control import ServoLoop
+    from drivetrain.dynamics.simulation import SimulationResult
+
+_KEYS = {"chain", "motor_inertia", "loop", "friction", "load_torque", "cycles", "step", "excitation_orders"}
+_LOOP_KEYS = {"velocity_bandwidth", "notch", "current_bandwidth", "torque_limit", "encoder_counts", "lowpass",
+              "fraction_of_anti_resonance", "velocity_kp", "velocity_ti", "position_kv"}
+_FRICTION_KEYS = {"coulomb", "static", "viscous", "stribeck_speed", "method"}
+
+
+@dataclass(frozen=True)
+class AxisDynamics:
+    """The chain, the motor it assumes, and the stages after any selected catalog gearbox."""
+
+    chain: Chain
+    motor: str
+    motor_inertia: float
+    stages: tuple[Stage, ...]
+
+
+def _block(axis: Axis) -> dict[str, Any]:
+    raw = axis.spec.dynamics or {}
+    unknown = set(raw) - _KEYS
+    if unknown:
+        raise InputError(f"dynamics.{sorted(unknown)[0]}", f"unknown key; valid: {', '.join(sorted(_KEYS))}",
+                         has_value=False)
+    return raw
+
+
+def _motor(axis: Axis) -> tuple[str, float, tuple[Stage, ...]]:
+    """Motor name and inertia, and the stages with a selected catalog gearbox in front."""
+    if axis.motor is not None:
+        return axis.motor.name, axis.motor.inertia, axis.stages
+    if axis.spec.motor is not None and axis.spec.motor.select is not None:
+        from drivetrain import catalog
+        from drivetrain.sizing import size
+
+        res = size(axis)
+        chosen = (res.selection or {}).get("selected")
+        if not chosen:
+            raise InputError("motor.select", "no catalog motor passes, so there is no motor to simulate; "
+                             + str((res.selection or {}).get("advice", "")), has_value=False)
+        m = catalog.get(chosen["motor"])
+        stages = axis.stages
+        if chosen.get("gearbox"):
+            g = catalog.get(chosen["gearbox"])
+            i = float(g["ratio"])
+            k_out = g.get("torsional_stiffness_Nm_per_rad")
+            stages = (Stage(name=str(g["id"]), kind="gearbox", ratio=i, inertia_in=g.get("inertia_input_kgm2") or 0.0,
+                            efficiency=g.get("efficiency") or 1.0, back_efficiency=g.get("efficiency") or 1.0,
+                            stiffness=None if not k_out else float(k_out) / i**2,
+                            backlash=(g.get("backlash_rad") or 0.0) * i if k_out else 0.0), *stages)
+        return str(chosen["motor"]), float(m["rotor_inertia_kgm2"]), stages
+    raise InputError("motor", "dynamics need a motor: name one or select one from the catalog", has_value=False)
+
+
+def model(axis: Axis) -> AxisDynamics:
+    """The compliant chain of ``axis`` at the motor shaft."""
+    from drivetrain.dynamics.chain import chain_from_spec, model_from_stages
+
+    block = _block(axis)
+    if "chain" in block:
+        if not isinstance(block["chain"], list):
+            raise InputError("dynamics.chain", "must be a list of inertia and spring entries", block["chain"])
+        chain = chain_from_spec(block["chain"])
+        return AxisDynamics(chain, "chain", float(chain.inertia[0]), axis.stages)
+    name, j_m, stages = _motor(axis)
+    if "motor_inertia" in block:
+        j_m = parse(block["motor_inertia"], "inertia", "dynamics.motor_inertia", allow_zero=False)
+    chain = model_from_stages(j_m, stages, 0.0)
+    return AxisDynamics(chain, name, j_m, stages)
+
+
+def _friction(axis: Axis, stages: tuple[Stage, ...], block: dict[str, Any]) -> tuple[Any, float]:
+    """Load friction (Coulomb, breakaway) and constant load torque at the motor shaft, from the axis."""
+    from drivetrain.dynamics.friction import Friction
+
+    mech = axis.mechanism
+    ratio = math.prod(s.ratio for s in stages)
+    one = np.ones(1)
+    # External torque at standstill and just moving, both directions: gravity G, Coulomb C, breakaway S.
+    plus = float(mech.external_torque(np.zeros(1), 1e-9 * one, one, None, axis.gravity)[0]) * mech.stage.ratio
+    minus = float(mech.external_torque(np.zeros(1), -1e-9 * one, -one, None, axis.gravity)[0]) * mech.stage.ratio
+    start = float(mech.external_torque(np.zeros(1), np.zeros(1), one, None, axis.gravity)[0]) * mech.stage.ratio
+    gravity = 0.5 * (plus + minus) / ratio
+    coulomb = 0.5 * (plus - minus) / ratio
+    static = max(start / ratio - gravity, coulomb)
+    spec = block.get("friction") or {}
+    if not isinstance(spec, dict):
+        raise InputError("dynamics.friction", "must be a mapping", spec)
+    unknown = set(spec) - _FRICTION_KEYS
+    if unknown:
+        raise InputError(f"dynamics.friction.{sorted(unknown)[0]}",
+                         f"unknown key; valid: {', '.join(sorted(_FRICTION_KEYS))}", has_value=False)
+    f = "dynamics.friction"
+    coulomb = parse(spec.get("coulomb", coulomb), "torque", f"{f}.coulomb")
+    static = parse(spec.get("static", max(static, coulomb)), "torque", f"{f}.static")
+    viscous = parse(spec.get("viscous", 0.0), "torsional_damping", f"{f}.viscous")
+    stribeck = parse(spec.get("stribeck_speed", 0.01), "angular_speed", f"{f}.stribeck_speed", allow_zero=False)
+    method = spec.get("method", "exponential")
+    if method not in ("exponential", "tanh"):
+        raise InputError(f"{f}.method", "must be exponential or tanh", method)
+    if coulomb < 0 or static < coulomb or viscous < 0:
+        raise InputError(f, "needs coulomb >= 0, static >= coulomb and viscous >= 0",
+                         f"coulomb={coulomb:g}, static={static:g}")
+    friction = None
+    if coulomb > 0 or viscous > 0:
+        friction = Friction(coulomb=coulomb, static=static, viscous=viscous, stribeck_speed=stribeck, method=method)
+    load_torque = parse(block.get("load_torque", gravity), "torque", "dynamics.load_torque")
+    return friction, load_torque
+
+
+def servo_loop(chain: Chain, block: dict[str, Any]) -> ServoLoop:
+    """Gains tuned from the requested bandwidth (or the highest the tuning rule allows)."""
+    from drivetrain.dynamics.control import tune
+
+    spec = block.get("loop") or {}
+    if not isinstance(spec, dict):
+        raise InputError("dynamics.loop", "must be a mapping", spec)
+    unknown = set(spec) - _LOOP_KEYS
+    if unknown:
+        raise InputError(f"dynamics.loop.{sorted(unknown)[0]}", f"unknown key; valid: {', '.join(sorted(_LOOP_KEYS))}",
+                         has_value=False)
+    f = "dynamics.loop"
+    kwargs: dict[str, Any] = {}
+    if "velocity_bandwidth" in spec:
+        kwargs["velocity_bandwidth_hz"] = parse(spec["velocity_bandwidth"], "frequency", f"{f}.velocity_bandwidth",
+                                                allow_zero=False)
+    if "current_bandwidth" in spec:
+        kwargs["current_bandwidth_hz"] = parse(spec["current_bandwidth"], "frequency", f"{f}.current_bandwidth",
+                                               allow_zero=False)
+    if "torque_limit" in spec:
+        kwargs["torque_limit"] = parse(spec["torque_limit"], "torque", f"{f}.torque_limit", allow_zero=False)
+    if "lowpass" in spec:
+        kwargs["lowpass_hz"] = parse(spec["lowpass"], "frequency", f"{f}.lowpass", allow_zero=False)
+    if "fraction_of_anti_resonance" in spec:
+        kwargs["fraction_of_anti_resonance"] = parse(spec["fraction_of_anti_resonance"], "dimensionless",
+                                                     f"{f}.fraction_of_anti_resonance", allow_zero=False)
+    if "encoder_counts" in spec:
+        counts = spec["encoder_counts"]
+        if not isinstance(counts, int) or isinstance(counts, bool) or counts <= 0:
+            raise InputError(f"{f}.encoder_counts", "must be a positive whole number of counts per revolution",
+                             counts)
+        kwargs["encoder_resolution"] = 2.0 * math.pi / counts
+    notch = spec.get("notch", False)
+    if not isinstance(notch, bool):
+        raise InputError(f"{f}.notch", "must be true or false", notch)
+    loop = tune(chain, notch=notch and chain.n >= 2, **kwargs)
+    given = {k: spec[k] for k in ("velocity_kp", "velocity_ti", "position_kv") if k in spec}
+    if given:
+        # Gains given by the user replace the tuned ones (each must be a number in SI).
+        for k, v in given.items():
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                raise InputError(f"{f}.{k}", "must be a number in SI units", v)
+        loop = loop.with_(**{k: float(v) for k, v in given.items()}, notes=("gains as given",))
+    return loop
+
+
+def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None = None,
+                  velocity_bandwidth_hz: float | None = None) -> SimulationResult:
+    """Closed-loop simulation of the axis following its own duty-cycle profile."""
+    from drivetrain.dynamics.simulation import Reference, simulate
+
+    block = _block(axis)
+    dyn = model(axis)
+    if velocity_bandwidth_hz is not None:
+        block = {**block, "loop": {**(block.get("loop") or {}), "velocity_bandwidth": velocity_bandwidth_hz}}
+    loop = servo_loop(dyn.chain, block)
+    friction, load_torque = _friction(axis, dyn.stages, block)
+    chain = dyn.chain
+    if friction is not None:
+        frictions = list(chain.friction) if chain.friction else [None] * chain.n
+        frictions[-1] = friction
+        chain = chain.with_(friction=tuple(frictions))
+    n = int(block.get("cycles", 1) if cycles is None else cycles)
+    if n < 1 or n > 100:
+        raise InputError("dynamics.cycles", "must be between 1 and 100", n)
+    cycle = axis.cycle()
+    # A uniform grid over n periods (the reference must be strictly increasing in time).
+    t = np.linspace(0.0, n * cycle.period, int(min(200_000, max(2_000, 4_000 * n))) + 1)
+    kin = cycle.evaluate(np.mod(t, cycle.period) if n > 1 else t)
+    x = np.asarray(kin.x, dtype=float)
+    if n > 1:
+        x = x + np.floor(t / cycle.period) * float(cycle.evaluate(np.array([cycle.period])).x[0])
+    ratio = math.prod(s.ratio for s in dyn.stages)
+    ref = Reference.from_load(t, x, kin.v, kin.a, ratio)
+    h = step if step is not None else (parse(block["step"], "time", "dynamics.step", allow_zero=False)
+                                       if "step" in block else None)
+    return simulate(chain, loop, ref, load_torque=load_torque, step=h)

@@ -1,0 +1,12 @@
+"""Shared test setup: the catalog database lives in a temporary data folder, never the user's."""
+
+import os
+from pathlib import Path
+
+import pytest
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _data_dir(tmp_path_factory: pytest.TempPathFactory) -> None:
+    if "DRIVETRAIN_TEST_KEEP_DATA_DIR" not in os.environ:
+        os.environ["DRIVETRAIN_DATA_DIR"] = str(Path(tmp_path_factory.mktemp("drivetrain-data")))

@@ -1,0 +1,378 @@
+"""The shipped catalog data: row counts, provenance, invariants and spot checks against vendor values.
+
+These tests read the package's own data files (drivetrain/catalog/data) and the database built
+from them. Each invariant is a small function returning the problems of one row; it is run over
+every shipped row (no problem allowed) and over a deliberately broken row (the problem is found),
+so a check that can no longer fail is noticed.
+"""
+
+from __future__ import annotations
+
+import collections
+import csv
+import io
+import math
+import shutil
+from collections.abc import Callable
+from importlib import resources
+from pathlib import Path
+
+import pytest
+
+from drivetrain import catalog
+from drivetrain.catalog import db
+
+RPM = 2 * math.pi / 60
+Row = dict[str, str]
+
+
+def load(name: str) -> list[Row]:
+    text = resources.files("drivetrain.catalog").joinpath("data", name).read_text(encoding="utf-8")
+    return list(csv.DictReader(io.StringIO(text)))
+
+
+def num(s: str | None) -> float | None:
+    if s is None or s == "":
+        return None
+    v = float(s)
+    return v if math.isfinite(v) else None
+
+
+AC = load("motors_ac_servo.csv")
+PLANETARY = load("gearboxes_planetary.csv")
+SMALL_DC = load("motors_small_dc.csv")
+SMALL_GB = load("gearboxes_small.csv")
+REJECTS = load("rejects.csv")
+FILES = {"motors_ac_servo.csv": AC, "gearboxes_planetary.csv": PLANETARY, "motors_small_dc.csv": SMALL_DC,
+         "gearboxes_small.csv": SMALL_GB}
+
+
+@pytest.fixture(scope="module")
+def data_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    directory = tmp_path_factory.mktemp("catalog-data")
+    db.builtin_db(directory)
+    return directory
+
+
+@pytest.fixture
+def use_data_dir(data_dir: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    d = tmp_path / "data"
+    d.mkdir()
+    shutil.copy(data_dir / db.BUILTIN_NAME, d / db.BUILTIN_NAME)
+    monkeypatch.setenv(db.ENV_DATA_DIR, str(d))
+    return d
+
+
+# ---------------------------------------------------------------------------------- counts and provenance
+
+
+def test_row_counts_match_the_data_readme() -> None:
+    assert len(AC) == 297
+    assert len(PLANETARY) == 713
+    assert len(SMALL_DC) == 298
+    assert len(SMALL_GB) == 300
+    assert len(REJECTS) == 256
+    assert load("drives.csv") == []  # schema only: no sourced drive data exists
+
+
+def test_ac_servo_vendors_and_counts() -> None:
+    counts = collections.Counter(r["vendor"] for r in AC)
+    assert counts == {"FANUC": 24, "LS Mecapion": 106, "Mitsubishi Electric": 42, "Omron": 24, "Panasonic": 32,
+                      "Siemens": 31, "Yaskawa": 38}
+
+
+def test_rockwell_is_withheld_and_every_reject_has_a_reason() -> None:
+    assert not any("Rockwell" in r["vendor"] for r in AC)
+    rockwell = [r for r in REJECTS if r["vendor"].startswith("Rockwell")]
+    assert len(rockwell) == 154
+    assert all(r["reason"] for r in REJECTS)
+    assert "MPL-B320P" in {r["id"] for r in REJECTS}
+    kept = {(name, r["id"]) for name, rows in FILES.items() for r in rows}
+    assert not [r["id"] for r in REJECTS if (r["target_file"], r["id"]) in kept]
+
+
+def test_model_counts_of_the_other_files() -> None:
+    assert len({r["id"].rsplit("-", 2)[0] for r in PLANETARY}) == 42
+    assert sorted({r["series"] for r in PLANETARY}) == ["GPB", "GPBR", "GPD", "GPDR", "GPE", "GPER", "GPV", "GPVR"]
+    assert collections.Counter(r["vendor"] for r in SMALL_DC) == {"Maxon": 140, "Faulhaber": 80,
+                                                                  "Allied Motion": 70, "Tmotor": 8}
+    assert collections.Counter(r["vendor"] for r in SMALL_GB) == {"Maxon": 200, "Faulhaber": 100}
+
+
+@pytest.mark.parametrize("name", list(FILES))
+def test_every_row_has_a_source_and_a_unique_id(name: str) -> None:
+    rows = FILES[name]
+    assert all(r["source"].strip() for r in rows)
+    ids = collections.Counter(r["id"] for r in rows)
+    assert [k for k, v in ids.items() if v > 1] == []
+
+
+def test_ids_are_unique_across_all_files() -> None:
+    ids = collections.Counter(r["id"] for rows in FILES.values() for r in rows)
+    assert [k for k, v in ids.items() if v > 1] == []
+
+
+REQUIRED = {
+    "motors_ac_servo.csv": ["id", "vendor", "series", "rated_power_W", "rated_torque_Nm", "peak_torque_Nm",
+                            "stall_torque_Nm", "rated_speed_rpm", "max_speed_rpm", "rotor_inertia_kgm2", "mass_kg",
+                            "flange_mm", "voltage_class_V", "brake", "source", "notes", "rated_torque_basis"],
+    "gearboxes_planetary.csv": ["id", "vendor", "series", "ratio", "stages", "rated_output_torque_Nm",
+                                "max_output_torque_Nm", "efficiency", "max_input_speed_rpm", "rated_input_speed_rpm",
+                                "inertia_input_kgm2", "mass_kg", "max_radial_load_N", "max_axial_load_N",
+                                "torsional_stiffness_Nm_per_arcmin", "backlash_arcmin", "source", "notes"],
+    "motors_small_dc.csv": ["id", "vendor", "nominal_voltage_V", "torque_constant_Nm_per_A",
+                            "terminal_resistance_ohm", "no_load_speed_rad_s", "no_load_speed_rpm",
+                            "rotor_inertia_kgm2", "source", "notes"],
+    "gearboxes_small.csv": ["id", "vendor", "ratio", "efficiency", "max_continuous_torque_Nm",
+                            "max_intermittent_torque_Nm", "inertia_input_kgm2", "source", "notes"],
+}
+
+
+@pytest.mark.parametrize("name", list(REQUIRED))
+def test_required_columns_are_present(name: str) -> None:
+    assert set(REQUIRED[name]) <= set(FILES[name][0])
+
+
+# ---------------------------------------------------------------------------------- invariants per row
+
+
+def ac_servo_problems(r: Row) -> list[str]:
+    """check_catalog.py's AC servo invariants for one row."""
+    out = []
+    p, t, tpk, tst = (num(r[k]) for k in ("rated_power_W", "rated_torque_Nm", "peak_torque_Nm", "stall_torque_Nm"))
+    n, nmax, j, m = (num(r[k]) for k in ("rated_speed_rpm", "max_speed_rpm", "rotor_inertia_kgm2", "mass_kg"))
+    if not (t and t > 0):
+        out.append("rated torque missing or <= 0")
+    if not (tpk and t and tpk >= t):
+        out.append("peak < rated")
+    if not (n and n > 0 and nmax and nmax >= n):
+        out.append("max speed < rated speed")
+    if not (j and j > 0):
+        out.append("inertia missing")
+    elif not 1e-8 < j < 1.0:
+        out.append("inertia outside 1e-8..1 kg*m^2")
+    elif t and not 1e-6 < j / t < 1e-2:
+        out.append("inertia/rated torque outside 1e-6..1e-2 s^2")
+    if not (p and p > 0):
+        out.append("rated power missing")
+    elif t and n and abs(t * n * RPM - p) / p > 0.15:
+        out.append("|P - T omega|/P > 15 %")
+    if tst is not None and t is not None and tst < t * (1 - 1e-6):
+        out.append("stall < rated")
+    if r["brake"] not in ("yes", "no"):
+        out.append("brake not yes/no")
+    if r["voltage_class_V"] not in ("", "200", "230", "400", "460"):
+        out.append("voltage class")
+    if m is not None and not 0.05 < m < 500:
+        out.append("mass implausible")
+    if not r["source"]:
+        out.append("source empty")
+    if r["rated_torque_basis"] != "source" and "derived" not in r["notes"]:
+        out.append("derived rated torque without a note")
+    return out
+
+
+def planetary_problems(r: Row) -> list[str]:
+    out = []
+    i, eff, t = num(r["ratio"]), num(r["efficiency"]), num(r["rated_output_torque_Nm"])
+    j, m, nr, nm = (num(r[k]) for k in ("inertia_input_kgm2", "mass_kg", "rated_input_speed_rpm",
+                                        "max_input_speed_rpm"))
+    if not (i and i > 1):
+        out.append("ratio <= 1")
+    if not (eff and 0 < eff <= 1):
+        out.append("efficiency outside (0,1]")
+    if not (t and t > 0):
+        out.append("rated output torque missing")
+    if j is not None and not 0 < j < 0.1:
+        out.append("input inertia implausible")
+    elif j is not None and t and not 1e-8 < j / t < 1e-3:
+        out.append("input inertia/output torque implausible")
+    if m is not None and not m > 0:
+        out.append("mass <= 0")
+    if nr and nm and nm < nr:
+        out.append("max input speed < rated input speed")
+    es, mx = num(r["emergency_stop_torque_Nm"]), num(r["max_output_torque_Nm"])
+    if es is not None and t and es < t:
+        out.append("emergency-stop torque < rated")
+    if mx is not None and t and mx < t:
+        out.append("max output torque < rated")
+    if num(r["stages"]) not in (1, 2, 3):
+        out.append("stages")
+    if not r["vendor"]:
+        out.append("vendor empty")
+    return out
+
+
+def small_dc_problems(r: Row) -> list[str]:
+    out = []
+    v, kt, res, w, j = (num(r[k]) for k in ("nominal_voltage_V", "torque_constant_Nm_per_A",
+                                            "terminal_resistance_ohm", "no_load_speed_rad_s", "rotor_inertia_kgm2"))
+    if not (v and kt and res and w and j and min(v, kt, res, w, j) > 0):
+        return ["V, k_t, R, no-load speed and inertia must be > 0"]
+    inl = num(r["no_load_current_A"]) or 0.0
+    if abs((v - res * inl) / kt - w) / w > 0.10:
+        out.append("no-load speed inconsistent with (V - R I_nl)/k_t")
+    ts, tn, wn = num(r["stall_torque_Nm"]), num(r["nominal_torque_Nm"]), num(r["nominal_speed_rad_s"])
+    if tn is not None and not (ts and 0 < tn < ts):
+        out.append("nominal torque not in (0, stall)")
+    if wn is not None and not 0 < wn < w:
+        out.append("nominal speed not in (0, no-load speed)")
+    rpm = num(r["no_load_speed_rpm"])
+    if rpm is None or abs(rpm * RPM - w) > 1e-3 * w:
+        out.append("rpm and rad/s columns disagree")
+    return out
+
+
+def small_gearhead_problems(r: Row) -> list[str]:
+    out = []
+    i, eff, mc, mi, j = (num(r[k]) for k in ("ratio", "efficiency", "max_continuous_torque_Nm",
+                                             "max_intermittent_torque_Nm", "inertia_input_kgm2"))
+    if not (i and i > 1):
+        out.append("ratio <= 1")
+    if not (eff and 0 < eff <= 1):
+        out.append("efficiency outside (0,1]")
+    if not (mc and mc > 0 and mi and mi >= mc):
+        out.append("need max intermittent >= max continuous > 0")
+    if j is not None and not j > 0:
+        out.append("inertia <= 0")
+    return out
+
+
+CHECKS: dict[str, tuple[list[Row], Callable[[Row], list[str]]]] = {
+    "ac_servo": (AC, ac_servo_problems),
+    "planetary": (PLANETARY, planetary_problems),
+    "small_dc": (SMALL_DC, small_dc_problems),
+    "small_gearhead": (SMALL_GB, small_gearhead_problems),
+}
+
+
+@pytest.mark.parametrize("name", list(CHECKS))
+def test_every_shipped_row_passes_its_invariants(name: str) -> None:
+    rows, problems = CHECKS[name]
+    bad = {r["id"]: problems(r) for r in rows if problems(r)}
+    assert bad == {}
+
+
+# One broken copy of a real row per invariant: the check must see it.
+BROKEN = [
+    ("ac_servo", "HG-KR43", {"peak_torque_Nm": "1.0"}, "peak < rated"),
+    ("ac_servo", "HG-KR43", {"max_speed_rpm": "2000"}, "max speed < rated speed"),
+    ("ac_servo", "HG-KR43", {"rotor_inertia_kgm2": "0.371"}, "inertia/rated torque outside 1e-6..1e-2 s^2"),
+    ("ac_servo", "HG-KR43", {"rated_power_W": "600"}, "|P - T omega|/P > 15 %"),
+    ("ac_servo", "aiF4/4000", {"stall_torque_Nm": "3"}, "stall < rated"),
+    ("ac_servo", "aiF4/4000", {"notes": ""}, "derived rated torque without a note"),
+    ("ac_servo", "HG-KR43", {"source": ""}, "source empty"),
+    ("planetary", "GPB042-L1-i3", {"efficiency": "1.2"}, "efficiency outside (0,1]"),
+    ("planetary", "GPB042-L1-i3", {"inertia_input_kgm2": "0.03"}, "input inertia/output torque implausible"),
+    ("planetary", "GPB042-L1-i3", {"emergency_stop_torque_Nm": "10"}, "emergency-stop torque < rated"),
+    ("small_dc", "ECXZ06M1VF44N1IL1D659A", {"no_load_speed_rad_s": "5000"},
+     "no-load speed inconsistent with (V - R I_nl)/k_t"),
+    ("small_gearhead", "354723", {"max_intermittent_torque_Nm": "0.5"},
+     "need max intermittent >= max continuous > 0"),
+]
+
+
+@pytest.mark.parametrize(("name", "rid", "change", "problem"), BROKEN)
+def test_each_invariant_catches_a_broken_row(name: str, rid: str, change: Row, problem: str) -> None:
+    rows, problems = CHECKS[name]
+    row = {**next(r for r in rows if r["id"] == rid), **change}
+    assert problem in problems(row)
+
+
+def test_derived_rated_torques_are_exactly_the_fanuc_rows() -> None:
+    derived = [r for r in AC if r["rated_torque_basis"] != "source"]
+    assert len(derived) == 24
+    assert {r["vendor"] for r in derived} == {"FANUC"}
+    assert all(r["stall_torque_Nm"] for r in derived)
+
+
+def test_datasheet_rows_agree_with_power_within_six_percent() -> None:
+    devs = [abs(float(r["rated_torque_Nm"]) * float(r["rated_speed_rpm"]) * RPM - float(r["rated_power_W"]))
+            / float(r["rated_power_W"]) for r in AC if r["rated_torque_basis"] == "source"]
+    assert len(devs) == 273
+    assert max(devs) == pytest.approx(0.058, abs=0.001)  # HG-JR353, flagged in SOURCES.md
+
+
+# ---------------------------------------------------------------------------------- spot checks
+
+# Published values quoted in the catalog's check script: (rated W, rated N m, peak N m, rated rpm,
+# max rpm, inertia kg m^2, document).
+REFERENCE = {
+    "HG-KR43": (400, 1.3, 4.5, 3000, 6000, 0.371e-4, "Mitsubishi HG-KR43 reference values"),
+    "SGM7J-A5A": (50, 0.159, 0.557, 3000, 6000, 0.0395e-4, "Yaskawa Sigma-7 product manual 4.2.2, SGM7J"),
+    "SGM7J-01A": (100, 0.318, 1.11, 3000, 6000, 0.0659e-4, "Yaskawa Sigma-7 product manual 4.2.2, SGM7J"),
+    "SGM7J-C2A": (150, 0.477, 1.67, 3000, 6000, 0.0915e-4, "Yaskawa Sigma-7 product manual 4.2.2, SGM7J"),
+    "SGM7J-02A": (200, 0.637, 2.23, 3000, 6000, 0.263e-4, "Yaskawa Sigma-7 product manual 4.2.2, SGM7J"),
+    "SGM7J-04A": (400, 1.27, 4.46, 3000, 6000, 0.486e-4, "Yaskawa Sigma-7 product manual 4.2.2, SGM7J"),
+    "SGM7J-06A": (600, 1.91, 6.69, 3000, 6000, 0.800e-4, "Yaskawa Sigma-7 product manual 4.2.2, SGM7J"),
+    "SGM7J-08A": (750, 2.39, 8.36, 3000, 6000, 1.59e-4, "Yaskawa Sigma-7 product manual 4.2.2, SGM7J"),
+    "1FT7044-5AK7": (None, 2.0, 23.0, 6000, 9000, 5.43e-4, "Siemens 1FT7 Configuration Manual 01/2009 Table 4-8"),
+}
+
+
+@pytest.mark.parametrize("rid", list(REFERENCE))
+def test_spot_check_against_published_ratings(rid: str) -> None:
+    p, t, tpk, n, nmax, j, _doc = REFERENCE[rid]
+    r = next(r for r in AC if r["id"] == rid)
+    if p is not None:
+        assert num(r["rated_power_W"]) == pytest.approx(p, rel=0.011)
+    assert num(r["rated_torque_Nm"]) == pytest.approx(t, rel=0.011)
+    assert num(r["peak_torque_Nm"]) == pytest.approx(tpk, rel=0.011)
+    assert num(r["rated_speed_rpm"]) == pytest.approx(n, rel=0.011)
+    assert num(r["max_speed_rpm"]) == pytest.approx(nmax, rel=0.011)
+    assert num(r["rotor_inertia_kgm2"]) == pytest.approx(j, rel=0.011)
+
+
+def test_1ft7044_carries_the_brake_free_inertia_and_says_so() -> None:
+    r = next(r for r in AC if r["id"] == "1FT7044-5AK7")
+    assert num(r["rotor_inertia_kgm2"]) == pytest.approx(5.43e-4)  # Siemens Table 4-8, not the 6.3 with brake
+    assert "5.43" in r["notes"]
+
+
+# ---------------------------------------------------------------------------------- the built database
+
+
+def test_database_holds_every_shipped_row_in_si(use_data_dir: Path) -> None:
+    m = catalog.motors()
+    assert len(m) == 297 + 298
+    assert len(catalog.motors(kind="ac_servo")) == 297
+    assert len(catalog.gearboxes(kind="servo_gearbox")) == 713
+    assert len(catalog.gearboxes(kind="small_gearhead")) == 300
+    assert len(catalog.drives()) == 0
+    row = catalog.get("HG-KR43")
+    assert row["rated_speed_rad_s"] == pytest.approx(3000 * RPM)
+    assert row["max_speed_rad_s"] == pytest.approx(6000 * RPM)
+    assert row["rotor_inertia_kgm2"] == pytest.approx(0.371e-4)
+    assert row["flange_m"] == pytest.approx(0.060)
+    assert row["origin"] == "builtin"
+    assert row["source"].startswith("urchacha/gearbox-configurator@a616618")
+
+
+def test_database_converts_gearbox_angles_and_stiffness(use_data_dir: Path) -> None:
+    g = catalog.get("GPB042-L1-i3")
+    arcmin = math.pi / (180 * 60)
+    assert g["backlash_rad"] == pytest.approx(5 * arcmin)
+    assert g["torsional_stiffness_Nm_per_rad"] == pytest.approx(3 / arcmin)
+    assert g["rated_input_speed_rad_s"] == pytest.approx(5000 * RPM)
+    assert g["type"] == "planetary"
+    assert g["model"] == "GPB042-L1"
+    assert g["right_angle"] == 0
+    assert catalog.get("GPBR090-L2-i200")["right_angle"] == 1
+
+
+def test_derived_values_are_flagged_in_the_database(use_data_dir: Path) -> None:
+    ac = catalog.motors(kind="ac_servo")
+    assert int(ac.approx_rated.sum()) == 24
+    assert set(ac.vendor[ac.approx_rated]) == {"FANUC"}
+    small = catalog.get("ECXZ06M1VF44N1IL1D659A")
+    assert small["derived"] == ["stall_torque", "rated_torque", "rated_speed"]
+    no_nominal = catalog.get("G40_KV210")  # T-motor: no I_nom, so no nominal values to derive
+    assert no_nominal["derived"] == ["stall_torque"]
+    assert no_nominal["rated_torque_Nm"] is None
+
+
+def test_data_version_is_documented() -> None:
+    sources = resources.files("drivetrain.catalog").joinpath("data", "SOURCES.md").read_text(encoding="utf-8")
+    assert catalog.DATA_VERSION in sources
+    for commit in ("a616618b206f66391d37f0485a3f89cb9b93a427", "215caccec6e05a58fdcdce14956d658853bf5128"):
+        assert commit in sources

@@ -1,0 +1,271 @@
+"""The SQLite catalog: where it lives, when it is rebuilt, the union with the user database,
+query filters, lookups by id, and the ``catalog`` CLI."""
+
+from __future__ import annotations
+
+import json
+import math
+import shutil
+import sqlite3
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from drivetrain import catalog
+from drivetrain.catalog import cli, db
+from drivetrain.errors import InputError
+
+USER_MOTORS = (
+    "id,vendor,series,kind,rated_torque [N*m],peak_torque [N*m],rated_speed [rpm],max_speed [rpm],"
+    "rotor_inertia [kg*cm^2],voltage [V],flange [mm],source\n"
+    "U-400,Userco,U,ac_servo,1.27,4.46,3000,6000,0.486,400,60,bench measurement 2026-03\n"
+    "U-200,Userco,U,ac_servo,2.39,8.36,3000,6000,1.59,200,80,bench measurement 2026-03\n"
+)
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return db.builtin_db(tmp_path_factory.mktemp("catalog-db"))
+
+
+@pytest.fixture(autouse=True)
+def data_dir(tmp_path: Path, built: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    d = tmp_path / "data"
+    d.mkdir()
+    shutil.copy(built, d / db.BUILTIN_NAME)
+    monkeypatch.setenv(db.ENV_DATA_DIR, str(d))
+    return d
+
+
+@pytest.fixture
+def user_motors(tmp_path: Path) -> None:
+    path = tmp_path / "user.csv"
+    path.write_text(USER_MOTORS, encoding="utf-8")
+    catalog.import_file(path)
+
+
+def meta(path: Path, key: str) -> str:
+    conn = sqlite3.connect(path)
+    try:
+        return str(conn.execute("SELECT value FROM meta WHERE key = ?", (key,)).fetchone()[0])
+    finally:
+        conn.close()
+
+
+# ---------------------------------------------------------------------------------- building
+
+
+def test_built_on_first_use_in_the_data_dir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    empty = tmp_path / "nothing-yet"
+    monkeypatch.setenv(db.ENV_DATA_DIR, str(empty))
+    assert len(catalog.motors(kind="ac_servo")) == 297
+    assert (empty / db.BUILTIN_NAME).exists()
+    assert not (empty / db.USER_NAME).exists()  # queries never create the user database
+    assert meta(empty / db.BUILTIN_NAME, "data_version") == catalog.DATA_VERSION
+    assert not list(empty.glob(".catalog-*.tmp"))
+
+
+def test_default_data_dir_is_the_platform_user_data_folder(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.delenv(db.ENV_DATA_DIR)
+    monkeypatch.setenv("XDG_DATA_HOME", str(tmp_path / "xdg"))
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))
+    monkeypatch.setenv("LOCALAPPDATA", str(tmp_path / "local"))
+    expected = {"win32": tmp_path / "local", "darwin": tmp_path / "home" / "Library" / "Application Support"}
+    assert db.data_dir() == (expected.get(sys.platform, tmp_path / "xdg") / "drivetrain").resolve()
+
+
+def test_rebuilt_when_the_data_version_changes(data_dir: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    path = data_dir / db.BUILTIN_NAME
+    db.builtin_db(data_dir)
+    assert meta(path, "data_version") == catalog.DATA_VERSION
+    monkeypatch.setattr(db, "DATA_VERSION", "9999.01-1")
+    monkeypatch.setattr(db, "_verified", set())
+    db.builtin_db(data_dir)
+    assert meta(path, "data_version") == "9999.01-1"
+    assert len(catalog.motors()) == 595
+
+
+def test_a_damaged_shipped_database_is_rebuilt(data_dir: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    (data_dir / db.BUILTIN_NAME).write_bytes(b"not a database at all")
+    monkeypatch.setattr(db, "_verified", set())
+    assert len(catalog.gearboxes()) == 1013
+
+
+def test_imports_never_touch_the_shipped_database(data_dir: Path, user_motors: None) -> None:
+    conn = sqlite3.connect(data_dir / db.BUILTIN_NAME)
+    try:
+        assert conn.execute("SELECT count(*) FROM motors WHERE id LIKE 'U-%'").fetchone()[0] == 0
+    finally:
+        conn.close()
+    conn = sqlite3.connect(data_dir / db.USER_NAME)
+    try:
+        assert conn.execute("SELECT count(*) FROM motors").fetchone()[0] == 2
+    finally:
+        conn.close()
+
+
+# ---------------------------------------------------------------------------------- union and filters
+
+
+def test_queries_see_the_union_flagged_by_origin(user_motors: None) -> None:
+    m = catalog.motors()
+    assert len(m) == 595 + 2
+    assert list(m.ids[-2:]) == ["U-400", "U-200"]  # shipped rows first, then imports in order
+    assert set(m.origin[:-2]) == {"builtin"} and set(m.origin[-2:]) == {"user"}
+    assert catalog.get("U-400")["origin"] == "user"
+    assert catalog.get("HG-KR43")["origin"] == "builtin"
+
+
+def test_vendor_filter_is_case_insensitive_and_takes_several(user_motors: None) -> None:
+    assert len(catalog.motors(vendor="yaskawa")) == 38
+    assert len(catalog.motors(vendor=["Yaskawa", "siemens"])) == 38 + 31
+    assert len(catalog.motors(vendor="userco")) == 2
+    with pytest.raises(InputError, match="no motor vendor matches") as exc:
+        catalog.motors(vendor="Rockwell")
+    assert "Yaskawa" in exc.value.rule  # the message lists what exists
+
+
+def test_kind_voltage_and_flange_filters(user_motors: None) -> None:
+    assert len(catalog.motors(kind="small_dc")) == 298
+    v400 = catalog.motors(voltage="400 V", kind="ac_servo")
+    assert set(v400.voltage) == {400.0} and "U-400" in v400.ids
+    assert len(v400) == 3 + 1  # three shipped 400 V motors; LS and Siemens have no voltage class
+    v200 = catalog.motors(voltage=200, kind="ac_servo")
+    assert set(v200.voltage) == {200.0} and len(v200) == 157 + 1
+    flange = catalog.motors(flange="80 mm")
+    assert np.allclose(flange.flange, 0.080) and "U-200" in flange.ids
+    with pytest.raises(InputError, match="kind"):
+        catalog.motors(kind="servo")
+    with pytest.raises(InputError, match="voltage"):
+        catalog.motors(voltage="400 mm")
+
+
+def test_ids_filter_keeps_the_order_and_names_close_matches() -> None:
+    m = catalog.motors(ids=["SGM7J-04A", "HG-KR43"])
+    assert list(m.ids) == ["SGM7J-04A", "HG-KR43"]
+    with pytest.raises(InputError, match="did you mean HG-KR43"):
+        catalog.motors(ids=["HG-KR43", "hg-kr43x"])
+
+
+def test_gearbox_filters() -> None:
+    assert len(catalog.gearboxes(series="gpbr")) > 0
+    assert set(catalog.gearboxes(series=["GPB", "GPD"]).series) == {"GPB", "GPD"}
+    small = catalog.gearboxes(kind="small_gearhead", vendor="faulhaber")
+    assert len(small) == 100 and int(np.isnan(small.inertia_input).sum()) == 83  # not given in MGDB
+    with pytest.raises(InputError, match="no gearbox series matches"):
+        catalog.gearboxes(series="XYZ")
+
+
+def test_motor_table_arrays_rows_and_take() -> None:
+    m = catalog.motors(vendor="Mitsubishi")
+    assert m.rated_torque.dtype == np.float64 and len(m.rated_torque) == len(m) == 42
+    assert np.all(np.isnan(m.stall_torque))  # Mitsubishi rows carry no stall torque
+    assert not m.approx_rated.any()
+    row = m.row(list(m.ids).index("HG-KR43"))
+    assert row["id"] == "HG-KR43" and row["rated_torque_Nm"] == 1.3 and row["stall_torque_Nm"] is None
+    assert row["approx_rated"] is False and row["curve"] is None
+    json.dumps(row)  # JSON-ready
+    small = m.take(m.rated_torque < 1.0)
+    assert len(small) == int((m.rated_torque < 1.0).sum()) and np.all(small.rated_torque < 1.0)
+    assert len(small.curves) == len(small)
+
+
+def test_fanuc_rated_torques_are_flagged_derived() -> None:
+    m = catalog.motors(vendor="FANUC")
+    assert m.approx_rated.all() and len(m) == 24
+    assert np.all(m.stall_torque >= m.rated_torque)
+
+
+def test_drives_table_is_empty_but_queryable() -> None:
+    d = catalog.drives()
+    assert len(d) == 0 and d.continuous_current.shape == (0,)
+
+
+# ---------------------------------------------------------------------------------- get
+
+
+def test_get_returns_any_kind_with_provenance() -> None:
+    motor = catalog.get("aiF4/4000")
+    assert motor["table"] == "motor" and motor["derived"] == ["rated_torque"]
+    assert motor["rated_torque_basis"] == "derived P/omega"
+    assert motor["rated_torque_Nm"] == pytest.approx(1400 / (4000 * 2 * math.pi / 60), rel=1e-3)
+    gearhead = catalog.get("354723")
+    assert gearhead["table"] == "gearbox" and gearhead["kind"] == "small_gearhead"
+    assert gearhead["source"].startswith("ekrimsk/MGDB@215cacc")
+
+
+def test_get_unknown_id_suggests_close_matches() -> None:
+    with pytest.raises(InputError) as exc:
+        catalog.get("SGM7J-04")
+    assert exc.value.field == "id" and exc.value.value == "SGM7J-04"
+    assert "did you mean" in exc.value.rule and "SGM7J-04A" in exc.value.rule
+
+
+def test_get_a_withheld_id_says_why() -> None:
+    with pytest.raises(InputError, match="leaves it out") as exc:
+        catalog.get("MPL-B320P")
+    assert "2x" in exc.value.rule
+
+
+# ---------------------------------------------------------------------------------- CLI
+
+
+def test_cli_list_json_and_table(capsys: pytest.CaptureFixture[str]) -> None:
+    assert cli.main(["catalog", "list", "--vendor", "yaskawa", "--limit", "3", "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)
+    assert [r["id"] for r in rows] == ["SGM7J-A5A", "SGM7J-01A", "SGM7J-C2A"]
+    assert cli.main(["catalog", "list", "--kind", "gearbox", "--limit", "2"]) == 0
+    out = capsys.readouterr().out
+    assert "GPB042-L1-i3" in out and "1011 more" in out
+    assert cli.main(["catalog", "list", "--kind", "drive"]) == 0
+    assert "no drives" in capsys.readouterr().out
+
+
+def test_cli_show_prints_provenance(capsys: pytest.CaptureFixture[str]) -> None:
+    assert cli.main(["catalog", "show", "aiF4/4000"]) == 0
+    out = capsys.readouterr().out
+    assert "M000322" in out  # the source row
+    assert "derived P/omega" in out and "not read from a datasheet" in out
+    assert "approximate" in out
+    assert "4000 rpm" in out
+
+
+def test_cli_import_and_export(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "u.csv"
+    path.write_text(USER_MOTORS, encoding="utf-8")
+    assert cli.main(["catalog", "import", str(path)]) == 0
+    assert "imported 2 motor row(s)" in capsys.readouterr().out
+    out = tmp_path / "out.json"
+    assert cli.main(["catalog", "export", "--origin", "user", "--format", "json", "--output", str(out)]) == 0
+    assert [r["id"] for r in json.loads(out.read_text())["rows"]] == ["U-400", "U-200"]
+    assert cli.main(["catalog", "export", "--kind", "gearbox", "--origin", "builtin"]) == 0
+    assert len(capsys.readouterr().out.splitlines()) == 1 + 1013
+
+
+def test_cli_bad_input_exits_2_without_traceback(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert cli.main(["catalog", "show", "NOPE-1"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: id: no motor, gearbox or drive") and "Traceback" not in err
+    bad = tmp_path / "bad.csv"
+    bad.write_text(USER_MOTORS.replace("0.486", "-0.486"), encoding="utf-8")
+    assert cli.main(["catalog", "import", str(bad)]) == 2
+    assert f"{bad}:2:rotor_inertia [kg*cm^2]" in capsys.readouterr().err
+
+
+def test_add_parser_registers_on_a_main_parser() -> None:
+    import argparse
+
+    parser = argparse.ArgumentParser(prog="drivetrain")
+    cli.add_parser(parser.add_subparsers(dest="command"))
+    args = parser.parse_args(["catalog", "list", "--kind", "gearbox"])
+    assert args.handler is cli.run and args.kind == "gearbox" and args.limit == cli.DEFAULT_LIMIT
+
+
+def test_an_unwritable_data_dir_is_an_input_error(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    monkeypatch.setenv(db.ENV_DATA_DIR, str(blocker / "data"))
+    with pytest.raises(InputError, match=f"set {db.ENV_DATA_DIR} to a writable folder"):
+        catalog.motors()

@@ -1,0 +1,227 @@
+"""The compiled nonlinear simulation: integrator accuracy, physics of the nonlinear elements,
+closed-loop behaviour, and clear errors."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from drivetrain.dynamics import (
+    Chain,
+    Friction,
+    Reference,
+    SimulationDivergedError,
+    move_reference,
+    natural_frequencies,
+    simulate,
+    simulate_open_loop,
+    sweep,
+    tune,
+    two_mass_chain,
+)
+from drivetrain.dynamics.friction import friction_torque_exponential, friction_torque_tanh
+from drivetrain.dynamics.linear import second_order_step
+from drivetrain.dynamics.simulation import chain_energy, simulate_linear_exact
+from drivetrain.errors import InputError
+
+
+def _stick_phases(speed: np.ndarray) -> int:
+    """Number of intervals (>= 2 samples) in which the speed is exactly zero."""
+    d = np.diff(np.r_[0, (speed == 0.0).astype(int), 0])
+    starts, ends = np.nonzero(d == 1)[0], np.nonzero(d == -1)[0]
+    return int(np.sum(ends - starts >= 2))
+
+
+def test_default_integrator_energy_error_is_bounded_and_does_not_drift() -> None:
+    # Semi-implicit Euler on a lossless chain: the energy error oscillates with a relative amplitude
+    # below h * omega_max / 2 and does not drift (symplectic), here over 1e5 steps.
+    chain = Chain(inertia=np.array([1e-4, 3e-4, 5e-4]), stiffness=np.array([500.0, 800.0]))
+    w_max = 2 * math.pi * natural_frequencies(chain)[-1]
+    h = 5e-5
+    t = np.arange(100_001) * h
+    r = simulate_open_loop(chain, t, np.zeros_like(t), theta0=[0.01, 0.0, -0.004], omega0=[2.0, 0.0, -1.0])
+    th = np.column_stack([r.states[f"theta_{n}"] for n in chain.names])
+    w = np.column_stack([r.states[f"omega_{n}"] for n in chain.names])
+    e = chain_energy(chain, th, w)
+    assert np.max(np.abs(e - e[0])) / e[0] < h * w_max / 2
+    drift = abs(np.mean(e[-10_000:]) - np.mean(e[:10_000])) / e[0]
+    assert drift < 1e-3
+
+
+def test_two_mass_twist_step_matches_second_order_closed_form() -> None:
+    # A step torque T on the motor of a two-mass chain: the twist d = th_m - th_l obeys
+    # mu d'' + D d' + K d = T J_l / (J_m + J_l), mu = J_m J_l / (J_m + J_l) (Ogata 5th ed., sec. 5-3).
+    jm, jl, k, d = 2e-4, 6e-4, 800.0, 0.02
+    chain = two_mass_chain(jm, jl, k, damping=d)
+    mu = jm * jl / (jm + jl)
+    torque = 0.5
+    h = 1e-5
+    t = np.arange(0, 0.1 + h / 2, h)
+    closed = second_order_step(mu, d, k, t, force=torque * jl / (jm + jl))
+    x = simulate_linear_exact(chain, t, np.full_like(t, torque))
+    assert np.max(np.abs((x[:, 0] - x[:, 1]) - closed)) < 1e-9 * np.max(np.abs(closed))
+    r = simulate_open_loop(chain, t, np.full_like(t, torque))
+    twist = r.states["theta_motor"] - r.states["theta_load"]
+    assert np.max(np.abs(twist - closed)) < 2e-2 * np.max(np.abs(closed))
+    assert twist[-1] == pytest.approx(torque * jl / (jm + jl) / k, rel=0.05)
+
+
+@pytest.mark.parametrize("static", [1.5, 1.0])
+def test_stick_slip_appears_only_with_static_above_sliding(static: float) -> None:
+    # A slow drive through a soft spring: a heavy motor turning at 0.5 rad/s pulls a 0.01 kg m^2 load
+    # through a 10 N m/rad spring against Coulomb friction 1 N m. With a breakaway of 1.5 N m the load
+    # sticks again and again; with breakaway == sliding it sticks once (at the start) and then slides.
+    fr = Friction(coulomb=1.0, static=static, stribeck_speed=0.05)
+    chain = Chain(inertia=np.array([1e3, 0.01]), stiffness=np.array([10.0]), damping=np.array([0.05]),
+                  friction=(None, fr))
+    t = np.arange(0, 4.0 + 1e-9, 1e-4)
+    r = simulate_open_loop(chain, t, np.zeros_like(t), omega0=[0.5, 0.0])
+    w = r.states["omega_load"]
+    late = w[t > 1.0]
+    if static > 1.0:
+        assert _stick_phases(late) >= 5
+        assert np.max(w) > 1.5 * 0.5  # slips overshoot the drive speed
+    else:
+        assert _stick_phases(w) == 1
+        assert np.min(late) > 0.1
+
+
+def test_elasto_backlash_no_torque_in_gap_and_no_pulling() -> None:
+    # Modelica ElastoBacklash: zero torque inside the gap, never pulling, continuous at contact.
+    gap = 0.02
+    chain = Chain(inertia=np.array([1e-3, 1e-3]), stiffness=np.array([100.0]), damping=np.array([0.05]),
+                  backlash=np.array([gap]))
+    h = 1e-5
+    t = np.arange(0, 0.5, h)
+    u = 0.05 * np.sign(np.sin(2 * math.pi * 4 * t))
+    r = simulate_open_loop(chain, t, u)
+    rel = r.states["theta_motor"] - r.states["theta_load"]
+    tau = r.states["shaft_torque_0"]
+    inside = np.abs(rel) < gap / 2
+    assert inside.any() and (~inside).any()
+    assert np.all(tau[inside] == 0.0)
+    assert np.all(tau * np.sign(rel) >= 0.0)  # pushes in the direction of the twist, never pulls
+    # continuity: no sample jumps by more than what the spring and damper can build in one step
+    assert np.max(np.abs(np.diff(tau))) < 100.0 * np.max(np.abs(np.diff(rel))) * 2 + 1e-9
+
+
+def test_lossy_gear_self_locking_holds_and_backdrivable_runs_away() -> None:
+    # Modelica LossyGear: with back_efficiency <= 0 the load cannot drive the gear back.
+    t = np.arange(0, 0.3, 1e-4)
+    for back, moves in ((-0.2, False), (0.5, True)):
+        chain = Chain(inertia=np.array([1e-4, 1e-3]), stiffness=np.array([200.0]),
+                      efficiency=np.array([0.6]), back_efficiency=np.array([back]))
+        r = simulate_open_loop(chain, t, np.zeros_like(t), load_torque=0.1)
+        assert bool(abs(r.states["theta_load"][-1]) > 1.0) == moves
+    # forward, the gear passes eta times the spring torque: twist at constant acceleration
+    chain = Chain(inertia=np.array([1e-4, 1e-3]), stiffness=np.array([2000.0]), damping=np.array([0.5]),
+                  efficiency=np.array([0.6]), back_efficiency=np.array([0.5]))
+    r = simulate_open_loop(chain, np.arange(0, 0.2, 1e-5), np.full(20000, 0.07))
+    # steady state: J_l a = 0.6 T_s, J_m a = T - T_s -> T_s = T / (1 + 0.6 J_m / J_l)
+    ts_expected = 0.07 / (1 + 0.6 * 1e-4 / 1e-3)
+    assert r.states["shaft_torque_0"][-1] == pytest.approx(ts_expected, rel=0.02)
+
+
+def test_friction_forms() -> None:
+    # exponential: T_S at zero speed (from either side), T_C + b w far away; tanh: peak near T_S
+    assert float(friction_torque_exponential(1e-9, 1.0, 1.5, 0.01, 0.1)) == pytest.approx(1.5, rel=1e-6)
+    assert float(friction_torque_exponential(-10.0, 1.0, 1.5, 0.01, 0.1)) == pytest.approx(-1.1)
+    w = np.linspace(0, 1.0, 20001)
+    tanh = friction_torque_tanh(w, 1.0, 1.5, 0.0, 0.1)
+    assert np.max(tanh) == pytest.approx(1.5, rel=0.03)
+    assert float(tanh[-1]) == pytest.approx(1.0, rel=1e-3)
+    with pytest.raises(InputError) as err:
+        Friction(coulomb=1.0, static=1.0, method="magic")
+    assert err.value.field == "friction.method"
+
+
+def _axis(method: str = "exponential") -> Chain:
+    fr = Friction(coulomb=0.02, static=0.03, viscous=1e-5, stribeck_speed=1.0, method=method)
+    chain = two_mass_chain(1e-4, 5e-4, 500.0, damping=0.002, backlash=1e-3)
+    return chain.with_(friction=(fr, fr))
+
+
+def test_closed_loop_follows_the_profile_and_reports() -> None:
+    chain = _axis()
+    loop = tune(chain, torque_limit=2.0, encoder_resolution=2 * math.pi / 2**20)
+    ref = move_reference(10.0, 100.0, 2000.0, dwell=0.3, repeat=2)
+    res = simulate(chain, loop, ref)
+    assert res.max_load_error < 0.05
+    assert res.peak_torque <= 2.0 + 1e-12
+    assert res.settling_time.size == 2 and np.all(np.isfinite(res.settling_time))
+    assert res.load_error[-1] == pytest.approx(0.0, abs=5e-3)
+    assert res.peak_shaft_torque[0] > 0.0
+    assert res.energy > 0.0
+    # the encoder quantises the measured position; the following error is sampled with the
+    # position loop, so reference and measurement are compared at the same instants
+    q = loop.encoder_resolution
+    step = res.time[1] - res.time[0]
+    n_pos = round(loop.position_sample_time / step)
+    at = np.arange(0, res.time.size, n_pos)
+    meas = res.states["reference_position"][at] - res.following_error[at]
+    assert np.max(np.abs(meas / q - np.round(meas / q))) < 1e-6
+    held = res.following_error[at[:-1, None] + np.arange(n_pos)[None, :]]
+    assert np.all(held == held[:, :1])
+    d = res.to_dict()
+    assert set(d) >= {"max_following_error_rad", "settling_time_s", "overshoot_rad", "energy_J",
+                      "peak_shaft_torque_Nm", "load_vibration_amplitude_rad"}
+    df = res.to_pandas()
+    assert len(df) == res.time.size and "omega_load" in df
+    fig = res.plot()
+    assert len(fig.axes) == 3
+    tanh = simulate(_axis("tanh"), loop, ref)
+    assert tanh.max_load_error < 0.05
+
+
+def test_gravity_start_is_in_equilibrium() -> None:
+    # Holding a constant load torque from the start: no transient; the motor sits on its target and
+    # the load sags by the spring's twist T/K (motor-side feedback cannot see it).
+    chain = two_mass_chain(1e-4, 5e-4, 500.0, damping=0.002)
+    loop = tune(chain)
+    t = np.linspace(0, 0.2, 11)
+    ref = Reference.from_arrays(t, np.zeros_like(t))
+    res = simulate(chain, loop, ref, load_torque=0.3)
+    assert np.max(np.abs(res.following_error)) < 1e-9
+    assert res.load_error == pytest.approx(np.full(res.time.size, 0.3 / 500.0), rel=1e-6)
+    assert np.max(np.abs(res.states["omega_load"])) < 1e-9
+    assert res.torque == pytest.approx(np.full(res.time.size, 0.3), rel=1e-9)
+
+
+def test_diverging_simulation_raises_a_clear_error() -> None:
+    chain = two_mass_chain(1e-4, 5e-4, 500.0, damping=0.002)
+    loop = tune(chain)
+    bad = loop.with_(velocity_kp=30 * loop.velocity_kp)
+    ref = move_reference(5.0, 50.0, 1000.0, dwell=0.2)
+    with pytest.raises(InputError) as err:
+        simulate(chain, bad, ref)
+    assert err.value.field == "dynamics.control"
+    with pytest.raises(SimulationDivergedError) as div:
+        simulate(chain, bad, ref, check_stability=False)
+    assert "diverged at t =" in str(div.value) and "unstable" in str(div.value)
+
+
+def test_step_and_sample_time_checks() -> None:
+    chain = two_mass_chain(1e-4, 5e-4, 500.0)
+    loop = tune(chain)
+    ref = move_reference(1.0, 10.0, 100.0)
+    with pytest.raises(InputError) as err:
+        simulate(chain, loop, ref, step=2e-3)
+    assert err.value.field == "simulation.step"
+    with pytest.raises(InputError) as err:
+        simulate(chain, loop.with_(velocity_sample_time=1e-4), ref, step=62.5e-6)
+    assert err.value.field == "dynamics.control.velocity_sample_time"
+
+
+def test_sweep_runs_many_and_flags_divergence() -> None:
+    chain = _axis()
+    loop = tune(chain, current_sample_time=1e-4, velocity_sample_time=1e-4, position_sample_time=2e-4)
+    ref = move_reference(5.0, 100.0, 2000.0, dwell=0.1)
+    kp = np.array([1.0, 0.5, 30.0]) * loop.velocity_kp
+    out = sweep(chain, loop, ref, velocity_kp=kp, stiffness=[500.0, 300.0, 500.0], step=1e-4)
+    assert out["diverged"].tolist() == [False, False, True]
+    single = simulate(chain.with_(stiffness=[300.0]), loop.with_(velocity_kp=kp[1]), ref, step=1e-4,
+                      check_stability=False)
+    assert out["max_load_error_rad"][1] == pytest.approx(single.max_load_error, rel=1e-9)
+    assert out["peak_shaft_torque_Nm"][1, 0] == pytest.approx(single.peak_shaft_torque[0], rel=1e-9)

@@ -1,0 +1,112 @@
+"""Catalog selection: every motor against every ratio, checked by hand on one case per family."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from drivetrain import catalog
+from drivetrain.axis import load_axis, parse_axis
+from drivetrain.errors import InputError
+from drivetrain.sizing import size
+from drivetrain.stage import Stage, torque_in
+
+EXAMPLES = Path(__file__).parents[1] / "examples"
+FAMILIES = ["ball_screw", "belt", "rack_pinion", "rotary", "hoist", "chain", "conveyor", "roll", "lead_screw",
+            "custom"]
+
+
+def motor_torque(result, cand: dict) -> tuple[np.ndarray, float]:
+    """Motor torque of a candidate computed directly from the duty cycle (no closed forms)."""
+    duty = result.duty
+    m = catalog.get(cand["motor"])
+    j = m["rotor_inertia_kgm2"]
+    ratio, eff = 1.0, 1.0
+    if cand["gearbox"]:
+        g = catalog.get(cand["gearbox"])
+        ratio, eff, j = g["ratio"], g["efficiency"], j + (g["inertia_input_kgm2"] or 0.0)
+    st = Stage("g", "gearbox", ratio=ratio, efficiency=eff, back_efficiency=eff)
+    t_in, _ = torque_in(st, duty.torque, duty.external, duty.omega * ratio, duty.alpha * ratio,
+                        np.asarray(duty.samples.direction, float), result.axis.efficiency_model)
+    return np.where(duty.braked, 0.0, t_in + j * duty.alpha * ratio), j
+
+
+@pytest.mark.parametrize("family", FAMILIES)
+def test_selected_passes_and_next_smaller_fails(family: str) -> None:
+    res = size(EXAMPLES / f"{family}.yaml")
+    sel = res.selection
+    assert sel is not None and sel["passing"] > 0
+    best = sel["selected"]
+    assert best["ok"] and all(c["ok"] for c in best["checks"])
+    # Hand check of the closed forms: RMS and peak of the motor torque, and the inertia ratio.
+    t_m, j_total = motor_torque(res, best)
+    checks = {c["name"]: c for c in best["checks"]}
+    rms = float(np.sqrt(np.sum(res.duty.weights * t_m**2) / res.duty.period))
+    assert best["rms_torque_Nm"] == pytest.approx(rms, rel=1e-9)
+    assert best["peak_torque_Nm"] == pytest.approx(float(np.max(np.abs(t_m))), rel=1e-9)
+    j_m = catalog.get(best["motor"])["rotor_inertia_kgm2"]
+    ratio = best["ratio"]
+    assert checks["inertia_ratio"]["required"] == pytest.approx(
+        (res.duty.load_inertia / ratio**2 + (j_total - j_m)) / j_m, rel=1e-9)
+    assert checks["max_speed"]["required"] == pytest.approx(res.metrics["max_speed_rpm"] * ratio, rel=1e-9)
+    nxt = sel.get("next_smaller")
+    if nxt is not None:
+        assert not nxt["ok"]
+        name = nxt["failed"].split(":")[0]
+        assert name in {c["name"] for c in nxt["checks"] if not c["ok"]}
+        assert nxt["rated_power_W"] <= best["rated_power_W"]
+    else:  # nothing smaller exists: the selected motor is the catalog's smallest
+        powers = catalog.motors(kind="ac_servo").rated_power
+        assert best["rated_power_W"] == np.nanmin(powers)
+
+
+def test_every_motor_against_every_ratio() -> None:
+    res = size(EXAMPLES / "ball_screw.yaml")
+    n_m = len(catalog.motors(kind="ac_servo"))
+    n_g = len(catalog.gearboxes(kind="servo_gearbox"))
+    assert res.selection["evaluated"] == n_m * (n_g + 1)
+
+
+def test_json_candidates_follow_the_design() -> None:
+    out = size(EXAMPLES / "ball_screw.yaml").to_dict()
+    cand = out["candidates"][0]
+    for key in ("motor", "gearbox", "ratio", "inertia_ratio", "ok", "checks"):
+        assert key in cand
+    assert {"name", "required", "available", "margin", "ok"} <= set(cand["checks"][0])
+    assert any(not c["ok"] and c["failed"] for c in out["candidates"])
+
+
+def test_bad_vendor_names_the_filter_and_lists_vendors() -> None:
+    ax = load_axis(EXAMPLES / "ball_screw.yaml").raw
+    bad = {**ax, "motor": {"select": {"vendor": "Acme"}}}
+    with pytest.raises(InputError) as err:
+        size(parse_axis(bad))
+    assert err.value.field == "motor.select.vendor"
+    assert "Yaskawa" in str(err.value)
+
+
+def test_empty_result_says_what_to_relax() -> None:
+    ax = load_axis(EXAMPLES / "ball_screw.yaml").raw
+    heavy = {**ax, "mechanism": {**ax["mechanism"], "load": {"mass": "20000 kg"}},
+             "motor": {"select": {"gearbox": "none"}, "margins": {"inertia_ratio": 10}}}
+    res = size(parse_axis(heavy))
+    assert not res.ok
+    advice = res.selection["advice"]
+    assert "no candidate passes" in advice and ("inertia" in advice or "short by" in advice)
+
+
+def test_explain_a_rejected_motor() -> None:
+    res = size(EXAMPLES / "ball_screw.yaml")
+    text = res.explain("HG-MR43")
+    assert "HG-MR43" in text and "inertia_ratio" in text
+    with pytest.raises(InputError):
+        res.explain("NOPE-123")
+
+
+def test_optimal_ratio_of_a_pure_inertia_is_the_inertia_match() -> None:
+    """alpha_L = T i / (J_M i^2 + J_L) is largest at i = sqrt(J_L / J_M): minimum RMS for pure inertia."""
+    res = size({"mechanism": {"type": "custom", "inertia": 0.05},
+                "profile": [{"move": "90 deg", "time": 0.3}, {"dwell": 0.2}],
+                "motor": {"select": {"gearbox": "none"}, "margins": {"inertia_ratio": 1000}}})
+    opt = res.selection["optimal_ratio"]
+    assert opt["min_rms_ratio"] == pytest.approx(opt["inertia_match_ratio"], rel=1e-3)
