@@ -133,3 +133,16 @@ def test_guide_moments_and_rms_force() -> None:
     assert out["actuator_rms_force_N"] == pytest.approx(hand, rel=1e-9)
     assert out["peak_pitch_Nm"] == pytest.approx(10 * 9.80665 * 0.1 + f_acc * 0.23, rel=1e-9)
     assert out["checks"][0]["ok"]
+
+
+def test_brake_holds_the_gravity_torque_at_its_shaft() -> None:
+    from drivetrain.sizing import size
+
+    prof = [{"move": 0.1, "time": 0.5, "accel": 0.1}, {"dwell": 1.0, "holding": "brake"}]
+    ax = screw_axis(prof, incline="90 deg", mass=20.0, eta=0.9)
+    ax["transmission"] = [{"type": "brake", "holding_torque": "0.3 N*m"}, *ax["transmission"]]
+    out = size(ax).to_dict()["brake_check"]
+    # Holding is computed on the safe side (as motoring through the losses).
+    need = 20 * 9.80665 * 0.01 / (2 * math.pi) / 0.9 / 0.95 / 3
+    assert out["required"] == pytest.approx(need, rel=1e-9)
+    assert out["ok"] == (0.3 >= need)

@@ -215,6 +215,23 @@ def _gearbox_split(axis: Axis, motor: MotorData, duty: DutyCycle, run_torque: fl
     return {}
 
 
+def _brake_check(axis: Axis, duty: DutyCycle) -> dict[str, Any] | None:
+    """A brake's holding torque against the torque it must hold in braked dwells [N m].
+
+    The brake holds what the load side applies at its shaft at standstill (gravity, springs):
+    the output torque of the brake's stage in every dwell marked ``holding: brake``.
+    """
+    braked = np.asarray(duty.samples.braked, dtype=bool)
+    for k, st in enumerate(axis.transmission):
+        if st.kind != "brake" or st.holding_torque is None:
+            continue
+        need = float(np.max(np.abs(duty.stage_torque[k][braked]))) if braked.any() else 0.0
+        margin = st.holding_torque / need - 1.0 if need > 0 else math.inf
+        return {"name": "brake_holding_torque", "required": need, "available": st.holding_torque, "unit": "N*m",
+                "margin": margin, "ok": margin >= 0.0, "approximate": False}
+    return None
+
+
 def _first_move_ramp_times(duty: DutyCycle) -> float:
     """Duration of the first move's acceleration phase [s] (0 if none)."""
     for ph in duty.cycle.phases:
@@ -240,6 +257,9 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64) -
         from drivetrain.guides import slip_check
 
         result.extras["slip_check"] = slip_check(float(np.max(np.abs(duty.samples.a))), axis.mechanism.slip_limit)
+    brake = _brake_check(axis, duty)
+    if brake is not None:
+        result.extras["brake_check"] = brake
     if axis.motor is not None:
         result.motor = motor_result(axis, duty, axis.motor)
     elif axis.spec.motor is not None and axis.spec.motor.select is not None:
