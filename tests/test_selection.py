@@ -110,3 +110,23 @@ def test_optimal_ratio_of_a_pure_inertia_is_the_inertia_match() -> None:
                 "motor": {"select": {"gearbox": "none"}, "margins": {"inertia_ratio": 1000}}})
     opt = res.selection["optimal_ratio"]
     assert opt["min_rms_ratio"] == pytest.approx(opt["inertia_match_ratio"], rel=1e-3)
+
+
+def test_datasheet_curve_replaces_the_derived_envelope() -> None:
+    """A motor with speed-torque points is checked against them and its checks are not approximate."""
+    from drivetrain.envelope import Curve
+    from drivetrain.motor_fit import MotorArrays, demand, fit_motors
+
+    res = size(EXAMPLES / "ball_screw.yaml")
+    d = res.duty
+    dm = demand(d.omega, d.alpha, d.torque, d.weights, d.period, d.load_inertia)
+    one = np.ones(1)
+    curve = Curve.from_points([(0.0, 1.0, 3.0), (700.0, 1.0, 3.0)])  # flat 1 N m / 3 N m to 700 rad/s
+    base = {"inertia": 4e-5 * one, "rated_torque": 1.3 * one, "peak_torque": 4.5 * one, "rated_speed": 314.16 * one,
+            "max_speed": 628.3 * one, "stall_torque": np.full(1, np.nan), "approximate": np.array([True])}
+    derived = fit_motors(dm, MotorArrays(**base))
+    measured = fit_motors(dm, MotorArrays(**{**base, "approximate": np.array([False])}, curves=(curve,)))
+    assert derived.available["rms_torque"][0] == pytest.approx(1.3)
+    assert measured.available["rms_torque"][0] == pytest.approx(1.0)
+    assert measured.available["peak_torque"][0] == pytest.approx(3.0)
+    assert not measured.checks(0)[0].approximate and derived.checks(0)[0].approximate

@@ -209,16 +209,23 @@ def parse_axis(data: Any) -> Axis:
 def _motor_data(m: MotorSpec) -> MotorData | None:
     if m.select is not None:
         return None
-    if m.id is not None and m.inertia is None:
+    if m.id is not None:
+        from dataclasses import replace
+
         from drivetrain import catalog
 
         try:
             row = catalog.get(m.id)
         except InputError as exc:
             raise exc.at("motor") from None
-        return motor_from_catalog_row(row, m.name)
-    assert m.inertia is not None and m.rated_torque is not None and m.peak_torque is not None
-    assert m.max_speed is not None
+        base = motor_from_catalog_row(row, m.name)
+        # Values given beside the id override the catalog's (e.g. the with-brake inertia).
+        given = {k: getattr(m, k) for k in ("inertia", "rated_torque", "stall_torque", "peak_torque", "rated_speed",
+                                            "max_speed") if getattr(m, k) is not None}
+        return replace(base, **given)
+    if m.inertia is None or m.rated_torque is None or m.peak_torque is None or m.max_speed is None:
+        raise InputError("motor", "a given motor needs inertia, rated_torque, peak_torque and max_speed",
+                         has_value=False)
     return MotorData(name=m.name or m.id or "motor", inertia=m.inertia, rated_torque=m.rated_torque,
                      peak_torque=m.peak_torque, rated_speed=m.rated_speed or m.max_speed, max_speed=m.max_speed,
                      stall_torque=m.stall_torque)

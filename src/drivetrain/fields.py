@@ -135,6 +135,9 @@ def input_error_from_pydantic(exc: ValidationError, data: Any, prefix: str = "")
             errors.append(InputError(f"{path}.type" if path else "type", "is required", has_value=False))
         elif kind == "literal_error":
             errors.append(InputError(path, msg.replace("Input should be", "must be one of"), err.get("input")))
+        elif kind in ("list_type", "dict_type", "model_type"):
+            shape = {"list_type": "a list", "dict_type": "a mapping", "model_type": "a mapping of keys"}[kind]
+            errors.append(InputError(path, f"must be {shape}", err.get("input")))
         else:
-            errors.append(InputError(path, msg, err.get("input")))
+            errors.append(InputError(path, msg.replace("Input should be", "must be"), err.get("input")))
     return errors[0] if len(errors) == 1 else InputErrors(errors)

@@ -73,8 +73,21 @@ def guide_report(axis: Any, duty: Any) -> dict[str, Any]:
     return out
 
 
-def slip_check(max_accel: float, limit: float) -> dict[str, Any]:
-    """The load must not slip on its carrier: a_max < mu_0 g cos(alpha) (lecture, inclined plane)."""
-    margin = limit / max_accel - 1.0 if max_accel > 0 else math.inf
-    return {"name": "slip_limit", "required": max_accel, "available": limit, "unit": "m/s^2",
+def slip_check(accel: Array, limit: float, incline: float, g: float) -> dict[str, Any]:
+    """The load must not slip on its carrier [m/s^2].
+
+    Lecture, inclined plane: m a_max < mu_0 m g cos(alpha), the limit ``limit`` = mu_0 g cos(alpha).
+    On an incline the weight's component adds to the force friction must supply when the load
+    accelerates up the slope and subtracts going down: a_up < mu_0 g cos(alpha) - g sin(alpha),
+    a_down < mu_0 g cos(alpha) + g sin(alpha) (positive travel is up the slope). Both are checked;
+    the worse one is reported.
+    """
+    a = np.asarray(accel, dtype=float)
+    up_need, down_need = float(max(np.max(a), 0.0)), float(max(-np.min(a), 0.0))
+    up_limit = limit - g * math.sin(incline)
+    down_limit = limit + g * math.sin(incline)
+    cases = [(up_limit / up_need - 1.0 if up_need > 0 else math.inf, up_need, up_limit),
+             (down_limit / down_need - 1.0 if down_need > 0 else math.inf, down_need, down_limit)]
+    margin, need, avail = min(cases)
+    return {"name": "slip_limit", "required": need, "available": avail, "unit": "m/s^2",
             "margin": margin, "ok": margin >= 0.0, "approximate": False}

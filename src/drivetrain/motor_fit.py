@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from drivetrain.checks import Check, margin_of
-from drivetrain.envelope import continuous_torque, intermittent_torque
+from drivetrain.envelope import Curve, continuous_torque, intermittent_torque, motor_envelopes
 
 Array = NDArray[np.float64]
 
@@ -105,6 +105,7 @@ class MotorArrays:
     max_speed: Array
     stall_torque: Array  # NaN where unknown
     approximate: NDArray[np.bool_]
+    curves: tuple[Curve | None, ...] | None = None  # datasheet speed-torque points, where known
 
 
 @dataclass(frozen=True)
@@ -163,10 +164,20 @@ def fit_motors(d: Demand, motors: MotorArrays, *, torque_margin: float = 1.0, rm
     """
     idx = np.arange(len(motors.inertia)) if index is None else index
     # Envelopes per distinct motor, gathered per candidate.
-    env_motor = intermittent_torque(motors.peak_torque, motors.rated_torque, motors.rated_speed, motors.max_speed,
-                                    d.hull_speed, motors.stall_torque).torque
-    cont_motor = continuous_torque(motors.rated_torque, motors.rated_speed, motors.max_speed,
-                                   np.array([d.mean_speed]), motors.stall_torque).torque[:, 0]
+    approx_motor = motors.approximate
+    if motors.curves is not None and any(c is not None for c in motors.curves):
+        # Datasheet curves where a motor has them; the derived envelope for the others.
+        _, peak_env = motor_envelopes(motors.rated_torque, motors.peak_torque, motors.rated_speed, motors.max_speed,
+                                      d.hull_speed, motors.stall_torque, motors.curves)
+        cont_env, _ = motor_envelopes(motors.rated_torque, motors.peak_torque, motors.rated_speed, motors.max_speed,
+                                      np.array([d.mean_speed]), motors.stall_torque, motors.curves)
+        env_motor, cont_motor = peak_env.torque, cont_env.torque[:, 0]
+        approx_motor = np.asarray(peak_env.approximate, dtype=bool) | np.asarray(cont_env.approximate, dtype=bool)
+    else:
+        env_motor = intermittent_torque(motors.peak_torque, motors.rated_torque, motors.rated_speed,
+                                        motors.max_speed, d.hull_speed, motors.stall_torque).torque
+        cont_motor = continuous_torque(motors.rated_torque, motors.rated_speed, motors.max_speed,
+                                       np.array([d.mean_speed]), motors.stall_torque).torque[:, 0]
     env_int, cont = env_motor[idx], cont_motor[idx]
     j_m = motors.inertia[idx]
     extra = np.zeros_like(j_m) if extra_inertia is None else extra_inertia
@@ -192,7 +203,7 @@ def fit_motors(d: Demand, motors: MotorArrays, *, torque_margin: float = 1.0, rm
     max_speed = motors.max_speed[idx]
     speed_av = max_speed if speed_limit is None else np.minimum(max_speed, speed_limit)
     ratio = (d.load_inertia + extra) / j_m
-    approx = motors.approximate[idx]
+    approx = approx_motor[idx]
     names = ("peak_torque", "rms_torque", "max_speed", "inertia_ratio")
     return Fit(
         names=names,

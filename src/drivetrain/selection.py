@@ -89,7 +89,7 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     motor_arrays = MotorArrays(
         inertia=motors.rotor_inertia, rated_torque=motors.rated_torque, peak_torque=motors.peak_torque,
         rated_speed=motors.rated_speed, max_speed=motors.max_speed, stall_torque=motors.stall_torque,
-        approximate=~motors.has_curve,
+        approximate=~motors.has_curve, curves=tuple(motors.curves),
     )
     n_m = len(motors)
     t0, e0, w0, a0 = duty.torque, duty.external, duty.omega, duty.alpha

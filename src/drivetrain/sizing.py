@@ -50,11 +50,14 @@ class SizingResult:
 
     @property
     def ok(self) -> bool:
-        """True when the given motor passes every check, or a candidate does."""
+        """True when the axis's own checks pass (slip, guide, brake) and the given motor or a candidate does."""
+        own = [self.extras[k]["ok"] for k in ("slip_check", "guide", "brake_check") if k in self.extras]
+        if not all(own):
+            return False
         if self.motor is not None:
             return bool(self.motor["ok"])
-        if self.candidates:
-            return any(c["ok"] for c in self.candidates)
+        if self.selection is not None:
+            return bool(self.selection.get("passing", 0))
         return True
 
     def to_dict(self) -> dict[str, Any]:
@@ -256,7 +259,9 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64) -
     if axis.mechanism.slip_limit is not None:
         from drivetrain.guides import slip_check
 
-        result.extras["slip_check"] = slip_check(float(np.max(np.abs(duty.samples.a))), axis.mechanism.slip_limit)
+        incline = getattr(axis.mechanism.load, "incline", 0.0)
+        result.extras["slip_check"] = slip_check(np.asarray(duty.samples.a), axis.mechanism.slip_limit, incline,
+                                                 axis.gravity)
     brake = _brake_check(axis, duty)
     if brake is not None:
         result.extras["brake_check"] = brake

@@ -114,19 +114,52 @@ class GearboxSpec(_Compliance):
             raise ValueError("circular_spline_teeth is required with flexspline_teeth")
         return self
 
-    def gear_ratio(self) -> float:
+    def gear_ratio(self, index: int = 0) -> float:
         """Input / output speed [-]."""
         if self.ratio is not None:
             return self.ratio
-        assert self.flexspline_teeth is not None and self.circular_spline_teeth is not None
-        return harmonic_ratio(self.flexspline_teeth, self.circular_spline_teeth)
+        if self.flexspline_teeth is not None and self.circular_spline_teeth is not None:
+            try:
+                return harmonic_ratio(self.flexspline_teeth, self.circular_spline_teeth)
+            except InputError as exc:
+                raise exc.at(f"transmission[{index}]") from None
+        return float(self._catalog_row(index)["ratio"])
+
+    def _catalog_row(self, index: int) -> dict[str, Any]:
+        from drivetrain import catalog
+
+        try:
+            row = catalog.get(str(self.catalog))
+        except InputError as exc:
+            raise InputError(f"transmission[{index}].catalog", exc.rule, self.catalog) from None
+        if row.get("table") != "gearbox":
+            raise InputError(f"transmission[{index}].catalog", "is not a gearbox in the catalog", self.catalog)
+        return row
 
     def build(self, index: int) -> Stage:
-        """Gearbox as a Stage: its input inertia outside its losses."""
-        i = self.gear_ratio()
+        """Gearbox as a Stage: its input inertia outside its losses.
+
+        With ``catalog: ID`` the ratio, efficiency, input inertia, torsional stiffness and
+        backlash come from the catalog row (datasheet values with their source) unless given here.
+        """
+        if self.catalog is not None:
+            row = self._catalog_row(index)
+            filled = {
+                "ratio": self.ratio if self.ratio is not None else float(row["ratio"]),
+                "efficiency": self.efficiency if self.efficiency is not None else row.get("efficiency"),
+                "inertia": self.inertia or (row.get("inertia_input_kgm2") or 0.0),
+                "stiffness": row.get("torsional_stiffness_Nm_per_rad") if self.stiffness is None else self.stiffness,
+                "backlash": self.backlash or (row.get("backlash_rad") or 0.0),
+            }
+            spec = self.model_copy(update={k: v for k, v in filled.items() if v is not None})
+            return spec._stage(index, name=f"{self.catalog} ({spec.ratio:g}:1)")
+        return self._stage(index)
+
+    def _stage(self, index: int, name: str | None = None) -> Stage:
+        i = self.gear_ratio(index)
         eta = self.efficiency if self.efficiency is not None else GEARBOX_EFFICIENCY[self.kind] ** self.stages
         back = eta if self.back_efficiency is None else self.back_efficiency
-        return Stage(name=f"gearbox {self.kind} {i:g}:1", kind="gearbox", ratio=i, inertia_in=self.inertia,
+        return Stage(name=name or f"gearbox {self.kind} {i:g}:1", kind="gearbox", ratio=i, inertia_in=self.inertia,
                      efficiency=eta, back_efficiency=back, **_compliance_at_input(self, i))
 
 
@@ -162,8 +195,8 @@ class BeltStageSpec(_Compliance):
             i = self.driven_diameter / self.drive_diameter
         r_dp = (self.drive_diameter or self.drive_pulley.diameter) / 2.0
         field = f"transmission[{index}]"
-        j_dp = self.drive_pulley.inertia_si(f"{field}.drive_pulley")
-        j_dn = self.driven_pulley.inertia_si(f"{field}.driven_pulley") / i**2
+        j_dp = self.drive_pulley.inertia_si(f"{field}.drive_pulley", self.drive_diameter or 0.0)
+        j_dn = self.driven_pulley.inertia_si(f"{field}.driven_pulley", self.driven_diameter or 0.0) / i**2
         j_idlers = 0.0
         for k, idler in enumerate(self.idlers):
             if r_dp <= 0.0 or idler.diameter <= 0.0:

@@ -55,7 +55,8 @@ QUANTITIES: dict[str, tuple[str, str]] = {
     "dimensionless": ("", ""),
 }
 
-_ROTATIONAL_SPEED = re.compile(r"\b(rpm|rps|r/min|rev/min|revolutions?_per_minute|min\^-1|1/min)\b")
+_ROTATIONAL_SPEED = re.compile(r"(rpm|rps|r/min|rev|revolution|turn)")
+_ANGLE_UNIT = re.compile(r"(rad|deg|degree|arcmin|arcsec)")
 _NM = re.compile(r"(?<![A-Za-z_])Nm(?![A-Za-z_])")
 _MAX_MAGNITUDE = 1e15
 _POUND_OUNCE = re.compile(r"(?<![A-Za-z_])(oz|lb)(?![A-Za-z_])")
@@ -68,6 +69,7 @@ def registry() -> pint.UnitRegistry:
 
     ureg: pint.UnitRegistry = pint.UnitRegistry(autoconvert_offset_to_baseunit=True)
     ureg.define("kgf = kilogram * gravity = kilogram_force")
+    ureg.define("rev = revolution")
     return ureg
 
 
@@ -128,10 +130,13 @@ def _parse_string(text: str, quantity: str, field: str) -> float:
     except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError, ValueError,
             TypeError, AttributeError, SyntaxError, AssertionError, KeyError, ZeroDivisionError) as exc:
         raise InputError(field, f"is not a quantity with units of {_describe(quantity)} ({exc})", text) from None
-    if quantity == "angular_speed" and _ROTATIONAL_SPEED.search(norm):
-        # rpm -> rad/s with the explicit 2 pi / 60 (pint treats rad as dimensionless).
+    if quantity == "angular_speed" and not _ANGLE_UNIT.search(norm):
+        # Revolutions per time ("3000 rpm", "3000 1/min", "50 Hz") -> rad/s with the explicit
+        # 2 pi / 60: pint treats the radian as dimensionless, so a bare 1/min would lose 2 pi.
         try:
-            return float(q.to("revolution/minute").magnitude) * RPM_TO_RAD_S
+            if _ROTATIONAL_SPEED.search(norm):
+                return float(q.to("revolution/minute").magnitude) * RPM_TO_RAD_S
+            return float(q.to("1/minute").magnitude) * RPM_TO_RAD_S
         except pint.errors.DimensionalityError:
             pass
     try:

@@ -15,6 +15,7 @@ from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from pydantic import Field
 
 from drivetrain.fields import (
     Angle,
@@ -222,11 +223,11 @@ class WheelSpec(Spec):
     bore: LengthNonNeg = 0.0
     density: Density | None = None
     material: str | None = None
-    count: int = 1
+    count: int = Field(default=1, ge=1, le=1000)
 
-    def inertia_si(self, field: str) -> float:
-        """Inertia of one wheel about its axis [kg m^2]."""
-        return part_inertia(self.inertia, self.mass, self.diameter, self.bore, self.width,
+    def inertia_si(self, field: str, default_diameter: float = 0.0) -> float:
+        """Inertia of one wheel about its axis [kg m^2]; its diameter defaults to ``default_diameter``."""
+        return part_inertia(self.inertia, self.mass, self.diameter or default_diameter, self.bore, self.width,
                             self.density, self.material, field)
 
 

@@ -37,14 +37,14 @@ class BeltSpec(Spec):
     def build(self, g: float) -> Mechanism:
         """The belt as a Stage: drive pulley outside its losses; load, belt, idlers, driven pulley inside."""
         r = self.diameter / 2.0
-        j_dp = self.drive_pulley.inertia_si("mechanism.drive_pulley")
+        j_dp = self.drive_pulley.inertia_si("mechanism.drive_pulley", self.diameter)
         driven = self.driven_pulley or WheelSpec(diameter=self.diameter)
         r_dn = (driven.diameter or self.diameter) / 2.0
-        j_dn = driven.inertia_si("mechanism.driven_pulley") * (r / r_dn) ** 2
+        j_dn = driven.inertia_si("mechanism.driven_pulley", self.diameter) * (r / r_dn) ** 2
         j_idlers = 0.0
         for k, idler in enumerate(self.idlers):
             r_ip = (idler.diameter or self.diameter) / 2.0
-            j_idlers += idler.count * idler.inertia_si(f"mechanism.idlers[{k}]") * (r / r_ip) ** 2
+            j_idlers += idler.count * idler.inertia_si(f"mechanism.idlers[{k}]", self.diameter) * (r / r_ip) ** 2
         load = self.load.build(self.incline)
         j_load = linear_mass_reflected(load.moving_mass, r)
         j_belt = linear_mass_reflected(self.belt_mass, r)

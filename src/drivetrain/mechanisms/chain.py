@@ -9,11 +9,12 @@ Products carried on the loop are an ordinary linear ``load`` (mass, friction, th
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
+from pydantic import Field
 
 from drivetrain.fields import (
     Angle,
@@ -51,7 +52,7 @@ class ChainSpec(Spec):
     type: Literal["chain"]
     diameter: Length
     drive_sprocket: WheelSpec = WheelSpec()
-    drive_sprockets: int = 1
+    drive_sprockets: int = Field(default=1, ge=1, le=100)
     passive_sprockets: list[WheelSpec] = []
     loop_mass: MassNonNeg = 0.0
     loop_friction: Coefficient = 1.0
@@ -63,18 +64,14 @@ class ChainSpec(Spec):
     def build(self, g: float) -> Mechanism:
         """n_DR J_DR outside the losses; passive sprockets, loop and carried load inside."""
         r = self.diameter / 2.0
-        j_dr = self.drive_sprockets * self.drive_sprocket.inertia_si("mechanism.drive_sprocket")
+        j_dr = self.drive_sprockets * self.drive_sprocket.inertia_si("mechanism.drive_sprocket", self.diameter)
         j_pr = 0.0
         for k, spr in enumerate(self.passive_sprockets):
             r_pr = (spr.diameter or self.diameter) / 2.0
-            j_pr += spr.count * spr.inertia_si(f"mechanism.passive_sprockets[{k}]") * (r / r_pr) ** 2
-        base = self.load.build(self.incline) if self.load is not None else None
-        load = ChainLoad(
-            mass=base.mass if base else 0.0, counterweight=base.counterweight if base else 0.0,
-            incline=self.incline, friction=base.friction if base else 0.0,
-            static_friction=base.static_friction if base else 0.0, thrust=base.thrust if base else 0.0,
-            loop_mass=self.loop_mass, loop_friction=self.loop_friction,
-        )
+            j_pr += spr.count * spr.inertia_si(f"mechanism.passive_sprockets[{k}]", self.diameter) * (r / r_pr) ** 2
+        base = self.load.build(self.incline) if self.load is not None else LinearLoad(mass=0.0, incline=self.incline)
+        load = ChainLoad(**{f.name: getattr(base, f.name) for f in fields(LinearLoad)},
+                         loop_mass=self.loop_mass, loop_friction=self.loop_friction)
         j_loop = linear_mass_reflected(self.loop_mass, r)
         j_load = linear_mass_reflected(load.moving_mass, r)
         stage = Stage(name="chain", kind="chain", ratio=1.0 / r, inertia_in=j_dr,

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from typing import Literal
 
+from pydantic import Field
+
 from drivetrain.fields import (
     BackEfficiency,
     Coefficient,
@@ -47,7 +49,7 @@ class RollSpec(Spec):
     density: Density | None = None
     material: str | None = None
     inertia: Inertia | None = None
-    rolls: int = 1
+    rolls: int = Field(default=1, ge=1, le=100)
     efficiency: Efficiency = 1.0
     back_efficiency: BackEfficiency | None = None
     load: RollLoadSpec = RollLoadSpec()
