@@ -23,10 +23,10 @@ browser:
 	@command -v pdftoppm >/dev/null 2>&1 || { if [ "$$(id -u)" = 0 ]; then apt-get install -y -qq poppler-utils >/dev/null; else sudo apt-get install -y -qq poppler-utils >/dev/null; fi; }
 
 run: setup
-	$(VENV)/bin/drivetrain size examples/ball_screw.yaml
+	$(VENV)/bin/drivetrain size examples/ball_screw.yaml --report out/ball_screw.html
 
 lint: setup
-	$(VENV)/bin/ruff check src tests bench
+	$(VENV)/bin/ruff check src tests bench scripts
 	$(VENV)/bin/mypy
 
 test: setup browser lint

@@ -74,6 +74,12 @@ class SizingResult:
             out["candidates"] = self.candidates
         return out
 
+    def _repr_html_(self) -> str:
+        """Jupyter display: the report's content with static plots."""
+        from drivetrain.report import repr_html
+
+        return repr_html(self)
+
     def explain(self, model: str) -> str:
         """Why a catalog motor was accepted or rejected (needs a catalog selection)."""
         from drivetrain.errors import InputError

@@ -1,0 +1,177 @@
+"""The motor the report is about: the axis's own motor, or the catalog selection's choice.
+
+A sizing names a motor in the axis file (``SizingResult.motor``), or selects one from the
+catalog (``SizingResult.selection['selected']``, possibly behind a catalog gearbox), or gives
+only the demand. The report plots and tabulates one motor: :func:`focus_of` finds it, reads its
+ratings (from the catalog for a selection) and recomputes the cycle at its shaft through the
+selected gearbox with the same four-quadrant rule as the selection (``stage.torque_in``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from drivetrain.axis import MotorData
+    from drivetrain.sizing import SizingResult
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class GearboxInfo:
+    """A catalog gearbox put in front of the axis by the selection (SI)."""
+
+    id: str
+    ratio: float
+    efficiency: float
+    inertia: float
+    kind: str = "planetary"
+    vendor: str = ""
+    rated_output_torque: float | None = None
+    source: str = ""
+
+
+@dataclass(frozen=True)
+class Focus:
+    """The report's motor, its checks and the cycle at its shaft (SI arrays over samples).
+
+    ``origin`` says where it came from; ``passed`` whether every check passed. ``torque_load`` is
+    the torque at the motor shaft without the rotor (through the catalog gearbox if any),
+    ``torque`` the motor's torque with it; ``load_inertia`` everything but the rotor at its shaft.
+    """
+
+    origin: Literal["axis", "selection"]
+    label: str
+    motor: MotorData
+    gearbox: GearboxInfo | None
+    checks: list[dict[str, Any]]
+    passed: bool
+    omega: Array
+    alpha: Array
+    torque_load: Array
+    torque: Array
+    load_inertia: float
+    metrics: dict[str, Any]
+    candidate: dict[str, Any] | None = None
+
+    @property
+    def inertia_ratio(self) -> float:
+        """J_L / J_M at the motor shaft [-]."""
+        return self.load_inertia / self.motor.inertia
+
+
+def candidate_label(c: dict[str, Any]) -> str:
+    """'HG-KR23' or 'SGM7J-02A + GPB042-L1-i5'."""
+    text = str(c.get("motor", "?"))
+    if c.get("gearbox"):
+        text += f" + {c['gearbox']}"
+    return text
+
+
+def shaft_metrics(result: SizingResult, omega: Array, torque: Array) -> dict[str, Any]:
+    """Peak, RMS, speeds, power, regenerated energy and per-phase torques of a motor-shaft cycle (SI keys)."""
+    from drivetrain.duty import rms, signed_extreme
+    from drivetrain.units import to_rpm
+
+    duty = result.duty
+    w = duty.weights
+    power = torque * omega
+    k = int(np.argmax(np.abs(torque)))
+    phase = np.asarray(duty.samples.phase)
+    segments = []
+    for i, ph in enumerate(duty.cycle.phases):
+        mask = phase == i
+        segments.append({"kind": ph.kind, "move": ph.move, "t0_s": float(ph.t0), "t1_s": float(ph.t1),
+                         "torque_Nm": signed_extreme(torque[mask]),
+                         "speed_rpm": float(to_rpm(np.max(np.abs(omega[mask])))) if mask.any() else 0.0})
+    first = next((ph.move for ph in duty.cycle.phases if ph.kind != "dwell"), None)
+    per = {"accel": 0.0, "run": 0.0, "decel": 0.0}
+    for i, ph in enumerate(duty.cycle.phases):
+        if ph.move == first and ph.kind in per:
+            per[ph.kind] = signed_extreme(torque[phase == i])
+    holding = np.asarray(duty.samples.holding, dtype=bool)
+    return {
+        "peak_torque_Nm": float(abs(torque[k])),
+        "peak_torque_speed_rpm": float(to_rpm(abs(omega[k]))),
+        "rms_torque_Nm": rms(torque, w, duty.period),
+        "max_speed_rpm": float(to_rpm(np.max(np.abs(omega)))),
+        "mean_speed_rpm": float(to_rpm(np.sum(w * np.abs(omega)) / duty.period)),
+        "accel_torque_Nm": per["accel"], "run_torque_Nm": per["run"], "decel_torque_Nm": per["decel"],
+        "holding_torque_Nm": signed_extreme(torque[holding]),
+        "peak_power_W": float(np.max(np.abs(power))),
+        "average_power_W": float(np.sum(w * power) / duty.period),
+        "regen_energy_J": float(-np.sum(w * np.minimum(power, 0.0))),
+        "segments": segments,
+    }
+
+
+def _from_axis(result: SizingResult) -> Focus | None:
+    motor = result.axis.motor
+    block = result.motor
+    if motor is None or block is None:
+        return None
+    duty = result.duty
+    torque = duty.motor_torque(motor.inertia)
+    metrics = shaft_metrics(result, duty.omega, torque)
+    metrics.update({k: v for k, v in block.items() if k.endswith(("_Nm", "_W", "_J", "_s")) and v is not None})
+    return Focus("axis", motor.name, motor, None, list(block.get("checks", [])), bool(block.get("ok")),
+                 duty.omega, duty.alpha, duty.torque, torque, duty.load_inertia, metrics)
+
+
+def _gearbox(record: dict[str, Any], ratio: float) -> GearboxInfo:
+    def num(key: str, default: float) -> float:
+        v = record.get(key)
+        return default if v is None or (isinstance(v, float) and math.isnan(v)) else float(v)
+
+    rated = record.get("rated_output_torque_Nm")
+    return GearboxInfo(id=str(record.get("id")), ratio=num("ratio", ratio), efficiency=num("efficiency", 1.0),
+                       inertia=num("inertia_input_kgm2", 0.0), kind=str(record.get("type") or "planetary"),
+                       vendor=str(record.get("vendor") or ""),
+                       rated_output_torque=None if rated is None else float(rated),
+                       source=str(record.get("source") or ""))
+
+
+def _from_selection(result: SizingResult) -> Focus | None:
+    sel = result.selection or {}
+    cand = sel.get("selected") or (result.candidates[0] if result.candidates else None)
+    if not isinstance(cand, dict) or not cand.get("motor"):
+        return None
+    from drivetrain import catalog
+    from drivetrain.axis import motor_from_catalog_row
+    from drivetrain.errors import InputError
+    from drivetrain.stage import Stage, torque_in
+
+    try:
+        motor = motor_from_catalog_row(catalog.get(str(cand["motor"])))
+        gb = _gearbox(catalog.get(str(cand["gearbox"])), float(cand.get("ratio") or 1.0)) if cand.get(
+            "gearbox") else None
+    except InputError:
+        return None
+    duty = result.duty
+    omega, alpha, load, j_l = duty.omega, duty.alpha, duty.torque, duty.load_inertia
+    if gb is not None:
+        stage = Stage("gearbox", "gearbox", ratio=gb.ratio, inertia_in=gb.inertia, efficiency=gb.efficiency,
+                      back_efficiency=gb.efficiency)
+        omega, alpha = duty.omega * gb.ratio, duty.alpha * gb.ratio
+        direction = np.asarray(duty.samples.direction, dtype=float)
+        load, _ = torque_in(stage, duty.torque, duty.external, omega, alpha, direction, result.axis.efficiency_model)
+        load = np.where(duty.braked, 0.0, load)
+        j_l = duty.load_inertia / gb.ratio**2 + gb.inertia
+    torque = np.where(duty.braked, 0.0, load + motor.inertia * alpha)
+    metrics = shaft_metrics(result, omega, torque)
+    for key in ("rms_torque_Nm", "peak_torque_Nm"):
+        if isinstance(cand.get(key), (int, float)):
+            metrics[key] = float(cand[key])
+    return Focus("selection", candidate_label(cand), motor, gb, list(cand.get("checks", [])), bool(cand.get("ok")),
+                 omega, alpha, load, torque, j_l, metrics, cand)
+
+
+def focus_of(result: SizingResult) -> Focus | None:
+    """The motor the report shows: the axis's motor, else the selected (or closest) catalog candidate."""
+    return _from_axis(result) or _from_selection(result)
