@@ -34,6 +34,8 @@ class Demand:
     hull_speed: Array  # (B,) upper-edge speed of each bin [rad/s]
     hull_torque: Array  # (B, V) torque of hull vertices (padded with the first vertex)
     hull_alpha: Array  # (B, V)
+    all_torque: Array  # (V,) vertices of the hull of every sample
+    all_alpha: Array  # (V,)
 
     @property
     def max_speed(self) -> float:
@@ -63,8 +65,18 @@ def demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: fl
     width = max(len(v[0]) for v in verts)
     ht = np.array([np.pad(t, (0, width - len(t)), mode="edge") for _, t in verts])
     ha = np.array([np.pad(a, (0, width - len(a)), mode="edge") for a, _ in verts])
+    all_a, all_t = _hull_points(np.concatenate([a for a, _ in verts]), np.concatenate([t for _, t in verts]))
     return Demand(omega=omega, alpha=alpha, torque=torque, weights=weights, period=period,
-                  load_inertia=load_inertia, hull_speed=np.array(speeds), hull_torque=ht, hull_alpha=ha)
+                  load_inertia=load_inertia, hull_speed=np.array(speeds), hull_torque=ht, hull_alpha=ha,
+                  all_torque=all_t, all_alpha=all_a)
+
+
+def _support(torque: Array, alpha: Array, j: Array) -> Array:
+    """max over vertices v of |T_v + J alpha_v| for each J [N m] (vertices along the last axis)."""
+    out = np.abs(torque[..., 0] + j * alpha[..., 0])
+    for v in range(1, torque.shape[-1]):
+        np.maximum(out, np.abs(torque[..., v] + j * alpha[..., v]), out=out)
+    return out
 
 
 def scaled(d: Demand, ratio: float) -> Demand:
@@ -76,7 +88,8 @@ def scaled(d: Demand, ratio: float) -> Demand:
     """
     return Demand(omega=d.omega * ratio, alpha=d.alpha * ratio, torque=d.torque / ratio, weights=d.weights,
                   period=d.period, load_inertia=d.load_inertia / ratio**2, hull_speed=d.hull_speed * ratio,
-                  hull_torque=d.hull_torque / ratio, hull_alpha=d.hull_alpha * ratio)
+                  hull_torque=d.hull_torque / ratio, hull_alpha=d.hull_alpha * ratio,
+                  all_torque=d.all_torque / ratio, all_alpha=d.all_alpha * ratio)
 
 
 def _hull_points(alpha: Array, torque: Array) -> tuple[Array, Array]:
@@ -182,16 +195,32 @@ def fit_motors(d: Demand, motors: MotorArrays, *, torque_margin: float = 1.0, rm
     j_m = motors.inertia[idx]
     extra = np.zeros_like(j_m) if extra_inertia is None else extra_inertia
     j = j_m + extra
-    # Peak: per bin, max over hull vertices of |T + J alpha| (M, B).
-    # (a loop over the few hull vertices: numpy reduces a short last axis slowly)
-    vals = np.abs(d.hull_torque[None, :, 0] + j[:, None] * d.hull_alpha[None, :, 0])
-    for v in range(1, d.hull_torque.shape[1]):
-        np.maximum(vals, np.abs(d.hull_torque[None, :, v] + j[:, None] * d.hull_alpha[None, :, v]), out=vals)
-    req_bins = vals * torque_margin
-    m = margin_of(req_bins, env_int)
-    worst = np.argmin(m, axis=1)
-    rows = np.arange(len(j))
-    peak_req, peak_av, peak_m = req_bins[rows, worst], env_int[rows, worst], m[rows, worst]
+    # Peak over the whole cycle: max over the global hull's vertices of |T + J alpha|.
+    peak_all = _support(d.all_torque, d.all_alpha, j)
+    # Peak against the envelope, per speed bin. A motor slower than the cycle's top bin has no
+    # torque there (margin -100 % at that bin), so only the others need every bin.
+    top = d.hull_speed[-1]
+    full = np.flatnonzero(motors.max_speed[idx] >= top)
+    short = np.flatnonzero(motors.max_speed[idx] < top)
+    peak_req = np.empty(len(j))
+    peak_av = np.empty(len(j))
+    peak_m = np.empty(len(j))
+    if short.size:
+        peak_req[short] = _support(d.hull_torque[-1], d.hull_alpha[-1], j[short]) * torque_margin
+        peak_av[short] = env_int[short, -1]
+        peak_m[short] = margin_of(peak_req[short], peak_av[short])
+    if full.size:
+        # (a loop over the few hull vertices: numpy reduces a short last axis slowly)
+        jf = j[full]
+        vals = np.abs(d.hull_torque[None, :, 0] + jf[:, None] * d.hull_alpha[None, :, 0])
+        for v in range(1, d.hull_torque.shape[1]):
+            np.maximum(vals, np.abs(d.hull_torque[None, :, v] + jf[:, None] * d.hull_alpha[None, :, v]), out=vals)
+        req_bins = vals * torque_margin
+        env_f = env_int[full]
+        m = margin_of(req_bins, env_f)
+        worst = np.argmin(m, axis=1)
+        rows = np.arange(len(full))
+        peak_req[full], peak_av[full], peak_m[full] = req_bins[rows, worst], env_f[rows, worst], m[rows, worst]
     # RMS in closed form.
     w = d.weights
     s_tt = float(np.sum(w * d.torque**2))
@@ -216,5 +245,5 @@ def fit_motors(d: Demand, motors: MotorArrays, *, torque_margin: float = 1.0, rm
         units={"peak_torque": "N*m", "rms_torque": "N*m", "max_speed": "rpm", "inertia_ratio": "-"},
         approximate={"peak_torque": approx, "rms_torque": approx, "max_speed": np.zeros_like(approx),
                      "inertia_ratio": np.zeros_like(approx)},
-        peak_torque=np.max(vals, axis=1), rms_torque=rms_t, inertia_ratio=ratio,
+        peak_torque=peak_all, rms_torque=rms_t, inertia_ratio=ratio,
     )
