@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import re
+import tokenize
 from functools import lru_cache
 from typing import TYPE_CHECKING, Any
 
@@ -99,8 +100,8 @@ def parse(value: Any, quantity: str, field: str, *, allow_zero: bool = True) -> 
         raise InputError(field, f"must be a number or a quantity with units of {_describe(quantity)}", value)
     if not math.isfinite(result):
         raise InputError(field, "must be a finite number", value)
-    if abs(result) > _MAX_MAGNITUDE:
-        raise InputError(field, f"magnitude is absurd (> {_MAX_MAGNITUDE:g} in SI)", value)
+    if abs(result) > _MAX_MAGNITUDE or 0.0 < abs(result) < 1.0 / _MAX_MAGNITUDE:
+        raise InputError(field, "magnitude is absurd (outside 1e-15 to 1e15 in SI)", value)
     if not allow_zero and result == 0.0:
         raise InputError(field, "must not be zero", value)
     return result
@@ -127,8 +128,9 @@ def _parse_string(text: str, quantity: str, field: str) -> float:
     si_unit, _ = QUANTITIES[quantity]
     try:
         q: Any = ureg.Quantity(norm)
-    except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError, ValueError,
-            TypeError, AttributeError, SyntaxError, AssertionError, KeyError, ZeroDivisionError) as exc:
+    except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError, ValueError, TypeError,
+            AttributeError, SyntaxError, AssertionError, KeyError, ZeroDivisionError, tokenize.TokenError,
+            IndexError, RecursionError) as exc:
         raise InputError(field, f"is not a quantity with units of {_describe(quantity)} ({exc})", text) from None
     if quantity == "angular_speed" and not _ANGLE_UNIT.search(norm):
         # Revolutions per time ("3000 rpm", "3000 1/min", "50 Hz") -> rad/s with the explicit

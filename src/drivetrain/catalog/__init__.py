@@ -63,7 +63,7 @@ FLANGE_TOLERANCE = 0.5e-3
 Names = str | Sequence[str] | None
 
 
-def motors(
+def _motors(
     vendor: Names = None,
     kind: str | None = None,
     voltage: float | str | None = None,
@@ -101,7 +101,7 @@ def motors(
     return MotorTable.from_db(rows, curves)
 
 
-def gearboxes(
+def _gearboxes(
     vendor: Names = None, series: Names = None, kind: str | None = None, ids: Iterable[str] | None = None
 ) -> GearboxTable:
     """Gearboxes (one row per model and ratio) as arrays (SI).
@@ -126,6 +126,59 @@ def gearboxes(
     from drivetrain.catalog.tables import GearboxTable
 
     return GearboxTable.from_rows(rows)
+
+
+_CACHE: dict[tuple[Any, ...], Any] = {}
+
+
+def _state() -> tuple[Any, ...]:
+    """What a query's answer depends on besides its arguments: the data folder and the user database."""
+    folder = db.data_dir()
+    try:
+        st = db.user_db_path(folder).stat()
+        user = (st.st_mtime_ns, st.st_size)
+    except OSError:
+        user = None
+    return (str(folder), DATA_VERSION, user)
+
+
+def _cached(kind: str, fn: Any, args: tuple[Any, ...]) -> Any:
+    """Tables are immutable: repeat queries (a web session re-sizing) reuse them until the data changes."""
+    try:
+        key = (kind, _state(), repr(args))
+    except TypeError:
+        return fn(*args)
+    if key not in _CACHE:
+        if len(_CACHE) > 64:
+            _CACHE.clear()
+        _CACHE[key] = fn(*args)
+    return _CACHE[key]
+
+
+def motors(
+    vendor: Names = None,
+    kind: str | None = None,
+    voltage: float | str | None = None,
+    flange: float | str | None = None,
+    ids: Iterable[str] | None = None,
+) -> MotorTable:
+    """Motors of the shipped and user catalogs as arrays (SI); see ``_motors`` for the filters.
+
+    Args:
+        vendor: case-insensitive part of the vendor name ("yaskawa"), or several.
+        kind: "ac_servo" or "small_dc".
+        voltage: voltage class, e.g. 400 or "400 V"; matches within 15 %.
+        flange: square flange width, e.g. "80 mm" or 0.08 [m]; matches within 0.5 mm.
+        ids: exactly these motors, in this order (an unknown id is an InputError).
+    """
+    return _cached("motor", _motors, (vendor, kind, voltage, flange, None if ids is None else tuple(ids)))
+
+
+def gearboxes(
+    vendor: Names = None, series: Names = None, kind: str | None = None, ids: Iterable[str] | None = None
+) -> GearboxTable:
+    """Gearboxes (one row per model and ratio) as arrays (SI); see ``_gearboxes`` for the filters."""
+    return _cached("gearbox", _gearboxes, (vendor, series, kind, None if ids is None else tuple(ids)))
 
 
 def drives(vendor: Names = None, voltage: float | str | None = None, ids: Iterable[str] | None = None) -> DriveTable:

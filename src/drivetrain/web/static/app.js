@@ -1,0 +1,534 @@
+// The page: projects, the axis editor (form and YAML kept in sync), live sizing and results,
+// and the catalog browser. Every change re-sizes after a short pause; a newer request cancels
+// an older one still in flight.
+
+import { api, ApiError, filenameOf, saveBlob } from "./api.js";
+import { CatalogView } from "./catalog.js";
+import { AxisForm } from "./form.js";
+import * as plots from "./plots.js";
+import * as R from "./results.js";
+import { toYaml } from "./yaml.js";
+
+const $ = (id) => document.getElementById(id);
+const SIZE_DELAY_MS = 250;
+const YAML_DELAY_MS = 300;
+const BLANK = { axis: "new axis", mechanism: { type: "ball_screw" }, transmission: [], profile: [] };
+
+const state = {
+  axis: null,
+  project: null, // {id, name, version}
+  savedText: null,
+  lastSized: "",
+  payload: null,
+  sizeTimer: null,
+  sizeAbort: null,
+  sizeSeq: 0,
+  yamlTimer: null,
+  yamlSeq: 0,
+  picks: new Map(),
+  pickCache: new Map(),
+  deleteArmed: null,
+};
+let form = null;
+
+function el(tag, attrs = {}, ...children) {
+  const node = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs)) {
+    if (v === undefined || v === null || v === false) continue;
+    if (k === "text") node.textContent = v;
+    else node.setAttribute(k, v === true ? "" : v);
+  }
+  for (const c of children) if (c !== null && c !== undefined) node.append(c);
+  return node;
+}
+
+function setStatus(text, bad = false) {
+  const s = $("status");
+  s.textContent = text;
+  s.classList.toggle("bad", bad);
+}
+
+function axisName() {
+  return (state.axis && typeof state.axis.axis === "string" && state.axis.axis) || "axis";
+}
+
+function safeName(name) {
+  return (name.replace(/[^A-Za-z0-9._-]+/g, "_").replace(/^[._]+|[._]+$/g, "") || "axis").slice(0, 80);
+}
+
+// ---------------------------------------------------------------- editor <-> YAML
+
+function setYaml(text) {
+  $("yaml-text").value = text;
+  showYamlError(null);
+  updateSaveState();
+}
+
+function showYamlError(message) {
+  const p = $("yaml-error");
+  p.hidden = !message;
+  p.textContent = message || "";
+  $("yaml-text").setAttribute("aria-invalid", message ? "true" : "false");
+}
+
+function onFormChange(axis) {
+  state.axis = axis;
+  setYaml(toYaml(axis));
+  scheduleSize();
+}
+
+async function onYamlInput() {
+  clearTimeout(state.yamlTimer);
+  updateSaveState();
+  state.yamlTimer = setTimeout(async () => {
+    const seq = ++state.yamlSeq;
+    try {
+      const res = await api.post("/api/yaml/parse", { yaml: $("yaml-text").value });
+      if (seq !== state.yamlSeq) return;
+      showYamlError(null);
+      state.axis = res.axis;
+      form.render(res.axis);
+      scheduleSize();
+    } catch (err) {
+      if (seq !== state.yamlSeq) return;
+      showYamlError(err.message);
+    }
+  }, YAML_DELAY_MS);
+}
+
+function loadAxis(axis, text) {
+  state.axis = axis;
+  form.render(axis);
+  setYaml(text !== undefined ? text : toYaml(axis));
+  state.lastSized = "";
+  state.picks.clear();
+  scheduleSize(0);
+}
+
+// ---------------------------------------------------------------- sizing
+
+function scheduleSize(delay = SIZE_DELAY_MS) {
+  clearTimeout(state.sizeTimer);
+  state.sizeTimer = setTimeout(runSize, delay);
+}
+
+async function runSize() {
+  const key = JSON.stringify(state.axis);
+  if (key === state.lastSized) return;
+  if (state.sizeAbort) state.sizeAbort.abort();
+  const abort = new AbortController();
+  state.sizeAbort = abort;
+  const seq = ++state.sizeSeq;
+  const results = document.querySelector(".results");
+  results.setAttribute("aria-busy", "true");
+  document.body.dataset.sizing = "busy";
+  try {
+    const payload = await api.post("/api/size", state.axis, { signal: abort.signal });
+    if (seq !== state.sizeSeq) return;
+    state.lastSized = key;
+    state.payload = payload;
+    renderResult(payload);
+  } catch (err) {
+    if (err.name === "AbortError" || seq !== state.sizeSeq) return;
+    state.lastSized = key;
+    renderError(err);
+  } finally {
+    if (seq === state.sizeSeq) {
+      results.setAttribute("aria-busy", "false");
+      document.body.dataset.sizing = "idle";
+      document.body.dataset.sized = String(seq);
+    }
+  }
+}
+
+function renderResult(payload) {
+  const r = payload.result;
+  form.clearErrors();
+  $("error-summary").hidden = true;
+  $("result-body").classList.remove("stale");
+  R.renderBanner($("result-banner"), r);
+  if (payload.notes && payload.notes.length) $("result-banner").append(el("span", { class: "muted small", text: ` (${payload.notes.join("; ")})` }));
+  R.renderChecks($("checks"), r);
+  R.renderMetrics($("metrics"), r, payload.motion);
+  const keys = new Set((r.candidates || []).map(R.candidateKey));
+  for (const k of [...state.picks.keys()]) if (!keys.has(k)) state.picks.delete(k);
+  for (const c of r.candidates || []) if (state.picks.has(R.candidateKey(c))) state.picks.set(R.candidateKey(c), c);
+  state.pickCache.clear();
+  renderCandidatesAndCompare();
+  plots.drawProfile($("plot-profile"), payload);
+  plots.drawShaft($("plot-shaft"), payload);
+  setStatus(`sized in ${Math.round(payload.elapsed_ms)} ms`);
+}
+
+function renderError(err) {
+  const banner = $("result-banner");
+  banner.className = "banner bad";
+  $("result-body").classList.add("stale");
+  if (err instanceof ApiError && err.status === 422) {
+    const shown = form.showErrors(err.errors);
+    banner.textContent = `${shown.length} problem${shown.length === 1 ? "" : "s"} in the axis: fix the marked field${shown.length === 1 ? "" : "s"}.`;
+    const box = $("error-summary");
+    const list = el("ul");
+    for (const e of shown) {
+      const item = el("li");
+      if (e.element) {
+        const b = el("button", { type: "button", class: "link", text: e.message });
+        b.addEventListener("click", () => e.element.focus());
+        item.append(b);
+      } else {
+        item.textContent = e.message;
+      }
+      list.append(item);
+    }
+    box.replaceChildren(list);
+    box.hidden = false;
+  } else {
+    form.clearErrors();
+    $("error-summary").hidden = true;
+    banner.textContent = err.message;
+  }
+  setStatus(err.message.split("\n")[0], true);
+}
+
+function renderCandidatesAndCompare() {
+  const r = state.payload ? state.payload.result : null;
+  if (!r) return;
+  R.renderCandidates($("candidates"), r, state.picks, togglePick);
+  const picks = [...state.picks.values()];
+  R.renderCompare($("compare"), picks, () => {
+    state.picks.clear();
+    renderCandidatesAndCompare();
+  });
+  drawPlaneWithPicks(picks);
+}
+
+function togglePick(candidate, on) {
+  const key = R.candidateKey(candidate);
+  if (on && state.picks.size < 3) state.picks.set(key, candidate);
+  else state.picks.delete(key);
+  renderCandidatesAndCompare();
+}
+
+async function drawPlaneWithPicks(picks) {
+  const payload = state.payload;
+  if (picks.length < 2) {
+    plots.drawPlane($("plot-plane"), payload);
+    return;
+  }
+  const sizedFor = state.lastSized;
+  try {
+    const details = await Promise.all(picks.map(async (c) => {
+      const key = R.candidateKey(c);
+      if (!state.pickCache.has(key)) {
+        const q = new URLSearchParams({ motor: c.motor });
+        if (c.gearbox) q.set("gearbox", c.gearbox);
+        state.pickCache.set(key, api.post(`/api/size/candidate?${q}`, state.axis));
+      }
+      return state.pickCache.get(key);
+    }));
+    if (sizedFor !== state.lastSized) return;
+    plots.drawPlane($("plot-plane"), payload, details);
+  } catch (err) {
+    setStatus(err.message, true);
+    plots.drawPlane($("plot-plane"), payload);
+  }
+}
+
+// ---------------------------------------------------------------- projects
+
+function updateSaveState() {
+  const text = $("yaml-text").value;
+  const s = $("save-state");
+  if (!state.project) s.textContent = "not saved yet";
+  else if (text === state.savedText) s.textContent = `saved, version ${state.project.version}`;
+  else s.textContent = "unsaved changes";
+  $("project-actions").hidden = !state.project;
+}
+
+async function refreshProjects() {
+  let list = [];
+  try {
+    list = await api.get("/api/projects");
+  } catch (err) {
+    setStatus(err.message, true);
+  }
+  const ul = $("project-list");
+  ul.replaceChildren();
+  for (const p of list) {
+    const current = state.project && state.project.id === p.id;
+    const b = el("button", { type: "button", class: "project", "aria-current": current ? "true" : undefined, "data-id": String(p.id) },
+      el("span", { class: "name", text: p.name }),
+      el("span", { class: "meta", text: `v${p.version} · ${new Date(p.updated * 1000).toLocaleString()}` }));
+    b.addEventListener("click", () => openProject(p.id));
+    ul.append(el("li", {}, b));
+  }
+  $("no-projects").hidden = list.length > 0;
+}
+
+function adopt(detail) {
+  state.project = { id: detail.id, name: detail.name, version: detail.version };
+  state.savedText = detail.yaml;
+  $("project-name").value = detail.name;
+  history.replaceState(null, "", `#project=${detail.id}`);
+}
+
+async function openProject(id) {
+  try {
+    const detail = await api.get(`/api/projects/${id}`);
+    adopt(detail);
+    if (detail.axis) {
+      loadAxis(detail.axis, detail.yaml);
+    } else {
+      setYaml(detail.yaml);
+      showYamlError(detail.yaml_error ? detail.yaml_error.detail : "the saved text does not parse");
+    }
+    updateSaveState();
+    await Promise.all([refreshProjects(), refreshHistory()]);
+    setStatus(`opened ${detail.name}`);
+  } catch (err) {
+    setStatus(err.message, true);
+  }
+}
+
+async function saveProject() {
+  const text = $("yaml-text").value;
+  const name = $("project-name").value.trim() || axisName();
+  try {
+    let detail;
+    if (!state.project) {
+      detail = await api.post("/api/projects", { name, yaml: text });
+    } else {
+      detail = await api.put(`/api/projects/${state.project.id}`, { yaml: text, base_version: state.project.version });
+      if (name !== state.project.name) {
+        const renamed = await api.patch(`/api/projects/${state.project.id}`, { name });
+        detail = { ...detail, name: renamed.name };
+      }
+    }
+    adopt(detail);
+    updateSaveState();
+    await Promise.all([refreshProjects(), refreshHistory()]);
+    setStatus(`saved ${detail.name}, version ${detail.version}`);
+  } catch (err) {
+    setStatus(err.message, true);
+  }
+}
+
+async function renameProject() {
+  if (!state.project) return;
+  const name = $("project-name").value.trim();
+  try {
+    const p = await api.patch(`/api/projects/${state.project.id}`, { name });
+    state.project.name = p.name;
+    await refreshProjects();
+    setStatus(`renamed to ${p.name}`);
+  } catch (err) {
+    setStatus(err.message, true);
+  }
+}
+
+async function duplicateProject() {
+  if (!state.project) return;
+  try {
+    const p = await api.post(`/api/projects/${state.project.id}/duplicate`, {});
+    await openProject(p.id);
+    setStatus(`duplicated as ${p.name}`);
+  } catch (err) {
+    setStatus(err.message, true);
+  }
+}
+
+async function deleteProject() {
+  if (!state.project) return;
+  const b = $("delete-project");
+  if (!state.deleteArmed) {
+    b.textContent = "Really delete?";
+    state.deleteArmed = setTimeout(() => {
+      b.textContent = "Delete";
+      state.deleteArmed = null;
+    }, 4000);
+    return;
+  }
+  clearTimeout(state.deleteArmed);
+  state.deleteArmed = null;
+  b.textContent = "Delete";
+  try {
+    const name = state.project.name;
+    await api.del(`/api/projects/${state.project.id}`);
+    newProject();
+    await refreshProjects();
+    setStatus(`deleted ${name}`);
+  } catch (err) {
+    setStatus(err.message, true);
+  }
+}
+
+async function restoreWith(promise, what) {
+  try {
+    const detail = await promise;
+    adopt(detail);
+    if (detail.axis) loadAxis(detail.axis, detail.yaml);
+    else setYaml(detail.yaml);
+    updateSaveState();
+    await Promise.all([refreshProjects(), refreshHistory()]);
+    setStatus(`${what}: now version ${detail.version}`);
+  } catch (err) {
+    setStatus(err.message, true);
+  }
+}
+
+async function refreshHistory() {
+  const ol = $("version-list");
+  ol.replaceChildren();
+  if (!state.project) return;
+  let versions = [];
+  try {
+    versions = await api.get(`/api/projects/${state.project.id}/versions`);
+  } catch (err) {
+    return;
+  }
+  for (const v of versions) {
+    const label = `v${v.version} · ${new Date(v.created * 1000).toLocaleString()}${v.note ? " · " + v.note : ""}`;
+    const li = el("li", {}, el("span", { text: label }));
+    if (v.version !== state.project.version) {
+      const b = el("button", { type: "button", class: "small", text: "Restore", "aria-label": `Restore version ${v.version}` });
+      b.addEventListener("click", () => restoreWith(api.post(`/api/projects/${state.project.id}/versions/${v.version}/restore`), `restored version ${v.version}`));
+      li.append(" ", b);
+    }
+    ol.append(li);
+  }
+}
+
+function newProject() {
+  state.project = null;
+  state.savedText = null;
+  $("project-name").value = "";
+  history.replaceState(null, "", location.pathname);
+  loadAxis(JSON.parse(JSON.stringify(BLANK)));
+  refreshProjects();
+}
+
+// ---------------------------------------------------------------- files
+
+async function uploadYaml(file) {
+  const data = new FormData();
+  data.append("file", file);
+  try {
+    const res = await api.post("/api/yaml/upload", data);
+    loadAxis(res.axis, res.yaml);
+    setStatus(`read ${file.name}`);
+  } catch (err) {
+    setStatus(err.message, true);
+    showYamlError(err.message);
+  }
+}
+
+function downloadYaml() {
+  const blob = new Blob([$("yaml-text").value], { type: "application/yaml" });
+  saveBlob(blob, `${safeName(axisName())}.yaml`);
+}
+
+async function downloadReport(format) {
+  setStatus(`writing the ${format.toUpperCase()} report…`);
+  try {
+    const response = await fetch(`/api/report?format=${format}`, {
+      method: "POST", headers: { "content-type": "application/json" }, body: JSON.stringify(state.axis),
+    });
+    if (!response.ok) {
+      let body = null;
+      try {
+        body = await response.json();
+      } catch (e) {
+        body = null;
+      }
+      throw new ApiError(response.status, body);
+    }
+    const blob = await response.blob();
+    saveBlob(blob, filenameOf(response, `${safeName(axisName())}-report.${format}`));
+    setStatus(`${format.toUpperCase()} report downloaded`);
+  } catch (err) {
+    setStatus(err.message, true);
+  }
+}
+
+// ---------------------------------------------------------------- views
+
+function showView(name) {
+  const editor = name === "editor";
+  $("view-editor").hidden = !editor;
+  $("view-catalog").hidden = editor;
+  $("tab-editor").setAttribute("aria-pressed", String(editor));
+  $("tab-catalog").setAttribute("aria-pressed", String(!editor));
+  setStatus("");
+  if (!editor) catalogView.open();
+  else if (state.payload) {
+    plots.drawProfile($("plot-profile"), state.payload);
+    plots.drawShaft($("plot-shaft"), state.payload);
+    drawPlaneWithPicks([...state.picks.values()]);
+  }
+}
+
+let catalogView = null;
+
+async function init() {
+  const desc = await api.get("/api/form");
+  form = new AxisForm($("axis-form"), desc, onFormChange);
+  catalogView = new CatalogView({
+    motors: $("cat-motors"), gearboxes: $("cat-gearboxes"), filters: $("catalog-filters"), table: $("catalog-table"),
+    prev: $("cat-prev"), next: $("cat-next"), page: $("cat-page"), envelope: $("plot-envelope"), detail: $("catalog-detail"),
+    importForm: $("import-form"), importResult: $("import-result"),
+  }, setStatus);
+
+  $("yaml-text").addEventListener("input", onYamlInput);
+  $("new-project").addEventListener("click", newProject);
+  $("save-project").addEventListener("click", saveProject);
+  $("rename-project").addEventListener("click", renameProject);
+  $("duplicate-project").addEventListener("click", duplicateProject);
+  $("delete-project").addEventListener("click", deleteProject);
+  $("undo-project").addEventListener("click", () => state.project && restoreWith(api.post(`/api/projects/${state.project.id}/undo`), "undone"));
+  $("history").addEventListener("toggle", refreshHistory);
+  $("upload-yaml").addEventListener("click", () => $("upload-input").click());
+  $("upload-input").addEventListener("change", (e) => {
+    const file = e.target.files && e.target.files[0];
+    if (file) uploadYaml(file);
+    e.target.value = "";
+  });
+  $("download-yaml").addEventListener("click", downloadYaml);
+  $("report-html").addEventListener("click", () => downloadReport("html"));
+  $("report-pdf").addEventListener("click", () => downloadReport("pdf"));
+  $("tab-editor").addEventListener("click", () => showView("editor"));
+  $("tab-catalog").addEventListener("click", () => showView("catalog"));
+  $("project-name").addEventListener("keydown", (e) => {
+    if (e.key === "Enter") saveProject();
+  });
+  document.addEventListener("keydown", (e) => {
+    if ((e.ctrlKey || e.metaKey) && e.key.toLowerCase() === "s") {
+      e.preventDefault();
+      saveProject();
+    }
+  });
+  $("example-select").addEventListener("change", async (e) => {
+    const name = e.target.value;
+    if (!name) return;
+    try {
+      const ex = await api.get(`/api/examples/${encodeURIComponent(name)}`);
+      loadAxis(ex.axis, ex.yaml);
+      setStatus(`loaded the ${name} example (not saved)`);
+    } catch (err) {
+      setStatus(err.message, true);
+    }
+    e.target.value = "";
+  });
+  try {
+    const names = await api.get("/api/examples");
+    for (const n of names) $("example-select").append(el("option", { value: n, text: n.replace(/_/g, " ") }));
+  } catch (err) {
+    /* examples are optional */
+  }
+  const m = /^#project=(\d+)$/.exec(location.hash);
+  await refreshProjects();
+  if (m) await openProject(Number(m[1]));
+  else newProject();
+  document.body.dataset.ready = "1";
+}
+
+init().catch((err) => setStatus(`the page could not start: ${err.message}`, true));

@@ -1,0 +1,208 @@
+// Tables of a sizing result: the verdict, the checks, the duty cycle, ranked candidates and the
+// side-by-side comparison. Text only through textContent (never HTML from data).
+
+export function fmt(value, sig = 4) {
+  if (value === null || value === undefined || Number.isNaN(value)) return "–";
+  if (typeof value !== "number") return String(value);
+  if (value === 0) return "0";
+  const a = Math.abs(value);
+  if (a >= 1e6 || a < 1e-3) return value.toExponential(sig - 1);
+  return String(Number(value.toPrecision(sig)));
+}
+
+export function pct(margin) {
+  if (margin === null || margin === undefined) return "–";
+  return `${margin >= 0 ? "+" : ""}${(margin * 100).toFixed(1)} %`;
+}
+
+function el(tag, attrs = {}, ...children) {
+  const node = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs)) {
+    if (v === undefined || v === null || v === false) continue;
+    if (k === "text") node.textContent = v;
+    else node.setAttribute(k, v === true ? "" : v);
+  }
+  for (const c of children) if (c !== null && c !== undefined) node.append(c);
+  return node;
+}
+
+function table(caption, headers, rows, cls = "data") {
+  const t = el("table", { class: cls });
+  if (caption) t.append(el("caption", { class: "sr-only", text: caption }));
+  t.append(el("thead", {}, el("tr", {}, ...headers.map((h) => el("th", { scope: "col", text: h })))));
+  const body = el("tbody");
+  for (const r of rows) {
+    const tr = el("tr", r.cls ? { class: r.cls } : {});
+    r.cells.forEach((c, k) => {
+      const cell = k === 0 ? el("th", { scope: "row" }) : el("td");
+      if (c instanceof Node) cell.append(c);
+      else cell.textContent = c;
+      tr.append(cell);
+    });
+    body.append(tr);
+  }
+  t.append(body);
+  return t;
+}
+
+const CHECK_NAMES = {
+  peak_torque: "peak torque",
+  rms_torque: "RMS torque",
+  max_speed: "max speed",
+  inertia_ratio: "inertia ratio J_L/J_M",
+  gearbox_rated_torque: "gearbox rated torque",
+  gearbox_peak_torque: "gearbox peak torque",
+};
+
+export function checkName(name) {
+  return CHECK_NAMES[name] || name.replace(/_/g, " ");
+}
+
+// The checks a result is judged by: the given motor's, else the selected candidate's.
+export function verdict(result) {
+  if (result.motor) {
+    return { who: result.motor.name, ok: result.motor.ok, failed: result.motor.failed, checks: result.motor.checks, kind: "motor" };
+  }
+  const sel = result.selection;
+  if (sel && sel.selected) {
+    const c = sel.selected;
+    return { who: c.motor + (c.gearbox ? ` + ${c.gearbox}` : ""), ok: true, failed: "", checks: c.checks, kind: "selection", candidate: c };
+  }
+  if (sel) return { who: null, ok: false, failed: sel.advice || "no candidate passes every check", checks: [], kind: "none-pass" };
+  return null;
+}
+
+export function renderBanner(node, result) {
+  const v = verdict(result);
+  node.className = "banner";
+  if (!v) {
+    node.textContent = "Duty cycle only: give a motor, or a catalog selection (motor: select), to check one.";
+    return;
+  }
+  if (v.kind === "none-pass") {
+    node.classList.add("bad");
+    node.textContent = `No catalog candidate passes. ${v.failed}`;
+    return;
+  }
+  node.classList.add(v.ok ? "good" : "bad");
+  if (v.kind === "selection") {
+    const s = result.selection;
+    const c = v.candidate;
+    node.replaceChildren(
+      el("strong", { text: `Selected motor: ${c.motor}` }),
+      ` (${c.vendor})${c.gearbox ? ` with gearbox ${c.gearbox}, ratio ${fmt(c.ratio)}` : ", direct drive"}: ` +
+        `${s.passing} of ${s.evaluated} combinations pass.`,
+    );
+  } else {
+    node.replaceChildren(el("strong", { text: `Motor ${v.who}: ${v.ok ? "OK" : "FAILS"}` }), v.ok ? ": every check passes." : `: ${v.failed}`);
+  }
+}
+
+export function renderChecks(node, result) {
+  const v = verdict(result);
+  if (!v || !v.checks.length) {
+    node.replaceChildren(el("p", { class: "muted", text: "No motor to check." }));
+    return;
+  }
+  const rows = v.checks.map((c) => ({
+    cls: c.ok ? "" : "fail",
+    cells: [
+      checkName(c.name) + (c.approximate ? " *" : ""),
+      `${fmt(c.required)} ${c.unit === "-" ? "" : c.unit}`.trim(),
+      `${fmt(c.available)} ${c.unit === "-" ? "" : c.unit}`.trim(),
+      pct(c.margin),
+      c.ok ? "ok" : "FAILS",
+    ],
+  }));
+  const parts = [el("p", { class: "muted", text: `${v.who}` }), table(`Checks of ${v.who}`, ["check", "required", "available", "margin", "result"], rows, "data checks-table")];
+  if (v.checks.some((c) => c.approximate)) parts.push(el("p", { class: "muted small", text: "* against an envelope derived from the ratings (no vendor curve)." }));
+  node.replaceChildren(...parts);
+}
+
+export function renderMetrics(node, result, motion) {
+  const m = result;
+  const speedUnit = "rpm";
+  const rows = [
+    ["cycle time", `${fmt(m.cycle_time_s)} s`],
+    ["load inertia at the motor shaft", `${fmt(m.load_inertia_kgm2 * 1e4)} kg·cm²`],
+    ["peak torque", `${fmt(m.peak_torque_Nm)} N·m at ${fmt(m.peak_torque_speed_rpm, 4)} ${speedUnit}`],
+    ["RMS torque", `${fmt(m.rms_torque_Nm)} N·m`],
+    ["accel / run / decel torque (move 1)", `${fmt(m.accel_torque_Nm)} / ${fmt(m.run_torque_Nm)} / ${fmt(m.decel_torque_Nm)} N·m`],
+    ["holding torque", `${fmt(m.holding_torque_Nm)} N·m`],
+    ["max / mean speed", `${fmt(m.max_speed_rpm)} / ${fmt(m.mean_speed_rpm)} ${speedUnit}`],
+    ["peak / average power", `${fmt(m.peak_power_W)} / ${fmt(m.average_power_W)} W`],
+    ["regenerated energy per cycle", `${fmt(m.regen_energy_J)} J`],
+  ].map((r) => ({ cells: r }));
+  const caption = `Demand at the motor shaft, rotor excluded (${motion} axis)`;
+  node.replaceChildren(table(caption, ["quantity", "value"], rows, "data metrics-table"));
+}
+
+export function candidateKey(c) {
+  return `${c.motor}|${c.gearbox || ""}`;
+}
+
+export function renderCandidates(node, result, picked, onToggle) {
+  const list = result.candidates || [];
+  if (!list.length) {
+    node.replaceChildren(el("p", { class: "muted", text: "No catalog selection: set motor → select to rank catalog motors and gearboxes." }));
+    return;
+  }
+  const full = picked.size >= 3;
+  const rows = list.map((c) => {
+    const checks = Object.fromEntries(c.checks.map((x) => [x.name, x]));
+    const key = candidateKey(c);
+    const id = `cmp-${key.replace(/[^A-Za-z0-9]+/g, "-")}`;
+    const box = el("input", { type: "checkbox", id, "aria-label": `Compare ${c.motor}${c.gearbox ? " with " + c.gearbox : ""}` });
+    box.checked = picked.has(key);
+    box.disabled = full && !box.checked;
+    box.addEventListener("change", () => onToggle(c, box.checked));
+    return {
+      cls: c.ok ? "" : "fail",
+      cells: [
+        c.rank ? String(c.rank) : "–",
+        box,
+        c.motor,
+        c.gearbox ? `${c.gearbox} (i = ${fmt(c.ratio)})` : "direct",
+        fmt(c.inertia_ratio, 3),
+        pct(checks.peak_torque ? checks.peak_torque.margin : null),
+        pct(checks.rms_torque ? checks.rms_torque.margin : null),
+        c.ok ? "ok" : c.failed,
+      ],
+    };
+  });
+  const s = result.selection || {};
+  const intro = el("p", { class: "muted", text: `Best first by "${s.objective || "smallest"}"; rejected ones last, each with the check it fails. Tick 2–3 to compare.` });
+  node.replaceChildren(intro, el("div", { class: "table-wrap" },
+    table("Ranked candidates", ["rank", "compare", "motor", "gearbox", "J_L/J_M", "peak margin", "RMS margin", "result"], rows, "data candidates-table")));
+}
+
+export function renderCompare(node, picks, onClear) {
+  if (picks.length < 2) {
+    node.hidden = picks.length === 0;
+    node.replaceChildren(picks.length ? el("p", { class: "muted", text: "Tick one or two more candidates to compare." }) : "");
+    return;
+  }
+  node.hidden = false;
+  const names = new Set();
+  for (const c of picks) for (const x of c.checks) names.add(x.name);
+  const head = ["", ...picks.map((c) => c.motor + (c.gearbox ? ` + ${c.gearbox}` : ""))];
+  const rows = [
+    ["vendor", ...picks.map((c) => c.vendor || "–")],
+    ["rank", ...picks.map((c) => (c.rank ? String(c.rank) : "rejected"))],
+    ["gear ratio", ...picks.map((c) => fmt(c.ratio))],
+    ["inertia ratio J_L/J_M", ...picks.map((c) => fmt(c.inertia_ratio, 3))],
+    ["rated power", ...picks.map((c) => (c.rated_power_W ? `${fmt(c.rated_power_W)} W` : "–"))],
+    ["RMS / peak torque", ...picks.map((c) => `${fmt(c.rms_torque_Nm)} / ${fmt(c.peak_torque_Nm)} N·m`)],
+  ];
+  for (const n of names) {
+    rows.push([`${checkName(n)} margin`, ...picks.map((c) => {
+      const x = c.checks.find((y) => y.name === n);
+      return x ? `${pct(x.margin)} (${fmt(x.required)} / ${fmt(x.available)} ${x.unit === "-" ? "" : x.unit})`.trim() : "–";
+    })]);
+  }
+  rows.push(["result", ...picks.map((c) => (c.ok ? "ok" : c.failed))]);
+  const clear = el("button", { type: "button", class: "small", text: "Clear comparison" });
+  clear.addEventListener("click", onClear);
+  node.replaceChildren(el("h3", { text: "Side by side" }), el("div", { class: "table-wrap" },
+    table("Compared candidates", head, rows.map((r) => ({ cells: r })), "data compare-table")), clear);
+}

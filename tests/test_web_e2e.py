@@ -1,0 +1,350 @@
+"""End to end: Debian's Chromium (through Playwright) drives `drivetrain serve` on loopback.
+
+Builds the shipped ball screw example through the form, sees the selection and the checks,
+changes the mass and sees the result follow, saves, reloads and finds the project, downloads
+the YAML (which sizes the same) and the report, and imports a bad CSV to see its row errors.
+Set DRIVETRAIN_WEB_SCREENSHOTS=docs to write docs/web-editor.png and docs/web-catalog.png.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from drivetrain.axis import parse_yaml
+from drivetrain.sizing import size
+
+pytestmark = pytest.mark.browser
+
+CHROMIUM = "/usr/bin/chromium"
+ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
+        "--disable-sync", "--no-first-run"]
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLE = ROOT / "examples" / "ball_screw.yaml"
+TIMEOUT_MS = 30_000
+
+BAD_CSV = """id,vendor,series,rated_torque_Nm,peak_torque_Nm,rated_speed_rpm,max_speed_rpm,rotor_inertia_kgm2
+E2E-1,E2E Motors,X,1.3,4.5,3000,6000,3.7e-5
+E2E-2,E2E Motors,X,-1,4.5,3000,6000,3.7e-5
+E2E-3,E2E Motors,X,1.3,plenty,3000,6000,3.7e-5
+"""
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, Path]]:
+    if not Path(CHROMIUM).exists():
+        pytest.skip("Debian chromium is not installed (make browser)")
+    pytest.importorskip("playwright.sync_api")
+    data = tmp_path_factory.mktemp("web-e2e")
+    env = {**os.environ, "DRIVETRAIN_DATA_DIR": str(data), "PYTHONUNBUFFERED": "1"}
+    proc = subprocess.Popen([sys.executable, "-m", "drivetrain.cli", "serve", "--port", "0", "--data-dir", str(data)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        assert proc.stdout is not None
+        line = proc.stdout.readline()
+        m = re.search(r"http://127\.0\.0\.1:\d+/", line)
+        assert m, line + (proc.stderr.read() if proc.stderr else "")
+        yield m.group(0), data
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait(timeout=10)
+
+
+@pytest.fixture(scope="module")
+def browser(server: tuple[str, Path]) -> Iterator[Any]:
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        yield b
+        b.close()
+
+
+@pytest.fixture
+def page(browser: Any, server: tuple[str, Path]) -> Iterator[Any]:
+    context = browser.new_context(viewport={"width": 1440, "height": 900}, accept_downloads=True)
+    pg = context.new_page()
+    pg.set_default_timeout(TIMEOUT_MS)
+    errors: list[str] = []
+    pg.on("pageerror", lambda e: errors.append(str(e)))
+    pg.goto(server[0])
+    pg.wait_for_selector("body[data-ready='1']")
+    yield pg
+    context.close()
+    assert not errors, errors
+
+
+def wait_until(page: Any, js: str, arg: Any = None, timeout_s: float = TIMEOUT_MS / 1000) -> Any:
+    """Poll a JS function until it returns something truthy (the page's CSP forbids wait_for_function's eval)."""
+    deadline = time.monotonic() + timeout_s
+    while True:
+        value = page.evaluate(js, arg)
+        if value:
+            return value
+        if time.monotonic() > deadline:
+            raise AssertionError(f"timed out waiting for {js} ({arg!r})")
+        page.wait_for_timeout(50)
+
+
+def wait_sized(page: Any) -> None:
+    """Until the sizing requested by the last edit has answered."""
+    page.wait_for_timeout(400)  # past the debounce
+    wait_until(page, "() => document.body.dataset.sizing === 'idle'")
+
+
+def yaml_pane(page: Any) -> dict[str, Any]:
+    data = parse_yaml(page.input_value("#yaml-text"))
+    assert isinstance(data, dict)
+    return data
+
+
+def metric(page: Any, label: str) -> str:
+    return str(page.locator(".metrics-table tr", has_text=label).locator("td").inner_text())
+
+
+def sig4(x: float) -> float:
+    return float(f"{x:.4g}")
+
+
+def screenshot(page: Any, name: str) -> None:
+    folder = os.environ.get("DRIVETRAIN_WEB_SCREENSHOTS")
+    if folder:
+        Path(folder).mkdir(parents=True, exist_ok=True)
+        page.evaluate("() => document.querySelectorAll('.form-pane, .results, .catalog-table-wrap')"
+                      ".forEach(e => { e.scrollTop = 0; e.scrollLeft = 0; })")
+        page.evaluate("() => document.activeElement && document.activeElement.blur()")
+        page.wait_for_timeout(200)
+        page.screenshot(path=str(Path(folder) / name))
+
+
+def set_field(page: Any, path: str, value: Any) -> None:
+    """Type or choose ``value`` in the input of the field at ``path`` (opening a "More" section if needed)."""
+    selector = "#f-" + re.sub(r"[^A-Za-z0-9]+", "-", path)
+    page.wait_for_selector(selector, state="attached")
+    page.eval_on_selector(selector, "e => { for (let d = e.closest('details'); d; "
+                                    "d = d.parentElement.closest('details')) d.open = true; }")
+    tag = page.eval_on_selector(selector, "e => e.tagName")
+    if tag == "SELECT":
+        page.select_option(selector, str(value))
+    else:
+        page.fill(selector, str(value))
+
+
+def set_leaves(page: Any, prefix: str, mapping: dict[str, Any]) -> None:
+    for key, value in mapping.items():
+        path = f"{prefix}.{key}" if prefix else key
+        if isinstance(value, dict):
+            set_leaves(page, path, value)
+        else:
+            set_field(page, path, value)
+
+
+def build_through_the_form(page: Any, axis: dict[str, Any]) -> None:
+    """Enter an axis file field by field, as a user would (every key must have an input)."""
+    unsupported = set(axis) - {"axis", "gravity", "efficiency_model", "extra_inertia", "mechanism", "transmission",
+                               "profile", "motor"}
+    assert not unsupported, f"the e2e builder does not enter {unsupported}"
+    for key in ("axis", "gravity", "efficiency_model", "extra_inertia"):
+        if key in axis:
+            set_field(page, key, axis[key])
+    mechanism = dict(axis["mechanism"])
+    set_field(page, "mechanism.type", mechanism.pop("type"))
+    set_leaves(page, "mechanism", mechanism)
+    for k, element in enumerate(axis.get("transmission", [])):
+        element = dict(element)
+        page.select_option("#f-transmission-add-type", element.pop("type"))
+        page.click("text=Add element")
+        set_leaves(page, f"transmission[{k}]", element)
+    for k, step in enumerate(axis.get("profile", [])):
+        step = dict(step)
+        page.click("text=Add dwell" if "dwell" in step else "text=Add move")
+        if "shape" in step:  # first: the jerk fraction appears for s-curves
+            set_field(page, f"profile[{k}].shape", step.pop("shape"))
+        set_leaves(page, f"profile[{k}]", step)
+    motor = axis.get("motor")
+    if motor is not None:
+        page.check("#f-motor-on")
+        motor = dict(motor)
+        if "select" in motor:
+            page.check("#f-motor-select-on")
+            set_leaves(page, "motor.select", motor.pop("select"))
+        set_leaves(page, "motor", motor)
+
+
+def test_build_size_save_reload_and_download(page: Any, server: tuple[str, Path], tmp_path: Path) -> None:
+    example = parse_yaml(EXAMPLE.read_text(encoding="utf-8"))
+    build_through_the_form(page, example)
+    assert yaml_pane(page) == example, "the form did not build the example axis"
+    wait_sized(page)
+
+    expected = size(example)
+    banner = page.locator("#result-banner")
+    if expected.selection is not None and "selected" in expected.selection:
+        selected = expected.selection["selected"]["motor"]
+        assert f"Selected motor: {selected}" in banner.inner_text()
+        assert page.locator(".candidates-table tbody tr").count() == len(expected.candidates)
+        checks = expected.selection["selected"]["checks"]
+    else:
+        assert expected.motor is not None
+        assert expected.motor["name"] in banner.inner_text()
+        checks = expected.motor["checks"]
+    assert page.locator(".checks-table tbody tr").count() == len(checks)
+    assert page.locator(".checks-table").inner_text().count("ok") >= sum(1 for c in checks if c["ok"])
+    assert float(metric(page, "RMS torque").split()[0]) == sig4(expected.metrics["rms_torque_Nm"])
+    assert page.locator("#plot-plane .main-svg").count() >= 1
+    screenshot(page, "web-editor.png")
+
+    if expected.candidates:  # compare two candidates side by side
+        boxes = page.locator(".candidates-table tbody input[type=checkbox]")
+        boxes.nth(0).check()
+        boxes.nth(1).check()
+        compare = page.locator(".compare-table")
+        compare.wait_for()
+        heads = compare.locator("thead th").all_inner_texts()
+        assert heads[1].startswith(expected.candidates[0]["motor"])
+        assert heads[2].startswith(expected.candidates[1]["motor"])
+        wait_until(page, "() => [...document.querySelectorAll('#plot-plane .legendtext')]"
+                         ".some(t => t.textContent.includes('cycle') && !t.textContent.includes('|n|'))")
+        page.click("text=Clear comparison")
+
+    set_field(page, "mechanism.load.mass", "40 kg")
+    wait_sized(page)
+    heavier = {**example, "mechanism": {**example["mechanism"], "load": {**example["mechanism"]["load"],
+                                                                          "mass": "40 kg"}}}
+    rms = size(heavier).metrics["rms_torque_Nm"]
+    assert rms > expected.metrics["rms_torque_Nm"]
+    wait_until(page, "t => document.querySelector('.metrics-table').innerText.includes(t)", f"{sig4(rms):g}")
+    assert float(metric(page, "RMS torque").split()[0]) == sig4(rms)
+
+    set_field(page, "mechanism.load.mass", "-3 kg")
+    wait_sized(page)
+    mass = page.locator("#f-mechanism-load-mass")
+    assert mass.get_attribute("aria-invalid") == "true"
+    message = page.locator(".field[data-field='mechanism.load.mass'] .field-error").inner_text()
+    assert "must be > 0 kg, got -3 kg" in message
+    assert "1 problem" in banner.inner_text()
+    set_field(page, "mechanism.load.mass", "40 kg")
+    wait_sized(page)
+    assert mass.get_attribute("aria-invalid") is None
+
+    page.fill("#project-name", "Z lift web")
+    page.click("#save-project")
+    wait_until(page, "() => document.querySelector('#save-state').innerText.includes('saved, version 1')")
+    page.reload()
+    page.wait_for_selector("body[data-ready='1']")
+    project = page.locator(".project-list button", has_text="Z lift web")
+    assert project.count() == 1
+    project.click()
+    wait_until(page, "() => document.querySelector('#f-mechanism-load-mass')?.value === '40 kg'")
+    wait_sized(page)
+    assert float(metric(page, "RMS torque").split()[0]) == sig4(rms)
+
+    with page.expect_download() as download:
+        page.click("#download-yaml")
+    path = tmp_path / download.value.suggested_filename
+    download.value.save_as(path)
+    assert path.name == "Z_lift.yaml"
+    downloaded = parse_yaml(path.read_text(encoding="utf-8"))
+    assert downloaded == heavier
+    again = size(downloaded)
+    assert again.metrics["rms_torque_Nm"] == pytest.approx(rms, rel=1e-12)
+    assert [c["motor"] for c in again.candidates] == [c["motor"] for c in size(heavier).candidates]
+
+    for fmt, check in (("html", lambda b: b"<html" in b[:2000].lower()), ("pdf", lambda b: b.startswith(b"%PDF"))):
+        with page.expect_download(timeout=120_000) as download:
+            page.click(f"#report-{fmt}")
+        report = tmp_path / download.value.suggested_filename
+        download.value.save_as(report)
+        assert report.suffix == f".{fmt}" and check(report.read_bytes()), report
+    assert not list((server[1] / "tmp").glob("*")), "report temp files left in the data folder"
+
+
+def test_catalog_browse_envelope_and_bad_csv(page: Any) -> None:
+    page.click("#tab-catalog")
+    page.wait_for_selector(".catalog-table tbody tr")
+    page.click("button.sort:has-text('T peak')")
+    page.wait_for_selector("th[aria-sort='ascending'] button.sort:has-text('T peak')")
+    first = page.locator(".catalog-table tbody tr").first.locator("th").inner_text()
+    page.locator(".catalog-table tbody tr").first.locator("th button").click()
+    page.wait_for_selector("#plot-envelope .main-svg")
+    wait_until(page, "t => document.querySelector('#catalog-detail h3')?.innerText === t", first)
+    page.click("#cat-gearboxes")
+    page.wait_for_selector("button.sort:has-text('ratio')")
+    page.fill("#flt-rmin", "5")
+    page.fill("#flt-rmax", "5")
+    wait_until(page, """() => {
+        const cells = [...document.querySelectorAll('.catalog-table tbody tr td:nth-child(4)')];
+        return cells.length > 0 && cells.every(c => c.innerText === '5');
+    }""")
+    page.click("#cat-motors")
+    page.wait_for_selector(".catalog-table tbody tr")
+
+    page.set_input_files("#import-file", files=[{"name": "bad.csv", "mimeType": "text/csv",
+                                                  "buffer": BAD_CSV.encode()}])
+    page.click("#import-submit")
+    rows = page.locator(".import-errors tbody tr")
+    rows.first.wait_for()
+    assert rows.count() == 2
+    assert rows.nth(0).locator("th").inner_text() == "3" and "rated_torque_Nm" in rows.nth(0).inner_text()
+    assert rows.nth(1).locator("th").inner_text() == "4" and "peak_torque_Nm" in rows.nth(1).inner_text()
+    assert "not imported" in page.locator("#import-result").inner_text()
+    page.fill("#flt-q", "E2E-")
+    page.wait_for_selector("#cat-page:has-text('nothing matches')")
+    page.fill("#flt-q", "")
+    page.wait_for_selector(".catalog-table tbody tr")
+    page.locator(".catalog-table tbody tr").nth(3).locator("th button").click()
+    page.wait_for_selector("#plot-envelope .main-svg")
+    screenshot(page, "web-catalog.png")
+
+
+def test_every_control_has_a_label_and_buttons_are_buttons(page: Any) -> None:
+    page.select_option("#example-select", "ball_screw")
+    wait_sized(page)
+    unlabeled = page.evaluate("""() => [...document.querySelectorAll('input, select, textarea')]
+        .filter(e => e.type !== 'hidden' && !e.hidden && !e.closest('[hidden]'))
+        .filter(e => !(e.labels && e.labels.length) && !e.getAttribute('aria-label')
+                     && !e.getAttribute('aria-labelledby'))
+        .map(e => e.outerHTML.slice(0, 120))""")
+    assert unlabeled == []
+    clickable_divs = page.evaluate("""() => [...document.querySelectorAll('div[onclick], span[onclick], a:not([href])')]
+        .map(e => e.outerHTML.slice(0, 80))""")
+    assert clickable_divs == []
+    page.keyboard.press("Tab")
+    assert page.evaluate("document.activeElement.className") == "skip"
+    page.focus("#project-name")
+    page.keyboard.press("Tab")
+    assert page.evaluate("document.activeElement.id") == "save-project"
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _chromium_present() -> None:
+    if shutil.which("chromium") is None and not Path(CHROMIUM).exists():
+        pytest.skip("Debian chromium is not installed (make browser)")
+
+
+def test_yaml_pane_and_form_stay_in_sync(page: Any) -> None:
+    page.select_option("#example-select", "ball_screw")
+    wait_sized(page)
+    text = page.input_value("#yaml-text")
+    assert "mass: 25 kg" in text
+    page.fill("#yaml-text", text.replace("mass: 25 kg", "mass: 31 kg"))
+    wait_until(page, "() => document.querySelector('#f-mechanism-load-mass')?.value === '31 kg'")
+    page.fill("#yaml-text", text.replace("mass: 25 kg", "mass: [oops"))
+    wait_until(page, "() => !document.querySelector('#yaml-error').hidden")
+    assert "not valid YAML" in page.inner_text("#yaml-error")
+    page.fill("#f-mechanism-lead", "5 mm")
+    wait_until(page, "() => document.querySelector('#yaml-text').value.includes('lead: 5 mm')")
+    assert page.locator("#yaml-error").is_hidden()
