@@ -116,3 +116,8 @@ def test_cli_malformed_yaml_exits_2(tmp_path: Path) -> None:
     bad.write_text("mechanism: {type: ball_screw\n")
     proc = _cli("size", str(bad))
     assert proc.returncode == 2 and "Traceback" not in proc.stderr and "YAML" in proc.stderr
+
+
+def test_absurdly_small_positive_size_is_an_input_error() -> None:
+    err = _err({"mechanism": {"type": "belt", "diameter": 5e-324, "load": {"mass": 1}}})
+    assert err.field == "mechanism.diameter" and "absurd" in str(err)

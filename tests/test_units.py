@@ -50,7 +50,7 @@ def test_wrong_dimension_names_the_field() -> None:
     assert "wrong dimension" in str(err.value) and "10 kg" in str(err.value)
 
 
-@pytest.mark.parametrize("bad", ["nan", "inf m", "1e30 m", "ten mm", "", True, None, [1], ")", "5e-324", "(("])
+@pytest.mark.parametrize("bad", ["nan", "inf m", "1e30 m", "ten mm", "", True, None, [1], ")", "(("])
 def test_bad_values_are_input_errors(bad: object) -> None:
     with pytest.raises(InputError):
         parse(bad, "length", "x")

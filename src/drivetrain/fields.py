@@ -36,6 +36,9 @@ def quantity(quantity: str, *, gt: float | None = None, ge: float | None = None,
         x = parse(value, quantity, "")
         if gt is not None and not x > gt:
             raise InputError("", _bound_text(">", gt, quantity), value)
+        if gt == 0.0 and x < 1e-15:
+            # A strictly positive size this small is a typo, and dividing by it overflows.
+            raise InputError("", "magnitude is absurd (below 1e-15 in SI)", value)
         if ge is not None and not x >= ge:
             raise InputError("", _bound_text(">=", ge, quantity), value)
         if lt is not None and not x < lt:

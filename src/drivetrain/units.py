@@ -100,8 +100,8 @@ def parse(value: Any, quantity: str, field: str, *, allow_zero: bool = True) -> 
         raise InputError(field, f"must be a number or a quantity with units of {_describe(quantity)}", value)
     if not math.isfinite(result):
         raise InputError(field, "must be a finite number", value)
-    if abs(result) > _MAX_MAGNITUDE or 0.0 < abs(result) < 1.0 / _MAX_MAGNITUDE:
-        raise InputError(field, "magnitude is absurd (outside 1e-15 to 1e15 in SI)", value)
+    if abs(result) > _MAX_MAGNITUDE:
+        raise InputError(field, f"magnitude is absurd (> {_MAX_MAGNITUDE:g} in SI)", value)
     if not allow_zero and result == 0.0:
         raise InputError(field, "must not be zero", value)
     return result
