@@ -12,6 +12,12 @@ Comparison: python-control's ``input_output_response`` (a ``NonlinearIOSystem``)
 the same model with every loop updated at each 0.1 ms step and the smooth (tanh) Stribeck form, so
 the three agree up to the fixed step's O(h) error. The stick (exponential) form is timed too. The
 slow integrators run a shorter span (``--span``) and their time is scaled to 10 s.
+
+Everything is measured in the same run; the last table compares with the issue's targets: the
+first-run compile (fresh processes with an empty numba cache, then with it written), the kernel
+time per 100,000 steps with full recording, the speed-up over python-control, and 1,000 simulations
+of 10 s (``sweep``: metrics only, the runs spread over the cores). Timings are best-of-N wall
+times; the machine's load average is printed because other processes share the cores.
 """
 
 from __future__ import annotations
@@ -90,19 +96,40 @@ def rhs_factory(loop: ServoLoop, ref: Reference, h: float = H) -> Any:
     return rhs
 
 
-def cold_compile_seconds() -> tuple[float, float]:
-    """First-run time of a small simulation in a fresh process: with an empty numba cache (compile)
-    and again with the cache just written (load)."""
-    code = ("import time; t=time.perf_counter(); import numpy as np; from drivetrain.dynamics import *; "
-            "c=two_mass_chain(1e-4,5e-4,500.0); l=tune(c); r=move_reference(1.0,10.0,100.0); "
-            "simulate(c,l,r); print(time.perf_counter()-t)")
-    out = []
-    with tempfile.TemporaryDirectory() as cache:
-        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
-        for _ in range(2):
-            res = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
-            out.append(float(res.stdout.strip().splitlines()[-1]))
-    return out[0], out[1]
+COLD_CODE = """
+import time
+t0 = time.perf_counter()
+import numpy as np
+from drivetrain.dynamics import move_reference, simulate, tune, two_mass_chain
+c = two_mass_chain(1e-4, 5e-4, 500.0)
+l = tune(c)
+r = move_reference(1.0, 10.0, 100.0)
+t1 = time.perf_counter()
+simulate(c, l, r)
+t2 = time.perf_counter()
+print(t1 - t0, t2 - t1, t2 - t0, time.process_time())
+"""
+
+
+def cold_compile_seconds(repeat: int = 2) -> dict[str, float]:
+    """A small simulation in a fresh process, first with an empty numba cache (compile), then with the
+    cache just written (load); each field the best of ``repeat`` such pairs. Each run is split into (a)
+    start, imports, ``tune`` (which imports scipy.signal for its stability check) and (b) the first
+    ``simulate()`` call (numba import, compile or cache load, run). The compilation costs the first run
+    the difference of the two (b)."""
+    keys = ("setup", "simulate", "total", "cpu")
+    out: dict[str, float] = {}
+    for _ in range(repeat):
+        with tempfile.TemporaryDirectory() as cache:
+            env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+            for label in ("cold", "warm"):
+                res = subprocess.run([sys.executable, "-c", COLD_CODE], env=env, capture_output=True, text=True,
+                                     check=True)
+                values = [float(v) for v in res.stdout.strip().splitlines()[-1].split()]
+                for k, v in zip(keys, values, strict=True):
+                    out[f"{label}_{k}"] = min(v, out.get(f"{label}_{k}", math.inf))
+    out["compile"] = out["cold_simulate"] - out["warm_simulate"]
+    return out
 
 
 def best_of(fn: Any, repeat: int) -> float:
@@ -122,7 +149,8 @@ def main() -> None:
 
     import numba
 
-    cold, warm = cold_compile_seconds()
+    load_start = os.getloadavg()[0]
+    cold = cold_compile_seconds()
     ref = reference()
     steps = round(T_END / H)
     per = 1e5 / steps
@@ -137,7 +165,7 @@ def main() -> None:
     import drivetrain.dynamics.simulation as simmod
 
     kern = simmod._kernel_module()
-    orig = kern.run_kernel
+    orig = kern.run_two  # the kernel simulate() uses for a two-mass chain
     kt: list[float] = []
 
     def timed(*a: Any) -> Any:
@@ -146,7 +174,7 @@ def main() -> None:
         kt.append(time.perf_counter() - t0)
         return r
 
-    kern.run_kernel = timed
+    kern.run_two = timed
     rows: list[tuple[str, float]] = []
     for label, chain, loop, rec in (("kernel, stick friction, full recording", stick, loop_drive, 1),
                                     ("kernel, stick friction, metrics only", stick, loop_drive, steps),
@@ -155,7 +183,7 @@ def main() -> None:
         for _ in range(20):
             simulate(chain, loop, ref, step=H, duration=T_END, record_every=rec, check_stability=False)
         rows.append((label, min(kt) * per))
-    kern.run_kernel = orig
+    kern.run_two = orig
     full_call = best_of(lambda: simulate(stick, loop_drive, ref, step=H, duration=T_END), 10) * per
     rows.append(("whole `simulate()` call (stability check, resampling, result object)", full_call))
     ours = simulate(smooth, loop_cmp, ref, step=H, duration=T_END)
@@ -202,17 +230,25 @@ def main() -> None:
     n = args.sims
     kp = loop_drive.velocity_kp * rng.uniform(0.5, 1.2, n)
     kk = K * rng.uniform(0.7, 1.5, n)
-    sweep(stick, loop_drive, ref, velocity_kp=kp[:2], stiffness=kk[:2], step=H, duration=0.01)  # compile
+    sweep(stick, loop_drive, ref, velocity_kp=kp[:2], stiffness=kk[:2], step=H, duration=0.01)  # warm up
     results = {}
-    for dur in (T_END, 1.0):
-        t0 = time.perf_counter()
-        out = sweep(stick, loop_drive, ref, velocity_kp=kp, stiffness=kk, step=H, duration=dur)
-        results[dur] = (time.perf_counter() - t0, int(np.sum(out["diverged"])))
+    for dur, repeat in ((T_END, 5), (1.0, 3)):
+        walls, cpus = [], []
+        for _ in range(repeat):
+            t0, c0 = time.perf_counter(), time.process_time()
+            out = sweep(stick, loop_drive, ref, velocity_kp=kp, stiffness=kk, step=H, duration=dur)
+            walls.append(time.perf_counter() - t0)
+            cpus.append(time.process_time() - c0)
+        best = int(np.argmin(walls))
+        results[dur] = (walls[best], max(walls), cpus[best], int(np.sum(out["diverged"])))
+    load_end = os.getloadavg()[0]
 
-    threads = numba.config.NUMBA_NUM_THREADS
-    print(f"## Closed-loop simulation benchmark ({threads} threads, numba {numba.__version__})\n")
+    threads = numba.config.NUMBA_NUM_THREADS  # type: ignore[attr-defined]
+    print(f"## Closed-loop simulation benchmark ({threads} threads, {os.cpu_count()} CPUs, "
+          f"numba {numba.__version__})\n")
     print("Two-mass axis 1e-4 / 5e-4 kg m^2, 500 N m/rad, 1 mrad backlash, Stribeck friction, cascaded loop, "
-          f"10 kHz step, {T_END:g} s ({steps:,} steps).\n")
+          f"10 kHz step, {T_END:g} s ({steps:,} steps). Load average (1 min) of the machine: {load_start:.2f} at "
+          f"the start, {load_end:.2f} at the end (other processes share the cores).\n")
     print("| what | time per 100,000 steps [ms] | speed-up vs python-control |")
     print("|---|---:|---:|")
     for label, t in rows:
@@ -222,10 +258,11 @@ def main() -> None:
     print(f"| scipy `solve_ivp` (RK45, same rhs, {span:g} s run, scaled) | {ivp_per * 1e3:,.0f} | "
           f"{ct_per / ivp_per:.1f}x |")
     print()
-    print("| compile | seconds |")
-    print("|---|---:|")
-    print(f"| first run in a fresh process, empty numba cache (import + compile + run) | {cold:.2f} |")
-    print(f"| first run in a fresh process, cache written (import + load + run) | {warm:.2f} |")
+    print("| first run in a fresh process [s] | start, imports, `tune` | first `simulate()` | total | CPU |")
+    print("|---|---:|---:|---:|---:|")
+    for label, key in (("empty numba cache (compile)", "cold"), ("cache written (load)", "warm")):
+        print(f"| {label} | {cold[key + '_setup']:.2f} | {cold[key + '_simulate']:.2f} | {cold[key + '_total']:.2f} | "
+              f"{cold[key + '_cpu']:.2f} |")
     print()
     print(f"Agreement over the first {span:g} s (load position, rad at the motor shaft; the reference moves "
           f"up to {float(np.max(np.abs(ref.resample(t_span)[0]))):.2f} rad, the load error reaches "
@@ -233,10 +270,12 @@ def main() -> None:
     print("| pair | max difference [rad] | tolerance [rad] | ok |")
     print("|---|---:|---:|---|")
     tol = 1e-3
+    agree = []
     for label, d, tl in (("kernel (0.1 ms step) vs python-control", diff_ct, tol),
                          ("kernel (0.1 ms step) vs solve_ivp", diff_ivp, tol),
                          ("python-control vs solve_ivp", diff_ref, 1e-6),
                          ("kernel (0.01 ms step) vs solve_ivp (rtol 1e-9)", diff_fine, tol / 10)):
+        agree.append(d <= tl)
         print(f"| {label} | {d:.2e} | {tl:.0e} | {'yes' if d <= tl else 'NO'} |")
     print()
     print("Tolerance: 1e-3 rad at the 0.1-ms step (1e-4 of the 10-rad move): the kernel updates the loops "
@@ -244,10 +283,42 @@ def main() -> None:
           "is O(h) away from the continuous controller the adaptive solvers integrate; the largest "
           "difference sits where the acceleration feed-forward steps. A 10x smaller step must cut the "
           "difference about 10x (last row, tolerance 1e-4 rad).\n")
-    print(f"| {n} simulations, kp x U(0.5, 1.2), K x U(0.7, 1.5), numba prange | wall time [s] | diverged |")
-    print("|---|---:|---:|")
-    for dur, (wall, div) in results.items():
-        print(f"| each {dur:g} s ({round(dur / H):,} steps) | {wall:.2f} | {div} |")
+    print(f"| {n} simulations, kp x U(0.5, 1.2), K x U(0.7, 1.5), metrics only, {threads} threads | "
+          f"wall time, best run [s] | slowest run [s] | CPU time of the best run [s] | CPU time / {threads} [s] | "
+          "diverged |")
+    print("|---|---:|---:|---:|---:|---:|")
+    for dur, (wall, worst, cpu, div) in results.items():
+        print(f"| each {dur:g} s ({round(dur / H):,} steps) | {wall:.2f} | {worst:.2f} | {cpu:.2f} | "
+              f"{cpu / threads:.2f} | {div} |")
+    print(f"\n(10-s runs: best of 5, 1-s runs: best of 3. With every core free the wall time approaches the CPU "
+          f"time / {threads}; when other processes hold a core it approaches the CPU time.)\n")
+    full = rows[0][1]
+    sweep_wall = results[T_END][0]
+    targets = (
+        ("compile cost of the first run: first `simulate()`, empty cache minus cache written [s]",
+         cold["compile"], "<= 2", cold["compile"] <= 2.0),
+        ("whole first run in a fresh process, empty cache (start, imports, `tune`, compile, run) [s]",
+         cold["cold_total"], "<= 2", cold["cold_total"] <= 2.0),
+        ("kernel, stick friction, full recording [ms per 100,000 steps]", full * 1e3, "<= 3", full <= 3e-3),
+        ("speed-up of that kernel over python-control", ct_per / full, ">= 1000", ct_per / full >= 1000),
+        (f"{n} simulations of {T_END:g} s on all cores [s]", sweep_wall, "< 1", sweep_wall < 1.0),
+        ("agreement with python-control and solve_ivp (rows above)", float(sum(agree)), f"{len(agree)} of "
+         f"{len(agree)}", all(agree)),
+    )
+    print("| target (issue 6) | measured | required | met |")
+    print("|---|---:|---:|---|")
+    for label, value, need, ok in targets:
+        print(f"| {label} | {value:,.2f} | {need} | {'yes' if ok else 'NO'} |")
+    if cold["cold_total"] > 2.0:
+        print(f"\nThe whole first run exceeds 2 s by {cold['cold_total'] - 2.0:.2f} s: it includes "
+              f"{cold['cold_setup']:.2f} s before `simulate()` (Python start, imports, and `tune`, whose stability "
+              "check imports scipy.signal) and numba's one-time start-up inside the first compile; with the "
+              f"cache written the same run takes {cold['warm_total']:.2f} s.")
+    if sweep_wall >= 1.0:
+        cpu = results[T_END][2]
+        print(f"\nThe {n} simulations took {sweep_wall:.2f} s of wall time for {cpu:.2f} s of CPU time: the "
+              f"{threads} threads did not get {threads} cores to themselves (load average {load_end:.2f}); "
+              f"with the cores free the run takes about {cpu / threads:.2f} s.")
 
 
 if __name__ == "__main__":

@@ -54,9 +54,9 @@ def test_lecture_two_mass_82_7_hz() -> None:
 
 
 def test_three_equal_discs_closed_form() -> None:
-    # Three equal discs J on two equal shafts K (free-free): omega^2 = K/J * {0, 1, 3}
-    # (Thomson, Theory of Vibration with Applications; the closed form is used instead of a
-    # recalled textbook table). Rigid-body mode left out, ascending.
+    # Three equal discs J on two equal shafts K (free-free): omega^2 = K/J * {0, 1, 3}, the closed form
+    # (the published numerical example is test_thomson_holzer_example_three_discs). Rigid-body mode left
+    # out, ascending.
     j, k = 0.02, 5000.0
     chain = Chain(inertia=np.array([j, j, j]), stiffness=np.array([k, k]))
     freqs, shapes = modes(chain)
@@ -66,6 +66,47 @@ def test_three_equal_discs_closed_form() -> None:
     assert shapes[:, 0] == pytest.approx([1.0, 0.0, -1.0], abs=1e-9) or shapes[:, 0] == pytest.approx(
         [-1.0, 0.0, 1.0], abs=1e-9)
     assert shapes[:, 1] == pytest.approx([-0.5, 1.0, -0.5], abs=1e-9)
+
+
+def test_thomson_holzer_example_three_discs() -> None:
+    # Published multi-inertia chain: W. T. Thomson, "Theory of Vibration with Applications", chap. 12
+    # "Classical Methods", sec. 12.4 "Holzer Method", Example 12.4-1 (Fig. 12.4-2) and Table 12.4-1,
+    # book pp. 388-389 (Taylor & Francis printing; scanned at
+    # https://digilib.universitaspertamina.ac.id/ebook/Theory%20of%20Vibration%20with%20Applications/files/basic-html/page401.html
+    # and .../page402.html). Free-free disks J = 5, 11, 22 kg m^2 on shafts K1 = 0.10e6, K2 = 0.20e6 N m/rad.
+    # The Holzer table starts with theta_1 = 1 and prints, for omega = 20 and 40 rad/s, the disk amplitudes,
+    # the torque in shaft 2 (T2 = sum of the inertia torques of disks 1 and 2) and the torque T3 that must
+    # act on the free end to keep the motion (zero at a natural frequency):
+    #   omega  theta_2  theta_3  T2 [N m]   T3 [N m]
+    #    20    0.980    0.9484   6.312e3   14.66e3
+    #    40    0.920    0.799    24.19e3   52.32e3
+    # Our model reproduces them as its steady-state response to a harmonic torque on the last disk (the
+    # load-torque input, which enters with a minus sign: T_L = T3), to the rounding printed (half a unit
+    # in the last printed digit). The book gives the natural frequencies only graphically (Fig. 12.4-3,
+    # T3 against omega); the last check is that Holzer's residual torque vanishes at ours.
+    chain = Chain(inertia=np.array([5.0, 11.0, 22.0]), stiffness=np.array([0.10e6, 0.20e6]))
+    m = state_space_matrices(chain)
+    eye = np.eye(6)
+    for omega, th2, th3, t2, t3, d_th2, d_th3 in ((20.0, 0.980, 0.9484, 6.312e3, 14.66e3, 5e-4, 5e-5),
+                                                  (40.0, 0.920, 0.799, 24.19e3, 52.32e3, 5e-4, 5e-4)):
+        x = np.linalg.solve(1j * omega * eye - m.A, m.B[:, 1])  # response to T_L = 1 N m
+        theta = x[:3].real / x[0].real  # undamped: in phase; normalised to theta_1 = 1 as the table
+        assert np.max(np.abs(x[:3].imag)) < 1e-12 * np.max(np.abs(x[:3].real))
+        assert theta[1] == pytest.approx(th2, abs=d_th2)
+        assert theta[2] == pytest.approx(th3, abs=d_th3)
+        assert 0.20e6 * (theta[1] - theta[2]) == pytest.approx(t2, abs=5.0)  # shaft-2 torque
+        assert 1.0 / x[0].real == pytest.approx(t3, abs=5.0)  # T_L per unit theta_1
+        g = frequency_response(chain, omega / (2 * math.pi), "load_torque", "motor_position")[0]
+        assert 1.0 / g.real == pytest.approx(t3, abs=5.0)
+    for f in natural_frequencies(chain):
+        w2 = (2 * math.pi * f) ** 2
+        th = [1.0]
+        torque = w2 * 5.0
+        th.append(th[0] - torque / 0.10e6)
+        torque += w2 * 11.0 * th[1]
+        th.append(th[1] - torque / 0.20e6)
+        torque += w2 * 22.0 * th[2]
+        assert abs(torque) < 1e-9 * w2 * 38.0  # the Holzer residual, relative to the inertia torques
 
 
 def test_three_disc_general_characteristic_equation() -> None:

@@ -11,6 +11,7 @@ import pytest
 from drivetrain.dynamics import (
     Chain,
     Friction,
+    Notch,
     Reference,
     SimulationDivergedError,
     move_reference,
@@ -225,3 +226,67 @@ def test_sweep_runs_many_and_flags_divergence() -> None:
                       check_stability=False)
     assert out["max_load_error_rad"][1] == pytest.approx(single.max_load_error, rel=1e-9)
     assert out["peak_shaft_torque_Nm"][1, 0] == pytest.approx(single.peak_shaft_torque[0], rel=1e-9)
+
+
+def test_two_mass_kernel_matches_the_general_kernel(monkeypatch: pytest.MonkeyPatch) -> None:
+    # The two-mass kernel (state in scalars) and the N-mass kernel (state in arrays) carry the same
+    # equations; run both on the same axis: closed loop with stick friction, backlash, a notch and a
+    # torque limit; the smooth friction form; and open loop through a lossy gear.
+    from drivetrain.dynamics import _kernel
+
+    chain = _axis()
+    loop = tune(chain, torque_limit=0.8, encoder_resolution=2 * math.pi / 2**16)
+    loop = loop.with_(notch=Notch(center_hz=400.0, width_hz=200.0, depth=0.2), lowpass_hz=2000.0)
+    ref = move_reference(5.0, 100.0, 2000.0, dwell=0.1)
+    geared = Chain(inertia=np.array([1e-4, 1e-3]), stiffness=np.array([2000.0]), damping=np.array([0.5]),
+                   efficiency=np.array([0.6]), back_efficiency=np.array([0.5]))
+    t = np.arange(0, 0.05, 1e-5)
+    u = 0.07 * np.sign(np.sin(2 * math.pi * 40 * t))
+
+    def runs() -> list[np.ndarray]:
+        out = []
+        for c in (chain, _axis("tanh")):
+            res = simulate(c, loop, ref, check_stability=False)
+            out.append(np.vstack([res.states[k] for k in res.states]))
+            out.append(np.array([res.energy, res.peak_torque, res.max_load_error, *res.peak_shaft_torque]))
+        res = simulate_open_loop(geared, t, u, load_torque=0.01)
+        out.append(np.vstack([res.states[k] for k in res.states]))
+        return out
+
+    fast = runs()
+    monkeypatch.setattr(_kernel, "run_two", _kernel.run_chain)
+    general = runs()
+    for a, b in zip(fast, general, strict=True):
+        scale = np.maximum(np.max(np.abs(a), axis=-1, keepdims=True), 1e-12)
+        assert np.max(np.abs(a - b) / scale) < 1e-9
+
+
+def test_kernels_compile_one_specialisation_each() -> None:
+    # simulate, simulate_open_loop and sweep all call the kernels with the same argument types, so each
+    # kernel is compiled (or loaded from the cache) once, whatever the model
+    from drivetrain.dynamics import _kernel
+
+    three = Chain(inertia=np.array([1e-4, 3e-4, 5e-4]), stiffness=np.array([500.0, 800.0]),
+                  friction=(Friction(coulomb=0.01, static=0.02, stribeck_speed=0.5), None, None))
+    ref = move_reference(1.0, 20.0, 400.0, dwell=0.05)
+    for chain in (_axis(), three):
+        loop = tune(chain)
+        simulate(chain, loop, ref)
+        simulate_open_loop(chain, np.arange(0, 0.01, 1e-5), np.full(1000, 0.01))
+        sweep(chain, loop, ref, velocity_kp=[loop.velocity_kp, 0.8 * loop.velocity_kp])
+    assert len(_kernel.run_two.signatures) == 1
+    assert len(_kernel.run_chain.signatures) == 1
+
+
+def test_sweep_of_a_three_mass_chain_matches_single_runs() -> None:
+    chain = Chain(inertia=np.array([1e-4, 3e-4, 5e-4]), stiffness=np.array([500.0, 800.0]),
+                  damping=np.array([0.002, 0.002]), backlash=np.array([0.0, 1e-3]))
+    loop = tune(chain)
+    ref = move_reference(2.0, 50.0, 1000.0, dwell=0.05)
+    kk = np.array([[500.0, 800.0], [400.0, 900.0]])
+    out = sweep(chain, loop, ref, stiffness=kk)
+    for s in range(2):
+        single = simulate(chain.with_(stiffness=kk[s]), loop, ref, check_stability=False)
+        assert out["max_load_error_rad"][s] == pytest.approx(single.max_load_error, rel=1e-9)
+        assert out["peak_shaft_torque_Nm"][s] == pytest.approx(single.peak_shaft_torque, rel=1e-9)
+        assert out["energy_J"][s] == pytest.approx(single.energy, rel=1e-9)

@@ -231,10 +231,25 @@ class _SS:
 
     @staticmethod
     def from_tf(num: ArrayLike, den: ArrayLike) -> _SS:
-        from scipy.signal import tf2ss
-
-        a, b, c, d = tf2ss(np.atleast_1d(np.asarray(num, dtype=float)), np.atleast_1d(np.asarray(den, dtype=float)))
-        return _SS(np.atleast_2d(a), np.reshape(b, (-1, 1)), np.reshape(c, (1, -1)), float(np.ravel(d)[0]))
+        """Controller canonical form of num(s)/den(s) (the form scipy.signal.tf2ss returns;
+        written out here so that tuning does not pay scipy.signal's import time)."""
+        nu = np.trim_zeros(np.atleast_1d(np.asarray(num, dtype=float)), "f")
+        de = np.trim_zeros(np.atleast_1d(np.asarray(den, dtype=float)), "f")
+        if de.size == 0 or nu.size > de.size:
+            raise ValueError("improper or empty transfer function")
+        nu, de = nu / de[0], de / de[0]
+        nu = np.concatenate([np.zeros(de.size - nu.size), nu])
+        n = de.size - 1
+        d = float(nu[0]) if nu.size else 0.0
+        a = np.zeros((n, n))
+        if n:
+            a[0, :] = -de[1:]
+            a[1:, :-1] = np.eye(n - 1)
+        b = np.zeros((n, 1))
+        if n:
+            b[0, 0] = 1.0
+        c = (nu[1:] - d * de[1:]).reshape(1, n)
+        return _SS(a, b, c, d)
 
     def then(self, other: _SS) -> _SS:
         """Series connection: ``self`` first, then ``other``."""

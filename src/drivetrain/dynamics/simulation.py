@@ -17,13 +17,18 @@ it oscillates with a relative amplitude of at most about h omega_max / 2 (omega_
 natural frequency [rad/s]), and the scheme is stable for h omega_max < 2. ``tests`` bound both.
 The step must divide every loop's sample time.
 
-The kernel is compiled with numba (``@njit(cache=True)``) on first use; numba is imported only
-then, never by ``import drivetrain``.
+The kernels (``_kernel.run_two`` for the two-mass chain, ``_kernel.run_chain`` for any other) are
+compiled with numba (``@njit(cache=True)``) on first use, one specialisation each, so the first run
+in a fresh environment compiles only the kernel it needs and later runs load it from the cache;
+numba is imported only then, never by ``import drivetrain``. ``sweep`` runs the same kernel with
+metrics only (no per-step recording), spread over the cores by threads (the kernel releases the GIL).
 """
 
 from __future__ import annotations
 
 import math
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any
 
@@ -37,6 +42,7 @@ from drivetrain.dynamics.friction import METHOD_CODE
 from drivetrain.errors import InputError
 
 FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
 
 
 class SimulationDivergedError(InputError):
@@ -285,30 +291,74 @@ class SimulationResult:
 
 # --- preparation -----------------------------------------------------------------------------
 
-def _plant_arrays(chain: Chain) -> dict[str, Any]:
+def _plant_arrays(chain: Chain, kern: Any) -> tuple[FloatArray, IntArray, FloatArray]:
+    """The chain packed as the kernels take it: ``plant`` (rows per inertia), ``fmeth``, ``spring``."""
     n = chain.n
-    fc = np.zeros(n)
-    fs = np.zeros(n)
-    fv = np.zeros(n)
-    ws = np.ones(n)
-    fexp = np.full(n, 2.0)
+    m = n - 1
+    plant = np.zeros((kern.N_PLANT, n))
+    plant[kern.JM] = chain.inertia
+    plant[kern.BG] = chain.ground_damping
+    plant[kern.WS] = 1.0
+    plant[kern.FEXP] = 2.0
     fmeth = np.full(n, -1, dtype=np.int64)
     for j, fr in enumerate(chain.friction):
         if fr is None:
             continue
-        fc[j], fs[j], fv[j], ws[j], fexp[j] = fr.coulomb, fr.breakaway, fr.viscous, fr.stribeck_speed, fr.exponent
+        plant[kern.FC, j] = fr.coulomb
+        plant[kern.FS, j] = fr.breakaway
+        plant[kern.FV, j] = fr.viscous
+        plant[kern.WS, j] = fr.stribeck_speed
+        plant[kern.FEXP, j] = fr.exponent
         fmeth[j] = METHOD_CODE[fr.method]
-    m = max(n - 1, 0)
-    return {
-        "jm": np.ascontiguousarray(chain.inertia, dtype=float),
-        "bg": np.ascontiguousarray(chain.ground_damping, dtype=float),
-        "kk": np.ascontiguousarray(chain.stiffness if m else np.zeros(0), dtype=float),
-        "dd": np.ascontiguousarray(chain.damping if m else np.zeros(0), dtype=float),
-        "gap": np.ascontiguousarray(chain.backlash if m else np.zeros(0), dtype=float),
-        "eta": np.ascontiguousarray(chain.efficiency if m else np.zeros(0), dtype=float),
-        "eta_b": np.ascontiguousarray(chain.back_efficiency if m else np.zeros(0), dtype=float),
-        "fc": fc, "fs": fs, "fv": fv, "ws": ws, "fexp": fexp, "fmeth": fmeth,
-    }
+    spring = np.zeros((kern.N_SPRING, max(m, 1)))
+    spring[kern.ETA] = 1.0
+    spring[kern.ETAB] = 1.0
+    if m:
+        spring[kern.KK, :m] = chain.stiffness
+        spring[kern.DD, :m] = chain.damping
+        spring[kern.GAP, :m] = chain.backlash
+        spring[kern.ETA, :m] = chain.efficiency
+        spring[kern.ETAB, :m] = chain.back_efficiency
+    return plant, fmeth, spring
+
+
+def _parameters(kern: Any, h: float, n_steps: int, rec: int, mode: int, loop: ServoLoop | None, load_torque: float,
+                alpha_c: float, nb: FloatArray, lp_alpha: float, periods: tuple[int, int, int], t_m0: float,
+                integ0: float, limit: float) -> tuple[FloatArray, IntArray]:
+    """The scalar inputs packed as the kernels take them (``par`` floats, ``ipar`` integers)."""
+    lp = loop if loop is not None else ServoLoop(velocity_kp=1.0, velocity_ti=math.inf, position_kv=0.0)
+    par = np.zeros(kern.N_PAR)
+    par[kern.P_H] = h
+    par[kern.P_TLOAD] = load_torque
+    par[kern.P_KP] = lp.velocity_kp
+    par[kern.P_KI] = 0.0 if math.isinf(lp.velocity_ti) else lp.velocity_kp / lp.velocity_ti
+    par[kern.P_KV] = lp.position_kv
+    par[kern.P_KFFV] = lp.velocity_ff
+    par[kern.P_KFFA] = lp.acceleration_ff
+    par[kern.P_ALPHA] = alpha_c
+    par[kern.P_NB0:kern.P_NB4 + 1] = nb
+    par[kern.P_LP] = lp_alpha
+    par[kern.P_TLIM] = lp.torque_limit
+    par[kern.P_Q] = lp.encoder_resolution
+    par[kern.P_TM0] = t_m0
+    par[kern.P_INTEG0] = integ0
+    par[kern.P_VLIM] = limit
+    ipar = np.zeros(kern.N_IPAR, dtype=np.int64)
+    ipar[kern.I_STEPS] = n_steps
+    ipar[kern.I_REC] = rec
+    ipar[kern.I_MODE] = mode
+    ipar[kern.I_NOTCH] = lp.notch is not None
+    ipar[kern.I_LP] = lp.lowpass_hz is not None
+    ipar[kern.I_CUR], ipar[kern.I_VEL], ipar[kern.I_POS] = periods
+    return par, ipar
+
+
+def _loop_filters(loop: ServoLoop, h: float, n_cur: int, n_vel: int) -> tuple[float, FloatArray, float]:
+    """Current-loop smoothing factor per current sample, notch biquad, low-pass factor."""
+    alpha_c = 1.0 - math.exp(-2.0 * math.pi * loop.current_bandwidth_hz * n_cur * h)
+    nb = loop.notch.discrete(n_vel * h) if loop.notch is not None else np.zeros(5)
+    lp_alpha = lowpass_coefficient(loop.lowpass_hz, n_vel * h) if loop.lowpass_hz is not None else 0.0
+    return alpha_c, np.asarray(nb, dtype=float), lp_alpha
 
 
 def _omega_max(chain: Chain) -> float:
@@ -381,6 +431,13 @@ def _kernel_module() -> Any:
     return _kernel
 
 
+def _thread_count() -> int:
+    """Threads for ``sweep``: numba's thread count (``NUMBA_NUM_THREADS``, default all cores)."""
+    from numba import config
+
+    return int(getattr(config, "NUMBA_NUM_THREADS", os.cpu_count() or 1))
+
+
 # --- public entry points ---------------------------------------------------------------------
 
 def simulate(
@@ -419,10 +476,8 @@ def simulate(
     if record_every < 1:
         raise InputError("simulation.record_every", "must be >= 1", record_every)
     t = np.arange(n_steps + 1) * h
-    r_pos, r_vel, r_acc = (np.ascontiguousarray(a) for a in reference.resample(t))
-    alpha_c = 1.0 - math.exp(-2.0 * math.pi * loop.current_bandwidth_hz * n_cur * h)
-    nb = loop.notch.discrete(n_vel * h) if loop.notch is not None else np.zeros(5)
-    lp_alpha = lowpass_coefficient(loop.lowpass_hz, n_vel * h) if loop.lowpass_hz is not None else 0.0
+    r_pos, r_vel, r_acc = (np.ascontiguousarray(a, dtype=float) for a in reference.resample(t))
+    alpha_c, nb, lp_alpha = _loop_filters(loop, h, n_cur, n_vel)
     theta, omega = _initial_state(chain, float(r_pos[0]), load_torque)
     t_m0 = float(load_torque)
     limit = speed_limit if speed_limit is not None else max(1e4, 100.0 * float(np.max(np.abs(r_vel))))
@@ -432,10 +487,9 @@ def simulate(
     tol = settle_tolerance
     if tol is None:
         tol = max(1e-3 * float(np.max(moves)) if moves.size else 1e-3, 10.0 * loop.encoder_resolution, 1e-9)
-    pa = _plant_arrays(chain)
-    res = _run(chain, h, n_steps, record_every, pa, load_torque, 0, loop, alpha_c, nb, lp_alpha, n_cur, n_vel,
-               n_pos, r_pos, r_vel, r_acc, np.zeros(1), theta, omega, t_m0, t_m0, limit)
-    return _result(chain, loop, h, record_every, res, r_pos, r_vel, tol)
+    rec, metrics = _run(chain, h, n_steps, record_every, load_torque, 0, loop, alpha_c, nb, lp_alpha,
+                        (n_cur, n_vel, n_pos), r_pos, r_vel, r_acc, np.zeros(1), theta, omega, t_m0, t_m0, limit)
+    return _result(chain, loop, h, record_every, rec, metrics, r_pos, r_vel, tol)
 
 
 def simulate_open_loop(
@@ -470,69 +524,59 @@ def simulate_open_loop(
         raise InputError("theta0", f"needs {chain.n} entries", th.size)
     zeros = np.zeros(n_steps + 1)
     dummy = ServoLoop(velocity_kp=1.0, velocity_ti=math.inf, position_kv=0.0)
-    pa = _plant_arrays(chain)
-    res = _run(chain, h, n_steps, record_every, pa, load_torque, 1, None, 0.0, np.zeros(5), 0.0, 1, 1, 1,
-               zeros, zeros, zeros, np.ascontiguousarray(u), th, w, 0.0, 0.0, speed_limit)
-    out = _result(chain, dummy, h, record_every, res, zeros, zeros, 1e-9)
+    rec, metrics = _run(chain, h, n_steps, record_every, load_torque, 1, None, 0.0, np.zeros(5), 0.0, (1, 1, 1),
+                        zeros, zeros, zeros, np.ascontiguousarray(u, dtype=float), th, w, 0.0, 0.0, speed_limit)
+    out = _result(chain, dummy, h, record_every, rec, metrics, zeros, zeros, 1e-9)
     out.time = out.time + t_in[0]
     out.loop = None
     return out
 
 
-def _run(chain: Chain, h: float, n_steps: int, rec: int, pa: dict[str, Any], load_torque: float, mode: int,
-         loop: ServoLoop | None, alpha_c: float, nb: FloatArray, lp_alpha: float, n_cur: int, n_vel: int,
-         n_pos: int, r_pos: FloatArray, r_vel: FloatArray, r_acc: FloatArray, u_ext: FloatArray,
-         theta: FloatArray, omega: FloatArray, t_m0: float, integ0: float, limit: float) -> dict[str, Any]:
+def _run(chain: Chain, h: float, n_steps: int, rec_every: int, load_torque: float, mode: int, loop: ServoLoop | None,
+         alpha_c: float, nb: FloatArray, lp_alpha: float, periods: tuple[int, int, int], r_pos: FloatArray,
+         r_vel: FloatArray, r_acc: FloatArray, u_ext: FloatArray, theta: FloatArray, omega: FloatArray, t_m0: float,
+         integ0: float, limit: float) -> tuple[FloatArray, FloatArray]:
+    """One run of the kernel; returns the recorded samples (rows as in ``_kernel``) and the metrics."""
     kern = _kernel_module()
     n = chain.n
-    m = max(n - 1, 0)
-    n_rec = n_steps // rec + 1
-    out: dict[str, Any] = {
-        "theta": np.zeros((n_rec, n)), "omega": np.zeros((n_rec, n)), "torque": np.zeros(n_rec),
-        "cmd": np.zeros(n_rec), "shaft": np.zeros((n_rec, max(m, 1))), "ferr": np.zeros(n_rec),
-        "metrics": np.zeros(kern.N_METRICS_BASE + max(m, 1)),
-    }
-    lp = loop if loop is not None else ServoLoop(velocity_kp=1.0, velocity_ti=math.inf, position_kv=0.0)
-    kp = lp.velocity_kp
-    ki = 0.0 if math.isinf(lp.velocity_ti) else lp.velocity_kp / lp.velocity_ti
-    status, k, j = kern.run_kernel(
-        h, n_steps, rec,
-        pa["jm"], pa["bg"], pa["kk"], pa["dd"], pa["gap"], pa["eta"], pa["eta_b"],
-        pa["fc"], pa["fs"], pa["fv"], pa["ws"], pa["fexp"], pa["fmeth"],
-        float(load_torque),
-        mode, kp, ki, lp.position_kv, lp.velocity_ff, lp.acceleration_ff, alpha_c,
-        np.ascontiguousarray(nb, dtype=float), lp.notch is not None, lp_alpha, lp.lowpass_hz is not None,
-        float(lp.torque_limit), n_cur, n_vel, n_pos, float(lp.encoder_resolution),
-        r_pos, r_vel, r_acc, u_ext,
-        np.ascontiguousarray(theta, dtype=float), np.ascontiguousarray(omega, dtype=float), float(t_m0),
-        float(integ0), float(limit),
-        out["theta"], out["omega"], out["torque"], out["cmd"], out["shaft"], out["ferr"], out["metrics"],
-    )
+    plant, fmeth, spring = _plant_arrays(chain, kern)
+    par, ipar = _parameters(kern, h, n_steps, rec_every, mode, loop, float(load_torque), alpha_c, nb, lp_alpha,
+                            periods, float(t_m0), float(integ0), float(limit))
+    # one block for every recorded series: one allocation (large ones get huge pages), rows contiguous
+    rec = np.empty((3 * n + 2, n_steps // rec_every + 1))
+    metrics = np.zeros(kern.N_METRICS_BASE + max(n - 1, 1))
+    run = kern.run_two if n == 2 else kern.run_chain
+    status, k, j = run(plant, fmeth, spring, par, ipar, r_pos, r_vel, r_acc, u_ext,
+                       np.ascontiguousarray(theta, dtype=float), np.ascontiguousarray(omega, dtype=float), rec, metrics)
     if status != 0:
         raise _diverged(chain, h, int(k), int(j), limit, loop)
-    out["n_steps"] = n_steps
-    return out
+    return rec, metrics
 
 
-def _result(chain: Chain, loop: ServoLoop, h: float, rec: int, res: dict[str, Any], r_pos: FloatArray,
-            r_vel: FloatArray, tol: float) -> SimulationResult:
-    n_rec = res["theta"].shape[0]
-    time = np.arange(n_rec) * (h * rec)
-    idx = np.arange(n_rec) * rec
+def _result(chain: Chain, loop: ServoLoop, h: float, rec_every: int, rec: FloatArray, metrics: FloatArray,
+            r_pos: FloatArray, r_vel: FloatArray, tol: float) -> SimulationResult:
+    n = chain.n
+    n_rec = rec.shape[1]
+    time = np.arange(n_rec, dtype=float) * (h * rec_every)
+    if rec_every == 1:
+        ref_pos, ref_vel = r_pos[:n_rec], r_vel[:n_rec]
+    else:
+        idx = np.arange(n_rec) * rec_every
+        ref_pos, ref_vel = r_pos[idx], r_vel[idx]
     states: dict[str, FloatArray] = {}
     for j, name in enumerate(chain.names):
-        states[f"theta_{name}"] = res["theta"][:, j]
+        states[f"theta_{name}"] = rec[j]
     for j, name in enumerate(chain.names):
-        states[f"omega_{name}"] = res["omega"][:, j]
-    states["reference_position"] = r_pos[idx]
-    states["reference_speed"] = r_vel[idx]
-    states["torque"] = res["torque"]
-    states["torque_command"] = res["cmd"]
-    for k in range(chain.n - 1):
-        states[f"shaft_torque_{k}"] = res["shaft"][:, k]
-    states["following_error"] = res["ferr"]
-    states["load_error"] = r_pos[idx] - res["theta"][:, -1]
-    return SimulationResult(time, states, chain, loop, tol, res["metrics"])
+        states[f"omega_{name}"] = rec[n + j]
+    states["reference_position"] = ref_pos
+    states["reference_speed"] = ref_vel
+    states["torque"] = rec[3 * n - 1]
+    states["torque_command"] = rec[3 * n]
+    for k in range(n - 1):
+        states[f"shaft_torque_{k}"] = rec[2 * n + k]
+    states["following_error"] = rec[3 * n + 1]
+    states["load_error"] = ref_pos - rec[n - 1]
+    return SimulationResult(time, states, chain, loop, tol, metrics)
 
 
 def simulate_linear_exact(chain: Chain, time: ArrayLike, motor_torque: ArrayLike, load_torque: ArrayLike | float = 0.0,
@@ -574,14 +618,16 @@ def sweep(
     load_torque: float = 0.0,
     speed_limit: float | None = None,
 ) -> dict[str, FloatArray]:
-    """Many closed-loop runs in parallel (numba prange over the CPU cores), keeping only metrics.
+    """Many closed-loop runs in parallel over the CPU cores, keeping only metrics.
 
     Each of ``stiffness`` ((S, n-1) or (S,) for one spring) [N m/rad], ``velocity_kp`` [N m s/rad],
     ``velocity_ti`` [s], ``position_kv`` [1/s] is either None (the chain's / loop's value) or S
     values. Returns arrays of length S: ``max_following_error_rad``, ``max_load_error_rad``,
     ``energy_J``, ``peak_torque_Nm``, ``rms_torque_Nm``, ``final_load_error_rad``,
     ``peak_shaft_torque_Nm`` (S, n-1) and ``diverged`` (bool). No stability pre-check is done;
-    diverged runs are flagged, not raised.
+    diverged runs are flagged, not raised. Each run is the compiled kernel of ``simulate`` (the same
+    specialisation, so nothing more is compiled) with no per-step recording; the runs are spread
+    over ``NUMBA_NUM_THREADS`` threads (the kernel releases the GIL).
     """
     m = chain.n - 1
     sizes = [np.size(a) if a is not None else 0 for a in (velocity_kp, velocity_ti, position_kv)]
@@ -611,24 +657,46 @@ def sweep(
     t_end = float(reference.time[-1]) if duration is None else float(duration)
     n_steps = round(t_end / h)
     t = np.arange(n_steps + 1) * h
-    r_pos, r_vel, r_acc = (np.ascontiguousarray(a) for a in reference.resample(t))
-    alpha_c = 1.0 - math.exp(-2.0 * math.pi * loop.current_bandwidth_hz * n_cur * h)
-    nb = loop.notch.discrete(n_vel * h) if loop.notch is not None else np.zeros(5)
-    lp_alpha = lowpass_coefficient(loop.lowpass_hz, n_vel * h) if loop.lowpass_hz is not None else 0.0
+    r_pos, r_vel, r_acc = (np.ascontiguousarray(a, dtype=float) for a in reference.resample(t))
+    alpha_c, nb, lp_alpha = _loop_filters(loop, h, n_cur, n_vel)
     theta, omega = _initial_state(chain, float(r_pos[0]), load_torque)
     limit = speed_limit if speed_limit is not None else max(1e4, 100.0 * float(np.max(np.abs(r_vel))))
-    pa = _plant_arrays(chain)
     kern = _kernel_module()
+    n = chain.n
+    plant, fmeth, spring = _plant_arrays(chain, kern)
+    # metrics only: the kernel records a single sample (record_every beyond the run)
+    par, ipar = _parameters(kern, h, n_steps, n_steps + 1, 0, loop, float(load_torque), alpha_c, nb, lp_alpha,
+                            (n_cur, n_vel, n_pos), float(load_torque), float(load_torque), float(limit))
+    pars = np.tile(par, (s_count, 1))
+    pars[:, kern.P_KP] = gains[:, 0]
+    pars[:, kern.P_KI] = gains[:, 1]
+    pars[:, kern.P_KV] = gains[:, 2]
+    springs = np.repeat(spring[None], s_count, axis=0)
+    springs[:, kern.KK, :m] = k_sets
     metrics = np.zeros((s_count, kern.N_METRICS_BASE + max(m, 1)))
-    status = np.zeros(s_count, dtype=np.int64)
-    kern.run_batch(
-        h, n_steps, pa["jm"], pa["bg"], k_sets, pa["dd"], pa["gap"], pa["eta"], pa["eta_b"],
-        pa["fc"], pa["fs"], pa["fv"], pa["ws"], pa["fexp"], pa["fmeth"], float(load_torque),
-        gains, loop.velocity_ff, loop.acceleration_ff, alpha_c, np.ascontiguousarray(nb), loop.notch is not None,
-        lp_alpha, loop.lowpass_hz is not None, float(loop.torque_limit), n_cur, n_vel, n_pos,
-        float(loop.encoder_resolution), r_pos, r_vel, r_acc, theta, omega, float(load_torque), float(load_torque),
-        float(limit), metrics, status,
-    )
+    status = np.zeros(s_count, dtype=bool)
+    run = kern.run_two if n == 2 else kern.run_chain
+    u_none = np.zeros(1)
+
+    def run_range(lo: int, hi: int) -> None:
+        rec = np.empty((3 * n + 2, 1))
+        for s in range(lo, hi):
+            st, _, _ = run(plant, fmeth, springs[s], pars[s], ipar, r_pos, r_vel, r_acc, u_none, theta.copy(),
+                           omega.copy(), rec, metrics[s])
+            status[s] = st != 0
+
+    # the kernel releases the GIL: plain threads run the simulations on all cores, in small chunks
+    # so that runs stopped early by divergence do not leave a core idle
+    workers = max(1, min(_thread_count(), s_count))
+    chunk = max(1, s_count // (8 * workers))
+    bounds = [(lo, min(lo + chunk, s_count)) for lo in range(0, s_count, chunk)]
+    if workers == 1:
+        for lo, hi in bounds:
+            run_range(lo, hi)
+    else:
+        with ThreadPoolExecutor(max_workers=workers) as pool:
+            for fut in [pool.submit(run_range, lo, hi) for lo, hi in bounds]:
+                fut.result()
     return {
         "max_following_error_rad": metrics[:, 0].copy(),
         "max_load_error_rad": metrics[:, 1].copy(),
@@ -637,5 +705,5 @@ def sweep(
         "rms_torque_Nm": np.sqrt(metrics[:, 4] / max(t_end, 1e-300)),
         "final_load_error_rad": metrics[:, 5].copy(),
         "peak_shaft_torque_Nm": metrics[:, 7:7 + m].copy(),
-        "diverged": status != 0,
+        "diverged": status,
     }
