@@ -114,7 +114,7 @@ print(t1 - t0, t2 - t1, t2 - t0, time.process_time())
 def cold_compile_seconds(repeat: int = 2) -> dict[str, float]:
     """A small simulation in a fresh process, first with an empty numba cache (compile), then with the
     cache just written (load); each field the best of ``repeat`` such pairs. Each run is split into (a)
-    start, imports, ``tune`` (which imports scipy.signal for its stability check) and (b) the first
+    start, imports and ``tune`` (its stability check and modes use numpy only) and (b) the first
     ``simulate()`` call (numba import, compile or cache load, run). The compilation costs the first run
     the difference of the two (b)."""
     keys = ("setup", "simulate", "total", "cpu")
@@ -311,8 +311,8 @@ def main() -> None:
         print(f"| {label} | {value:,.2f} | {need} | {'yes' if ok else 'NO'} |")
     if cold["cold_total"] > 2.0:
         print(f"\nThe whole first run exceeds 2 s by {cold['cold_total'] - 2.0:.2f} s: it includes "
-              f"{cold['cold_setup']:.2f} s before `simulate()` (Python start, imports, and `tune`, whose stability "
-              "check imports scipy.signal) and numba's one-time start-up inside the first compile; with the "
+              f"{cold['cold_setup']:.2f} s before `simulate()` (Python start, imports and `tune`) "
+              "and numba's one-time start-up inside the first compile; with the "
               f"cache written the same run takes {cold['warm_total']:.2f} s.")
     if sweep_wall >= 1.0:
         cpu = results[T_END][2]

@@ -162,14 +162,9 @@ def motors(
     flange: float | str | None = None,
     ids: Iterable[str] | None = None,
 ) -> MotorTable:
-    """Motors of the shipped and user catalogs as arrays (SI); see ``_motors`` for the filters.
+    """Motors of the shipped and user catalogs as arrays (SI), cached until the data changes.
 
-    Args:
-        vendor: case-insensitive part of the vendor name ("yaskawa"), or several.
-        kind: "ac_servo" or "small_dc".
-        voltage: voltage class, e.g. 400 or "400 V"; matches within 15 %.
-        flange: square flange width, e.g. "80 mm" or 0.08 [m]; matches within 0.5 mm.
-        ids: exactly these motors, in this order (an unknown id is an InputError).
+    The filters (vendor, kind, voltage, flange, ids) are those of ``_motors``.
     """
     return _cached("motor", _motors, (vendor, kind, voltage, flange, None if ids is None else tuple(ids)))
 

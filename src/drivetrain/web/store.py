@@ -15,9 +15,7 @@ from __future__ import annotations
 
 import contextlib
 import math
-import os
 import sqlite3
-import sys
 import time
 from collections.abc import Iterator
 from dataclasses import asdict, dataclass
@@ -77,18 +75,10 @@ class Conflict(StoreError):
 
 
 def default_data_dir() -> Path:
-    """``$DRIVETRAIN_DATA_DIR``, else the platform's user data folder (``~/.local/share/drivetrain``)."""
-    env = os.environ.get(ENV_DATA_DIR)
-    if env:
-        return Path(env).expanduser().resolve()
-    home = Path.home()
-    if sys.platform == "win32":
-        base = Path(os.environ.get("LOCALAPPDATA") or home / "AppData" / "Local")
-    elif sys.platform == "darwin":
-        base = home / "Library" / "Application Support"
-    else:
-        base = Path(os.environ.get("XDG_DATA_HOME") or home / ".local" / "share")
-    return (base / "drivetrain").resolve()
+    """The same folder as the catalog's: ``$DRIVETRAIN_DATA_DIR``, else the platform's user data folder."""
+    from drivetrain.catalog.db import data_dir
+
+    return data_dir()
 
 
 @dataclass(frozen=True)

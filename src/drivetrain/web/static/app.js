@@ -2,6 +2,7 @@
 // and the catalog browser. Every change re-sizes after a short pause; a newer request cancels
 // an older one still in flight.
 
+import { el } from "./dom.js";
 import { api, ApiError, filenameOf, saveBlob } from "./api.js";
 import { CatalogView } from "./catalog.js";
 import { AxisForm } from "./form.js";
@@ -31,16 +32,6 @@ const state = {
 };
 let form = null;
 
-function el(tag, attrs = {}, ...children) {
-  const node = document.createElement(tag);
-  for (const [k, v] of Object.entries(attrs)) {
-    if (v === undefined || v === null || v === false) continue;
-    if (k === "text") node.textContent = v;
-    else node.setAttribute(k, v === true ? "" : v);
-  }
-  for (const c of children) if (c !== null && c !== undefined) node.append(c);
-  return node;
-}
 
 function setStatus(text, bad = false) {
   const s = $("status");

@@ -1,5 +1,6 @@
 // The catalog browser: filter and sort motors and gearboxes, a motor's envelope, CSV import.
 
+import { el } from "./dom.js";
 import { api, ApiError } from "./api.js";
 import { drawEnvelope } from "./plots.js";
 import { fmt } from "./results.js";
@@ -38,16 +39,6 @@ const GEARBOX_COLUMNS = [
   { key: "origin", label: "origin" },
 ];
 
-function el(tag, attrs = {}, ...children) {
-  const node = document.createElement(tag);
-  for (const [k, v] of Object.entries(attrs)) {
-    if (v === undefined || v === null || v === false) continue;
-    if (k === "text") node.textContent = v;
-    else node.setAttribute(k, v === true ? "" : v);
-  }
-  for (const c of children) if (c !== null && c !== undefined) node.append(c);
-  return node;
-}
 
 function selectOf(id, labelText, name, options, blank) {
   const select = el("select", { id, name });

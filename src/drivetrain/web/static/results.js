@@ -1,6 +1,8 @@
 // Tables of a sizing result: the verdict, the checks, the duty cycle, ranked candidates and the
 // side-by-side comparison. Text only through textContent (never HTML from data).
 
+import { el } from "./dom.js";
+
 export function fmt(value, sig = 4) {
   if (value === null || value === undefined || Number.isNaN(value)) return "–";
   if (typeof value !== "number") return String(value);
@@ -15,16 +17,6 @@ export function pct(margin) {
   return `${margin >= 0 ? "+" : ""}${(margin * 100).toFixed(1)} %`;
 }
 
-function el(tag, attrs = {}, ...children) {
-  const node = document.createElement(tag);
-  for (const [k, v] of Object.entries(attrs)) {
-    if (v === undefined || v === null || v === false) continue;
-    if (k === "text") node.textContent = v;
-    else node.setAttribute(k, v === true ? "" : v);
-  }
-  for (const c of children) if (c !== null && c !== undefined) node.append(c);
-  return node;
-}
 
 function table(caption, headers, rows, cls = "data") {
   const t = el("table", { class: cls });
