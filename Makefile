@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed-$(shell cksum pyproject.toml | cut -d' ' -f1)
 
-.PHONY: setup run test lint bench browser clean
+.PHONY: setup run serve test lint bench browser clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -24,6 +24,9 @@ browser:
 
 run: setup
 	$(VENV)/bin/drivetrain size examples/ball_screw.yaml --report out/ball_screw.html
+
+serve: setup
+	$(VENV)/bin/drivetrain serve
 
 lint: setup
 	$(VENV)/bin/ruff check src tests bench scripts
