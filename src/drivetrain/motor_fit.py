@@ -55,19 +55,22 @@ def demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: fl
     top = float(w.max()) if w.size else 0.0
     edges = np.linspace(0.0, top if top > 0 else 1.0, bins + 1)
     idx = np.clip(np.searchsorted(edges, w, side="left") - 1, 0, bins - 1)
-    speeds: list[float] = []
-    verts: list[tuple[Array, Array]] = []
-    for b in np.unique(idx):
-        sel = idx == b
-        a_b, t_b = alpha[sel], torque[sel]
-        speeds.append(float(edges[b + 1]))
-        verts.append(_hull_points(a_b, t_b))
+    # Group the distinct (alpha, T) points by bin with one sort (constant phases repeat points).
+    pts = np.unique(np.rec.fromarrays([idx, alpha, torque], names="b,a,t"))
+    bins_used, starts = np.unique(pts["b"], return_index=True)
+    stops = np.append(starts[1:], len(pts))
+    speeds = edges[bins_used + 1]
+    verts = [_hull_points(pts["a"][s:e], pts["t"][s:e]) for s, e in zip(starts, stops, strict=True)]
     width = max(len(v[0]) for v in verts)
-    ht = np.array([np.pad(t, (0, width - len(t)), mode="edge") for _, t in verts])
-    ha = np.array([np.pad(a, (0, width - len(a)), mode="edge") for a, _ in verts])
+    ht = np.empty((len(verts), width))
+    ha = np.empty((len(verts), width))
+    for k, (a_v, t_v) in enumerate(verts):
+        # pad by repeating the last vertex: a repeated vertex changes no maximum
+        ha[k, : len(a_v)], ha[k, len(a_v):] = a_v, a_v[-1]
+        ht[k, : len(t_v)], ht[k, len(t_v):] = t_v, t_v[-1]
     all_a, all_t = _hull_points(np.concatenate([a for a, _ in verts]), np.concatenate([t for _, t in verts]))
     return Demand(omega=omega, alpha=alpha, torque=torque, weights=weights, period=period,
-                  load_inertia=load_inertia, hull_speed=np.array(speeds), hull_torque=ht, hull_alpha=ha,
+                  load_inertia=load_inertia, hull_speed=np.asarray(speeds, dtype=float), hull_torque=ht, hull_alpha=ha,
                   all_torque=all_t, all_alpha=all_a)
 
 

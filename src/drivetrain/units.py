@@ -95,7 +95,10 @@ def parse(value: Any, quantity: str, field: str, *, allow_zero: bool = True) -> 
     if isinstance(value, (int, float)):
         result = float(value)
     elif isinstance(value, str):
-        result = _parse_string(value, quantity, field)
+        try:
+            result = _parse_cached(value, quantity)
+        except InputError as exc:
+            raise InputError(field, exc.rule, exc.value, has_value=exc.has_value) from None
     else:
         raise InputError(field, f"must be a number or a quantity with units of {_describe(quantity)}", value)
     if not math.isfinite(result):
@@ -110,6 +113,12 @@ def parse(value: Any, quantity: str, field: str, *, allow_zero: bool = True) -> 
 def _describe(quantity: str) -> str:
     si = QUANTITIES[quantity][0]
     return f"{quantity.replace('_', ' ')} ({si or 'dimensionless'})"
+
+
+@lru_cache(maxsize=4096)
+def _parse_cached(text: str, quantity: str) -> float:
+    """``_parse_string`` remembered: an axis re-sized again and again repeats the same strings."""
+    return _parse_string(text, quantity, "")
 
 
 def _parse_string(text: str, quantity: str, field: str) -> float:

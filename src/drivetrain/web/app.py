@@ -276,6 +276,8 @@ def plain(obj: Any) -> Any:
     if isinstance(obj, (list, tuple)):
         return [plain(v) for v in obj]
     if isinstance(obj, np.ndarray):
+        if obj.dtype.kind == "f" and obj.ndim == 1 and bool(np.all(np.isfinite(obj))):
+            return obj.tolist()  # the common case, without a Python call per number
         return plain(obj.tolist())
     if isinstance(obj, (bool, np.bool_)):
         return bool(obj)
