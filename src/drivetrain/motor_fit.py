@@ -56,11 +56,15 @@ def demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: fl
     edges = np.linspace(0.0, top if top > 0 else 1.0, bins + 1)
     idx = np.clip(np.searchsorted(edges, w, side="left") - 1, 0, bins - 1)
     # Group the distinct (alpha, T) points by bin with one sort (constant phases repeat points).
-    pts = np.unique(np.rec.fromarrays([idx, alpha, torque], names="b,a,t"))
-    bins_used, starts = np.unique(pts["b"], return_index=True)
-    stops = np.append(starts[1:], len(pts))
+    order = np.lexsort((torque, alpha, idx))
+    b_s, a_s, t_s = idx[order], alpha[order], torque[order]
+    keep = np.ones(len(b_s), dtype=bool)
+    keep[1:] = (np.diff(b_s) != 0) | (np.diff(a_s) != 0) | (np.diff(t_s) != 0)
+    b_s, a_s, t_s = b_s[keep], a_s[keep], t_s[keep]
+    bins_used, starts = np.unique(b_s, return_index=True)
+    stops = np.append(starts[1:], len(b_s))
     speeds = edges[bins_used + 1]
-    verts = [_hull_points(pts["a"][s:e], pts["t"][s:e]) for s, e in zip(starts, stops, strict=True)]
+    verts = [_hull_points(a_s[s:e], t_s[s:e]) for s, e in zip(starts, stops, strict=True)]
     width = max(len(v[0]) for v in verts)
     ht = np.empty((len(verts), width))
     ha = np.empty((len(verts), width))
