@@ -17,8 +17,9 @@ The data folder is ``$DRIVETRAIN_DATA_DIR`` or the platform's user data folder.
 from __future__ import annotations
 
 import difflib
-from collections.abc import Iterable, Sequence
-from typing import TYPE_CHECKING, Any
+import functools
+from collections.abc import Callable, Iterable, Sequence
+from typing import TYPE_CHECKING, Any, ParamSpec, TypeVar
 
 from drivetrain import units
 from drivetrain.catalog import db
@@ -63,7 +64,45 @@ FLANGE_TOLERANCE = 0.5e-3
 Names = str | Sequence[str] | None
 
 
-def _motors(
+_CACHE: dict[tuple[Any, ...], Any] = {}
+P = ParamSpec("P")
+R = TypeVar("R")
+
+
+def _state() -> tuple[Any, ...]:
+    """What a query's answer depends on besides its arguments: the data folder and the user database."""
+    folder = db.data_dir()
+    try:
+        st = db.user_db_path(folder).stat()
+        user = (st.st_mtime_ns, st.st_size)
+    except OSError:
+        user = None
+    return (str(folder), DATA_VERSION, user)
+
+
+def _cached(kind: str) -> Callable[[Callable[P, R]], Callable[P, R]]:
+    """Tables are immutable: repeat queries (a web session re-sizing) reuse them until the data changes."""
+
+    def wrap(fn: Callable[P, R]) -> Callable[P, R]:
+        @functools.wraps(fn)
+        def query(*args: P.args, **kwargs: P.kwargs) -> R:
+            try:
+                key = (kind, _state(), repr(args), repr(sorted(kwargs.items())))
+            except TypeError:
+                return fn(*args, **kwargs)
+            if key not in _CACHE:
+                if len(_CACHE) > 64:
+                    _CACHE.clear()
+                _CACHE[key] = fn(*args, **kwargs)
+            return _CACHE[key]
+
+        return query
+
+    return wrap
+
+
+@_cached("motor")
+def motors(
     vendor: Names = None,
     kind: str | None = None,
     voltage: float | str | None = None,
@@ -101,7 +140,8 @@ def _motors(
     return MotorTable.from_db(rows, curves)
 
 
-def _gearboxes(
+@_cached("gearbox")
+def gearboxes(
     vendor: Names = None, series: Names = None, kind: str | None = None, ids: Iterable[str] | None = None
 ) -> GearboxTable:
     """Gearboxes (one row per model and ratio) as arrays (SI).
@@ -126,54 +166,6 @@ def _gearboxes(
     from drivetrain.catalog.tables import GearboxTable
 
     return GearboxTable.from_rows(rows)
-
-
-_CACHE: dict[tuple[Any, ...], Any] = {}
-
-
-def _state() -> tuple[Any, ...]:
-    """What a query's answer depends on besides its arguments: the data folder and the user database."""
-    folder = db.data_dir()
-    try:
-        st = db.user_db_path(folder).stat()
-        user = (st.st_mtime_ns, st.st_size)
-    except OSError:
-        user = None
-    return (str(folder), DATA_VERSION, user)
-
-
-def _cached(kind: str, fn: Any, args: tuple[Any, ...]) -> Any:
-    """Tables are immutable: repeat queries (a web session re-sizing) reuse them until the data changes."""
-    try:
-        key = (kind, _state(), repr(args))
-    except TypeError:
-        return fn(*args)
-    if key not in _CACHE:
-        if len(_CACHE) > 64:
-            _CACHE.clear()
-        _CACHE[key] = fn(*args)
-    return _CACHE[key]
-
-
-def motors(
-    vendor: Names = None,
-    kind: str | None = None,
-    voltage: float | str | None = None,
-    flange: float | str | None = None,
-    ids: Iterable[str] | None = None,
-) -> MotorTable:
-    """Motors of the shipped and user catalogs as arrays (SI), cached until the data changes.
-
-    The filters (vendor, kind, voltage, flange, ids) are those of ``_motors``.
-    """
-    return _cached("motor", _motors, (vendor, kind, voltage, flange, None if ids is None else tuple(ids)))
-
-
-def gearboxes(
-    vendor: Names = None, series: Names = None, kind: str | None = None, ids: Iterable[str] | None = None
-) -> GearboxTable:
-    """Gearboxes (one row per model and ratio) as arrays (SI); see ``_gearboxes`` for the filters."""
-    return _cached("gearbox", _gearboxes, (vendor, series, kind, None if ids is None else tuple(ids)))
 
 
 def drives(vendor: Names = None, voltage: float | str | None = None, ids: Iterable[str] | None = None) -> DriveTable:
