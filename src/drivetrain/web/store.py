@@ -162,14 +162,10 @@ class Store:
     @contextlib.contextmanager
     def _write(self) -> Iterator[sqlite3.Connection]:
         """One write transaction: committed (durably) when the block ends, rolled back on error."""
-        with self._connect() as conn:
-            conn.execute("BEGIN IMMEDIATE")
-            try:
-                yield conn
-            except BaseException:
-                conn.execute("ROLLBACK")
-                raise
-            conn.execute("COMMIT")
+        from drivetrain.catalog.db import immediate_transaction
+
+        with self._connect() as conn, immediate_transaction(conn):
+            yield conn
 
     def _create(self) -> None:
         self.directory.mkdir(parents=True, exist_ok=True)
