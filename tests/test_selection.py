@@ -130,3 +130,65 @@ def test_datasheet_curve_replaces_the_derived_envelope() -> None:
     assert measured.available["rms_torque"][0] == pytest.approx(1.0)
     assert measured.available["peak_torque"][0] == pytest.approx(3.0)
     assert not measured.checks(0)[0].approximate and derived.checks(0)[0].approximate
+
+
+@pytest.mark.parametrize("axis_file", [EXAMPLES / "ball_screw.yaml", EXAMPLES / "lead_screw.yaml",
+                                       Path(__file__).parent / "axes" / "lecture_two_inertias.yaml"])
+def test_compiled_selection_matches_the_reference_checks(axis_file: Path) -> None:
+    """Every candidate of the whole shipped catalog: the compiled pass equals fit_motors (numpy) per
+    gearbox group, the gearbox checks equal the lecture formulas, and each candidate's worst margin
+    and failure bits agree with its checks (relative tolerance 1e-9: the same operations in another
+    order)."""
+    from drivetrain.axis import Margins
+    from drivetrain.duty import cubic_mean, duty_cycle
+    from drivetrain.motor_fit import MotorArrays, demand, fit_motors, scaled
+    from drivetrain.selection import CHECK_UNITS, evaluate
+
+    axis = load_axis(axis_file)
+    duty = duty_cycle(axis, 17)
+    margins = axis.spec.motor.margins if axis.spec.motor else Margins()
+    motors, gb = catalog.motors(), catalog.gearboxes(kind="servo_gearbox")
+    c = evaluate(axis, duty, motors, gb, margins)
+    assert len(c.motor) == len(motors) * (len(gb) + 1)
+    d = c.details(np.arange(len(c.motor)))
+    arrays = MotorArrays(inertia=motors.rotor_inertia, rated_torque=motors.rated_torque,
+                         peak_torque=motors.peak_torque, rated_speed=motors.rated_speed, max_speed=motors.max_speed,
+                         stall_torque=motors.stall_torque, approximate=~motors.has_curve, curves=tuple(motors.curves))
+    direction = np.asarray(duty.samples.direction, dtype=float)
+    rows = c.gearbox
+    eff = np.where(rows >= 0, np.nan_to_num(gb.efficiency[rows], nan=1.0), 1.0)
+    checked = np.zeros(len(c.motor), dtype=bool)
+    for ratio, e in {(float(r), float(x)) for r, x in zip(c.ratio, eff, strict=True)}:
+        k = np.flatnonzero((c.ratio == ratio) & (eff == e))
+        g = rows[k]
+        stage = Stage("g", "gearbox", ratio=1.0, efficiency=e, back_efficiency=e)
+        t_in, _ = torque_in(stage, duty.torque, duty.external, duty.omega, duty.alpha, direction,
+                            axis.efficiency_model)
+        dm = scaled(demand(duty.omega, duty.alpha, t_in, duty.weights, duty.period, duty.load_inertia), ratio)
+        j_g = np.where(g >= 0, np.nan_to_num(gb.inertia_input[g]), 0.0)
+        lim = np.where(g >= 0, np.nan_to_num(gb.max_input_speed[g], nan=np.inf), np.inf)
+        lim = np.where(np.isinf(lim) & (g >= 0), np.nan_to_num(gb.rated_input_speed[g], nan=np.inf), lim)
+        ref = fit_motors(dm, arrays, torque_margin=margins.torque, rms_margin=margins.rms_torque or margins.torque,
+                         speed_margin=margins.speed, inertia_ratio_limit=margins.inertia_ratio, speed_limit=lim,
+                         extra_inertia=j_g, index=c.motor[k].astype(np.intp))
+        for name in ref.names:
+            for got, want in ((d.required, ref.required), (d.available, ref.available), (d.margin, ref.margin)):
+                np.testing.assert_allclose(got[name][k], want[name], rtol=1e-9, err_msg=f"{name} at ratio {ratio}")
+        np.testing.assert_allclose(d.rms_torque[k], ref.rms_torque, rtol=1e-9)
+        np.testing.assert_allclose(d.peak_torque[k], ref.peak_torque, rtol=1e-9)
+        # gearbox checks (lecture, Dynamic Loading and Gearbox Sizing)
+        has = g >= 0
+        cubic = cubic_mean(duty.torque, duty.omega, duty.weights) * margins.torque
+        np.testing.assert_allclose(d.required["gearbox_rated_torque"][k], cubic, rtol=1e-12)
+        run_t = float(np.median(np.abs(duty.external)))
+        j = motors.rotor_inertia[c.motor[k]] + j_g
+        split = j / (j + duty.load_inertia / ratio**2)
+        t_pass = ((1 - split) * (motors.peak_torque[c.motor[k]] - run_t / ratio) + run_t / ratio) * ratio * e
+        np.testing.assert_allclose(d.required["gearbox_peak_torque"][k][has], t_pass[has], rtol=1e-9)
+        assert np.all(d.margin["gearbox_peak_torque"][k][~has] == np.inf)
+        checked[k] = True
+    assert checked.all()
+    margin = np.stack([d.margin[n] for n in CHECK_UNITS])
+    np.testing.assert_array_equal(c.worst_margin, np.min(margin, axis=0))
+    bits = sum((~(margin[b] >= 0)).astype(np.uint8) << b for b in range(len(CHECK_UNITS)))
+    np.testing.assert_array_equal(c.failed, bits)

@@ -207,8 +207,9 @@ def fit_motors(d: Demand, motors: MotorArrays, *, torque_margin: float = 1.0, rm
     # Peak against the envelope, per speed bin. A motor slower than the cycle's top bin has no
     # torque there (margin -100 % at that bin), so only the others need every bin.
     top = d.hull_speed[-1]
-    full = np.flatnonzero(motors.max_speed[idx] >= top)
-    short = np.flatnonzero(motors.max_speed[idx] < top)
+    slow = motors.max_speed[idx] < top
+    full = np.flatnonzero(~slow)  # an unknown (NaN) max speed is judged at every bin
+    short = np.flatnonzero(slow)
     peak_req = np.empty(len(j))
     peak_av = np.empty(len(j))
     peak_m = np.empty(len(j))

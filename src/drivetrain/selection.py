@@ -19,14 +19,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from drivetrain.duty import cubic_mean
+from drivetrain.envelope import motor_envelopes
 from drivetrain.errors import InputError
-from drivetrain.motor_fit import Demand, MotorArrays, demand, fit_motors, scaled
+from drivetrain.motor_fit import Demand, demand
 from drivetrain.stage import Stage, torque_in
 from drivetrain.units import to_rpm
 
@@ -42,32 +44,74 @@ CHECK_UNITS = {"peak_torque": "N*m", "rms_torque": "N*m", "max_speed": "rpm", "i
 
 
 @dataclass(frozen=True)
-class Candidates:
-    """Every evaluated candidate as arrays (index k over candidates)."""
+class Details:
+    """Every check of some candidates (index j over the candidates asked for)."""
 
-    motor: NDArray[np.intp]  # index into the motor table
-    gearbox: NDArray[np.intp]  # index into the gearbox table, -1 for direct drive
-    ratio: Array
-    inertia_ratio: Array
     required: dict[str, Array]
     available: dict[str, Array]
     margin: dict[str, Array]
     approximate: dict[str, NDArray[np.bool_]]
-    rms_torque: Array
-    peak_torque: Array
+    rms_torque: Array  # RMS motor torque, rotor included [N m]
+    peak_torque: Array  # peak motor torque over the cycle [N m]
+    inertia_ratio: Array
 
-    @property
+
+@dataclass(frozen=True)
+class Candidates:
+    """Every evaluated candidate (index k), compact: who it is, its worst margin, which checks fail.
+
+    The full checks of any candidates are recomputed on demand by :meth:`details` (the same
+    compiled arithmetic), so a selection over 10^5-10^6 candidates keeps 17 bytes of each.
+    """
+
+    motor: NDArray[np.int32]  # index into the motor table
+    slot: NDArray[np.int32]  # index into slot_row / slot_group
+    worst_margin: Array  # smallest margin [-], NaN where a margin is NaN
+    failed: NDArray[np.uint8]  # bit c set where check c (CHECK_UNITS order) does not pass
+    slot_row: NDArray[np.int64]  # gearbox row of each slot, -1 for direct drive
+    slot_group: NDArray[np.int64]  # (ratio, efficiency) group of each slot
+    group_ratio: Array
+    approx_motor: NDArray[np.bool_]  # the motor's envelope is derived from its ratings
+    model: tuple[Any, ...]  # the kernel's arrays (_select_kernel._one)
+
+    @cached_property
     def ok(self) -> NDArray[np.bool_]:
         """True where every check passes."""
-        out = np.ones(len(self.motor), dtype=bool)
-        for m in self.margin.values():
-            out &= m >= 0.0
-        return out
+        return self.failed == 0
 
-    @property
-    def worst_margin(self) -> Array:
-        """The smallest margin of each candidate."""
-        return np.min(np.vstack(list(self.margin.values())), axis=0)
+    @cached_property
+    def gearbox(self) -> NDArray[np.int64]:
+        """Gearbox row of each candidate, -1 for direct drive."""
+        return self.slot_row[self.slot]
+
+    @cached_property
+    def ratio(self) -> Array:
+        """Gear ratio of each candidate [-]."""
+        return self.group_ratio[self.slot_group[self.slot]]
+
+    def failures(self) -> dict[str, int]:
+        """How many candidates fail each check."""
+        return {n: int(np.count_nonzero(self.failed & (1 << c))) for c, n in enumerate(CHECK_UNITS)}
+
+    def details(self, ks: NDArray[np.intp] | list[int]) -> Details:
+        """Required, available and margin of every check of the candidates ``ks``."""
+        from drivetrain._select_kernel import D_INERTIA, D_PEAK, D_RMS, N_CHECKS, N_DETAIL, check
+
+        ks = np.asarray(ks, dtype=np.intp)
+        slots = self.slot[ks]
+        pick = np.stack([self.motor[ks], self.slot_group[slots], slots]).astype(np.int64)
+        out = np.empty((N_DETAIL, len(ks)))
+        none = np.empty(0, dtype=np.int32)
+        check(self.model, np.zeros(1, dtype=np.int64), self.slot_row, pick, none, none, np.empty(0),
+              np.empty(0, dtype=np.uint8), out)
+        names = list(CHECK_UNITS)
+        approx = self.approx_motor[pick[0]]
+        exact = np.zeros(len(ks), dtype=bool)
+        return Details(required=dict(zip(names, out[:N_CHECKS], strict=True)),
+                       available=dict(zip(names, out[N_CHECKS:2 * N_CHECKS], strict=True)),
+                       margin=dict(zip(names, out[2 * N_CHECKS:3 * N_CHECKS], strict=True)),
+                       approximate={n: approx if n in ("peak_torque", "rms_torque") else exact for n in names},
+                       rms_torque=out[D_RMS], peak_torque=out[D_PEAK], inertia_ratio=out[D_INERTIA])
 
 
 def _gearbox_options(gb: GearboxTable | None, allow_direct: bool) -> list[tuple[float, float, list[int]]]:
@@ -82,81 +126,110 @@ def _gearbox_options(gb: GearboxTable | None, allow_direct: bool) -> list[tuple[
     return [(i, e, rows) for (i, e), rows in groups.items()]
 
 
+def _padded(arrays: list[Array], shape: tuple[int, ...]) -> Array:
+    """Stack arrays to ``(len(arrays), *shape)``, padding each axis by repeating its last entry.
+
+    A repeated hull vertex or speed bin changes no maximum and no first-worst bin.
+    """
+    out = np.empty((len(arrays), *shape))
+    for k, a in enumerate(arrays):
+        out[k] = np.pad(a, [(0, n - a.shape[d]) for d, n in enumerate(shape)], mode="edge")
+    return out
+
+
 def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable | None, margins: Margins,
              allow_direct: bool = True, max_inertia_ratio: float | None = None) -> Candidates:
-    """Check every motor against every gearbox row (and direct drive), vectorised over candidates."""
+    """Check every motor against every gearbox row (and direct drive) in one compiled pass.
+
+    The per-sample work runs once per distinct gearbox efficiency (its losses at ratio 1, then
+    scaled to each ratio, motor_fit.scaled); envelopes are computed by envelope.py at the speeds
+    the checks need; _select_kernel.check does the per-candidate arithmetic.
+    """
+    from drivetrain._select_kernel import check
+
     limit = margins.inertia_ratio if max_inertia_ratio is None else min(max_inertia_ratio, margins.inertia_ratio)
-    motor_arrays = MotorArrays(
-        inertia=motors.rotor_inertia, rated_torque=motors.rated_torque, peak_torque=motors.peak_torque,
-        rated_speed=motors.rated_speed, max_speed=motors.max_speed, stall_torque=motors.stall_torque,
-        approximate=~motors.has_curve, curves=tuple(motors.curves),
-    )
-    n_m = len(motors)
     t0, e0, w0, a0 = duty.torque, duty.external, duty.omega, duty.alpha
     direction = np.asarray(duty.samples.direction, dtype=float)
     out_cubic = cubic_mean(t0, w0, duty.weights)
     run_t = float(np.median(np.abs(duty.external))) if duty.external.size else 0.0
-    parts: list[dict[str, Any]] = []
+    groups = _gearbox_options(gb, allow_direct)
     base: dict[float, Demand] = {}
-    for ratio, eff, rows in _gearbox_options(gb, allow_direct):
+    for _, eff, _ in groups:
         if eff not in base:
             # Losses applied at ratio 1; every ratio of the same efficiency is a scaling of it.
             stage = Stage("gearbox", "gearbox", ratio=1.0, efficiency=eff, back_efficiency=eff)
             t_in, _ = torque_in(stage, t0, e0, w0, a0, direction, axis.efficiency_model)
             base[eff] = demand(w0, a0, t_in, duty.weights, duty.period, duty.load_inertia)
-        d = scaled(base[eff], ratio)
-        rows_arr = np.asarray(rows)
-        m_idx = np.repeat(np.arange(n_m), len(rows_arr))
-        g_idx = np.tile(rows_arr, n_m)
-        direct = g_idx < 0
-        safe_g = np.where(direct, 0, g_idx)
-
-        def pick(values: Array | None, fallback: float, safe: NDArray[np.intp] = safe_g,
-                 is_direct: NDArray[np.bool_] = direct) -> Array:
-            if values is None:
-                return np.full(len(safe), fallback)
-            v = np.asarray(values, dtype=float)[safe]
-            return np.where(is_direct | np.isnan(v), fallback, v)
-
-        j_g = pick(gb.inertia_input if gb is not None else None, 0.0)
-        speed_in = pick(gb.max_input_speed if gb is not None else None, math.inf)
-        speed_in = np.where(np.isinf(speed_in), pick(gb.rated_input_speed if gb is not None else None, math.inf),
-                            speed_in)
-        fit = fit_motors(d, motor_arrays, torque_margin=margins.torque, rms_margin=margins.rms_torque or margins.torque,
-                         speed_margin=margins.speed, inertia_ratio_limit=limit, speed_limit=speed_in,
-                         extra_inertia=j_g, index=m_idx)
-        req, avail, mar, approx = dict(fit.required), dict(fit.available), dict(fit.margin), dict(fit.approximate)
-        # Gearbox output torque: rated vs the cycle's cubic mean; and what passes at the motor's peak torque.
-        rated = pick(gb.rated_output_torque if gb is not None else None, math.inf)
-        req["gearbox_rated_torque"] = np.full(len(m_idx), out_cubic * margins.torque)
-        avail["gearbox_rated_torque"] = rated
-        j_lr = d.load_inertia
-        j_rotor = motor_arrays.inertia[m_idx]
-        k_split = (j_rotor + j_g) / (j_rotor + j_g + j_lr)
-        t_pass = ((1.0 - k_split) * (motor_arrays.peak_torque[m_idx] - run_t / ratio) + run_t / ratio) * ratio * eff
-        t_max = pick(gb.max_output_torque if gb is not None else None, math.nan)
-        t_estop = pick(gb.emergency_stop_torque if gb is not None else None, math.inf)
-        cap = np.where(np.isnan(t_max), t_estop, t_max)
-        req["gearbox_peak_torque"] = np.where(direct, 0.0, t_pass)
-        avail["gearbox_peak_torque"] = np.where(direct, math.inf, cap)
-        for name in ("gearbox_rated_torque", "gearbox_peak_torque"):
-            with np.errstate(divide="ignore", invalid="ignore"):
-                mar[name] = np.where(direct, math.inf, avail[name] / np.maximum(req[name], 1e-300) - 1.0)
-            approx[name] = np.zeros(len(m_idx), dtype=bool)
-        parts.append({"motor": m_idx, "gearbox": g_idx, "ratio": np.full(len(m_idx), ratio),
-                      "inertia_ratio": fit.inertia_ratio, "required": req, "available": avail, "margin": mar,
-                      "approximate": approx, "rms": fit.rms_torque, "peak": fit.peak_torque})
-    names = list(parts[0]["margin"])
-
-    def cat(key: str, sub: str | None = None) -> Any:
-        if sub is None:
-            return np.concatenate([p[key] for p in parts])
-        return {n: np.concatenate([p[key][n] for p in parts]) for n in names}
-
-    return Candidates(motor=cat("motor"), gearbox=cat("gearbox"), ratio=cat("ratio"),
-                      inertia_ratio=cat("inertia_ratio"), required=cat("required", "x"),
-                      available=cat("available", "x"), margin=cat("margin", "x"),
-                      approximate=cat("approximate", "x"), rms_torque=cat("rms"), peak_torque=cat("peak"))
+    ratio = np.array([i for i, _, _ in groups])
+    eff_g = np.array([e for _, e, _ in groups])
+    demands = [base[e] for _, e, _ in groups]
+    n_bins = max(d.hull_torque.shape[0] for d in demands)
+    n_v = max(d.hull_torque.shape[1] for d in demands)
+    n_all = max(d.all_torque.shape[0] for d in demands)
+    # The demand behind each ratio (motor_fit.scaled, here as arrays over the groups).
+    col = ratio[:, None]
+    hull_speed = _padded([d.hull_speed for d in demands], (n_bins,)) * col
+    hull_t = _padded([d.hull_torque for d in demands], (n_bins, n_v)) / col[:, :, None]
+    hull_a = _padded([d.hull_alpha for d in demands], (n_bins, n_v)) * col[:, :, None]
+    all_t = _padded([d.all_torque for d in demands], (n_all,)) / col
+    all_a = _padded([d.all_alpha for d in demands], (n_all,)) * col
+    # Cycle sums and speeds behind each ratio, computed as motor_fit.fit_motors does on the scaled
+    # demand (same operations, so a speed exactly at a motor's limit is judged the same way).
+    w_g = duty.weights[None, :]
+    t_g = np.stack([d.torque for d in demands]) / col
+    a_g = np.stack([d.alpha for d in demands]) * col
+    speed_g = np.abs(w0[None, :] * col)
+    sums = np.stack([np.sum(w_g * t_g**2, axis=1), np.sum(w_g * t_g * a_g, axis=1), np.sum(w_g * a_g**2, axis=1)],
+                    axis=1)
+    g_speed = np.stack([np.max(speed_g, axis=1), np.sum(w_g * speed_g, axis=1) / duty.period], axis=1)
+    g_j_load = duty.load_inertia / ratio**2
+    # Envelopes: intermittent at each group's top bin, continuous at its mean speed (every motor),
+    # intermittent at every bin for the motors that reach the top bin.
+    n_m, n_g = len(motors), len(groups)
+    rated, peak, w_n, w_max, stall = (motors.rated_torque, motors.peak_torque, motors.rated_speed, motors.max_speed,
+                                      motors.stall_torque)
+    curves = tuple(motors.curves) if any(c is not None for c in motors.curves) else None
+    cont_env, peak_env = motor_envelopes(rated, peak, w_n, w_max, np.concatenate([hull_speed[:, -1], g_speed[:, 1]]),
+                                         stall, curves)
+    env_top, cont_mean = np.ascontiguousarray(peak_env.torque[:, :n_g]), np.ascontiguousarray(cont_env.torque[:, n_g:])
+    approx_motor = (np.asarray(peak_env.approximate, dtype=bool) | np.asarray(cont_env.approximate, dtype=bool)
+                    if curves is not None else ~motors.has_curve)
+    reaches = ~(w_max[None, :] < hull_speed[:, -1:])  # (G, M); an unknown max speed is judged at every bin
+    g_of, m_of = np.nonzero(reaches)
+    full_row = np.full((n_g, n_m), -1, dtype=np.int64)
+    full_row[g_of, m_of] = np.arange(len(g_of))
+    env_full = np.zeros((1, n_bins))
+    if len(g_of):
+        env_full = motor_envelopes(rated[m_of], peak[m_of], w_n[m_of], w_max[m_of], hull_speed[g_of], stall[m_of],
+                                   None if curves is None else [curves[m] for m in m_of])[1].torque
+    # Gearbox rows, gaps filled as the checks read them.
+    rows = np.array([r for _, _, rs in groups for r in rs], dtype=np.int64)
+    row_start = np.cumsum([0] + [len(rs) for _, _, rs in groups]).astype(np.int64)
+    if gb is not None and len(gb):
+        gb_j = np.nan_to_num(gb.inertia_input, nan=0.0)
+        gb_speed = np.where(np.isnan(gb.max_input_speed), math.inf, gb.max_input_speed)
+        gb_speed = np.where(np.isinf(gb_speed), np.where(np.isnan(gb.rated_input_speed), math.inf,
+                                                         gb.rated_input_speed), gb_speed)
+        gb_rated = np.where(np.isnan(gb.rated_output_torque), math.inf, gb.rated_output_torque)
+        estop = np.where(np.isnan(gb.emergency_stop_torque), math.inf, gb.emergency_stop_torque)
+        gb_cap = np.where(np.isnan(gb.max_output_torque), estop, gb.max_output_torque)
+    else:
+        gb_j = gb_speed = gb_rated = gb_cap = np.zeros(1)
+    par = np.array([duty.period, margins.torque, margins.rms_torque or margins.torque, margins.speed, limit,
+                    out_cubic, run_t])
+    f64 = np.ascontiguousarray
+    model = (f64(motors.rotor_inertia, dtype=float), f64(peak, dtype=float), f64(w_max, dtype=float), env_top,
+             cont_mean, full_row, f64(env_full, dtype=float), ratio, eff_g, hull_speed, hull_t, hull_a, all_t, all_a,
+             sums, g_speed, g_j_load, f64(gb_j, dtype=float), f64(gb_speed, dtype=float), f64(gb_rated, dtype=float),
+             f64(gb_cap, dtype=float), par)
+    n = n_m * len(rows)
+    motor_idx, slot = np.empty(n, dtype=np.int32), np.empty(n, dtype=np.int32)
+    worst, failed = np.empty(n), np.empty(n, dtype=np.uint8)
+    check(model, row_start, rows, np.empty((3, 0), dtype=np.int64), motor_idx, slot, worst, failed, np.empty((0, 0)))
+    slot_group = np.repeat(np.arange(n_g), np.diff(row_start))
+    return Candidates(motor=motor_idx, slot=slot, worst_margin=worst, failed=failed, slot_row=rows,
+                      slot_group=slot_group, group_ratio=ratio, approx_motor=np.asarray(approx_motor, dtype=bool),
+                      model=model)
 
 
 def _size_key(motors: MotorTable) -> Array:
@@ -165,42 +238,52 @@ def _size_key(motors: MotorTable) -> Array:
     return np.where(np.isnan(p), motors.rated_torque * motors.rated_speed, p)
 
 
-def _objective(c: Candidates, motors: MotorTable, gb: GearboxTable | None, objective: str,
+def _objective(c: Candidates, ks: NDArray[np.intp], motors: MotorTable, gb: GearboxTable | None, objective: str,
                duty: DutyCycle) -> Array:
-    """Score to minimise for each candidate."""
-    gb_size = np.zeros(len(c.motor))
-    if gb is not None:
-        has = c.gearbox >= 0
-        gb_size[has] = np.nan_to_num(gb.rated_output_torque[c.gearbox[has]], nan=0.0)
-    if objective == "rms_utilisation":
-        return c.required["rms_torque"] / np.maximum(c.available["rms_torque"], 1e-300)
-    if objective == "inertia_match":
-        return np.abs(np.log(np.maximum(c.inertia_ratio, 1e-12)))
+    """Score to minimise for the candidates ``ks``."""
+    if objective in ("rms_utilisation", "inertia_match"):
+        d = c.details(ks)
+        if objective == "rms_utilisation":
+            return d.required["rms_torque"] / np.maximum(d.available["rms_torque"], 1e-300)
+        return np.abs(np.log(np.maximum(d.inertia_ratio, 1e-12)))
     if objective == "energy":
-        return _energy(c, motors, gb, duty)
-    return _size_key(motors)[c.motor] * 1e6 + gb_size
+        return _energy(c, ks, motors, gb, duty)
+    gb_size = np.zeros(len(ks))
+    if gb is not None:
+        rows = c.gearbox[ks]
+        has = rows >= 0
+        gb_size[has] = np.nan_to_num(gb.rated_output_torque[rows[has]], nan=0.0)
+    return _size_key(motors)[c.motor[ks]] * 1e6 + gb_size
 
 
-def _energy(c: Candidates, motors: MotorTable, gb: GearboxTable | None, duty: DutyCycle) -> Array:
-    """Motoring energy per cycle [J]: integral of max(T omega, 0) at the motor, per candidate (chunked)."""
-    out = np.full(len(c.motor), math.inf)
-    ok = np.flatnonzero(c.ok)[:5000]
+def _energy(c: Candidates, ks: NDArray[np.intp], motors: MotorTable, gb: GearboxTable | None,
+            duty: DutyCycle) -> Array:
+    """Motoring energy per cycle [J]: integral of max(T omega, 0) at the motor, for the first 5000 of ``ks``."""
+    out = np.full(len(ks), math.inf)
+    ok = np.arange(min(len(ks), 5000))
     direction = np.asarray(duty.samples.direction, dtype=float)
-    for ratio in np.unique(c.ratio[ok]):
-        sel = ok[c.ratio[ok] == ratio]
-        effs = np.ones(len(sel)) if gb is None else np.where(c.gearbox[sel] >= 0,
-                                                             np.nan_to_num(gb.efficiency[c.gearbox[sel]], nan=1.0), 1.0)
+    ratios, rows, motor = c.ratio[ks], c.gearbox[ks], c.motor[ks]
+    for ratio in np.unique(ratios[ok]):
+        sel = ok[ratios[ok] == ratio]
+        effs = np.ones(len(sel)) if gb is None else np.where(rows[sel] >= 0,
+                                                             np.nan_to_num(gb.efficiency[rows[sel]], nan=1.0), 1.0)
         for eff in np.unique(effs):
             s2 = sel[effs == eff]
             stage = Stage("g", "gearbox", ratio=float(ratio), efficiency=float(eff), back_efficiency=float(eff))
             w_in, a_in = duty.omega * ratio, duty.alpha * ratio
             t_in, _ = torque_in(stage, duty.torque, duty.external, w_in, a_in, direction, "four_quadrant")
-            j = motors.rotor_inertia[c.motor[s2]]
+            j = motors.rotor_inertia[motor[s2]]
             if gb is not None:
-                j = j + np.where(c.gearbox[s2] >= 0, np.nan_to_num(gb.inertia_input[c.gearbox[s2]]), 0.0)
+                j = j + np.where(rows[s2] >= 0, np.nan_to_num(gb.inertia_input[rows[s2]]), 0.0)
             p = (t_in[None, :] + j[:, None] * a_in[None, :]) * w_in[None, :]
             out[s2] = np.sum(duty.weights[None, :] * np.maximum(p, 0.0), axis=1)
     return out
+
+
+def _closest(c: Candidates, pool: NDArray[np.intp]) -> int:
+    """The candidate of ``pool`` with the largest worst margin (an unknown, NaN, margin counts as the lowest)."""
+    w = c.worst_margin[pool]
+    return int(pool[np.argmax(np.where(np.isnan(w), -np.inf, w))])
 
 
 def pareto_front(size: Array, margin: Array, ratio: Array) -> NDArray[np.intp]:
@@ -237,10 +320,9 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins) -> d
             raise exc.at("motor.select.gearbox_series") from None
     c = evaluate(axis, duty, motors, gb, margins, allow_direct=spec.gearbox != "only" or gb is None,
                  max_inertia_ratio=spec.max_inertia_ratio)
-    score = _objective(c, motors, gb, spec.objective, duty)
     ok = c.ok
     passing = np.flatnonzero(ok)
-    passing = passing[np.argsort(score[passing], kind="stable")]
+    passing = passing[np.argsort(_objective(c, passing, motors, gb, spec.objective, duty), kind="stable")]
     failing = np.flatnonzero(~ok)
     failing = failing[np.argsort(-c.worst_margin[failing], kind="stable")]
 
@@ -252,7 +334,7 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins) -> d
     summary: dict[str, Any] = {
         "objective": spec.objective, "evaluated": len(c.motor), "motors": len(motors),
         "gearbox_rows": 0 if gb is None else len(gb), "passing": len(passing),
-        "failures_by_check": {n: int(np.sum(c.margin[n] < 0.0)) for n in c.margin},
+        "failures_by_check": c.failures(),
     }
     if len(passing):
         best = int(passing[0])
@@ -260,7 +342,7 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins) -> d
         summary["next_smaller"] = _next_smaller(c, motors, gb, best)
         summary["optimal_ratio"] = optimal_ratio(axis, duty, motors, int(c.motor[best]), gb)
         top = passing[:2000]
-        front = pareto_front(_size_key(motors)[c.motor[top]], c.worst_margin[top], c.inertia_ratio[top])
+        front = pareto_front(_size_key(motors)[c.motor[top]], c.worst_margin[top], c.details(top).inertia_ratio)
         summary["pareto_front"] = [_label(c, int(top[k]), motors, gb) for k in front[:50]]
     else:
         summary["advice"] = advice(c, margins, spec)
@@ -278,25 +360,29 @@ def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable |
                    rank: int | None) -> dict[str, Any]:
     """One candidate as in design.md: motor, gearbox, ratio, inertia ratio, ok, checks, why it failed."""
     m, g = int(c.motor[k]), int(c.gearbox[k])
+    d = c.details([k])
     checks = []
-    for n in c.margin:
-        req, avail = float(c.required[n][k]), float(c.available[n][k])
+    for n in CHECK_UNITS:
+        req, avail, mar = float(d.required[n][0]), float(d.available[n][0]), float(d.margin[n][0])
         if n.startswith("gearbox") and g < 0:
             continue
         checks.append({"name": n, "required": req, "available": avail if math.isfinite(avail) else None,
-                       "unit": CHECK_UNITS[n], "margin": float(c.margin[n][k]) if math.isfinite(c.margin[n][k])
-                       else None, "ok": bool(c.margin[n][k] >= 0.0), "approximate": bool(c.approximate[n][k])})
-    bad = [(float(c.margin[n][k]), n) for n in c.margin if c.margin[n][k] < 0.0]
+                       "unit": CHECK_UNITS[n], "margin": mar if math.isfinite(mar) else None, "ok": mar >= 0.0,
+                       "approximate": bool(d.approximate[n][0])})
+    bad = [(float(d.margin[n][0]), n) for n in CHECK_UNITS if not d.margin[n][0] >= 0.0]
     failed = ""
     if bad:
-        mar, n = min(bad)
-        failed = (f"{n}: required {c.required[n][k]:.4g} {CHECK_UNITS[n]} > available "
-                  f"{c.available[n][k]:.4g} {CHECK_UNITS[n]} ({mar * 100:.1f} %)")
+        # the worst known shortfall; a NaN margin (a rating the catalog lacks) only when no other fails
+        mar, n = min(bad, key=lambda b: (math.isnan(b[0]), b[0], b[1]))
+        failed = (f"{n}: required {d.required[n][0]:.4g} {CHECK_UNITS[n]} > available "
+                  f"{d.available[n][0]:.4g} {CHECK_UNITS[n]} ({mar * 100:.1f} %)" if not math.isnan(mar) else
+                  f"{n}: cannot be checked, the catalog lacks a rating it needs (available "
+                  f"{d.available[n][0]:.4g} {CHECK_UNITS[n]})")
     return {
         "rank": rank, "motor": str(motors.ids[m]), "vendor": str(motors.vendor[m]),
         "gearbox": None if g < 0 or gb is None else str(gb.ids[g]), "ratio": float(c.ratio[k]),
-        "inertia_ratio": float(c.inertia_ratio[k]), "rms_torque_Nm": float(c.rms_torque[k]),
-        "peak_torque_Nm": float(c.peak_torque[k]), "rated_power_W": float(motors.rated_power[m]),
+        "inertia_ratio": float(d.inertia_ratio[0]), "rms_torque_Nm": float(d.rms_torque[0]),
+        "peak_torque_Nm": float(d.peak_torque[0]), "rated_power_W": float(motors.rated_power[m]),
         "ok": not bad, "failed": failed, "approximate_envelope": bool(~motors.has_curve[m]),
         "rated_torque_derived": bool(motors.approx_rated[m]), "checks": checks,
     }
@@ -310,8 +396,7 @@ def _next_smaller(c: Candidates, motors: MotorTable, gb: GearboxTable | None, be
     if not np.any(smaller):
         return None
     top_small = np.max(size[c.motor][smaller])
-    pool = np.flatnonzero(size[c.motor] == top_small)
-    k = int(pool[np.argmax(c.worst_margin[pool])])
+    k = _closest(c, np.flatnonzero(size[c.motor] == top_small))
     return candidate_dict(c, k, motors, gb, None)
 
 
@@ -349,12 +434,12 @@ def optimal_ratio(axis: Axis, duty: DutyCycle, motors: MotorTable, m: int,
 
 def advice(c: Candidates, margins: Margins, spec: SelectSpec) -> str:
     """What to relax when nothing passes: the check that blocks most and the best candidate's shortfall."""
-    best = int(np.argmax(c.worst_margin))
-    blocking = [(float(c.margin[n][best]), n) for n in c.margin if c.margin[n][best] < 0]
+    d = c.details([_closest(c, np.arange(len(c.motor)))])
+    blocking = [(float(d.margin[n][0]), n) for n in CHECK_UNITS if d.margin[n][0] < 0]
     parts = [f"no candidate passes all checks ({len(c.motor)} evaluated)."]
     for mar, n in sorted(blocking):
-        need = c.required[n][best]
-        have = c.available[n][best]
+        need = d.required[n][0]
+        have = d.available[n][0]
         if n == "inertia_ratio":
             parts.append(f"the closest candidate needs an inertia ratio of {need:.3g} (limit {have:.3g}): raise "
                          "motor.margins.inertia_ratio or allow a gearbox (motor.select.gearbox: auto)")
@@ -382,8 +467,7 @@ def explain(result_selection: dict[str, Any], model: str) -> str:
         else:
             raise InputError("--explain", "is not among the evaluated motors (check the filters)", model)
     rows = np.flatnonzero(np.isin(c.motor, hits))
-    k = int(rows[np.argmax(c.worst_margin[rows])])
-    d = candidate_dict(c, k, motors, gb, None)
+    d = candidate_dict(c, _closest(c, rows), motors, gb, None)
     n_ok = int(np.sum(c.ok[rows]))
     lines = [f"{model}: {n_ok} of {len(rows)} configurations pass; best configuration: "
              f"{d['gearbox'] or 'direct drive'} (ratio {d['ratio']:.4g}, inertia ratio {d['inertia_ratio']:.3g})"]
@@ -397,4 +481,4 @@ def explain(result_selection: dict[str, Any], model: str) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["Candidates", "evaluate", "explain", "optimal_ratio", "select", "to_rpm"]
+__all__ = ["Candidates", "Details", "evaluate", "explain", "optimal_ratio", "select", "to_rpm"]

@@ -1,0 +1,188 @@
+"""The compiled candidate loop of the catalog selection (numba). Imported lazily by
+``selection.evaluate``: importing this module imports numba, which ``import drivetrain`` and a
+sizing with a given motor never pay for.
+
+One pass over every candidate (gearbox-ratio group x motor x gearbox row) writes all its checks
+into preallocated arrays: no temporaries the size of the candidate set, no per-group Python.
+The physics is that of ``motor_fit.fit_motors`` and ``selection.evaluate`` (their docstrings
+give the sources); ``tests/test_selection.py`` asserts that this loop and ``fit_motors`` give
+the same required/available/margin for every candidate of the shipped catalog.
+
+Per candidate k (motor m, group g of ratio i and efficiency eta, gearbox row r or -1 direct):
+
+* J = J_M + J_g (rotor plus the gearbox's input inertia) [kg m^2];
+* peak: max over the convex-hull vertices v of the demand of |T_v + J alpha_v| [N m], per
+  speed bin against the intermittent envelope there (worst bin); a motor slower than the
+  cycle's top speed is judged at the top bin (it has no torque there: margin -100 %);
+* RMS: sqrt((S_TT + 2 J S_Ta + J^2 S_aa) / t_cycle) against the continuous torque at the mean
+  speed (lecture, Torque Effective Value);
+* speed: max |omega| x margin against min(motor max speed, gearbox input speed);
+* inertia ratio: (J_L / i^2 + J_g) / J_M against the limit;
+* gearbox rated torque: the cycle's cubic-mean output torque x margin against the rated
+  output torque; gearbox peak: ((1 - k)(T_M - T_L/i) + T_L/i) i eta with k = J / (J + J_L/i^2)
+  (lecture, Dynamic Loading and Gearbox Sizing) against its max (or emergency-stop) torque.
+
+Envelopes are not computed here: the caller passes them, computed by ``envelope.py`` at the
+speeds this loop needs (the top bin and mean speed of every group for every motor; every bin
+for the motors fast enough to reach the top bin).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numba import njit
+from numpy.typing import NDArray
+
+# rows of the check arrays, in the order of selection.CHECK_UNITS
+PEAK, RMS, SPEED, INERTIA, GB_RATED, GB_PEAK = range(6)
+N_CHECKS = 6
+
+_OPTIONS: dict[str, Any] = {"cache": True, "error_model": "numpy", "nogil": True, "no_cfunc_wrapper": True}
+
+_RPM = 60.0 / (2.0 * np.pi)
+
+
+# a candidate's detail vector: required, available, margin of each check, then these
+N_DETAIL = 3 * N_CHECKS + 3
+D_RMS, D_PEAK, D_INERTIA = 3 * N_CHECKS, 3 * N_CHECKS + 1, 3 * N_CHECKS + 2
+
+
+@njit(**_OPTIONS)
+def check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np.int64],
+          pick: NDArray[np.int64], motor: NDArray[np.int32], slot: NDArray[np.int32],
+          worst: NDArray[np.float64], failed: NDArray[np.uint8], detail: NDArray[np.float64]) -> None:
+    """Check candidates: every one of the grid, or the listed ones in detail.
+
+    Grid (``pick`` empty): every candidate in group, motor, row order gets its motor, slot (index
+    into ``rows``), worst margin (NaN if any margin is NaN) and a bit mask of the checks that do
+    not pass (bit c: check c). List: ``pick`` (3, n) holds motor, group and slot of n candidates,
+    and column k of ``detail`` (N_DETAIL, n) gets candidate k's required, available and margin of
+    every check, its RMS and peak torque and inertia ratio.
+
+    ``model`` (see ``selection.evaluate``). Motors (M): rotor inertia [kg m^2], peak torque [N m],
+    max speed [rad/s]. Envelopes [N m]: ``env_top`` (M, G) intermittent at each group's top bin
+    speed, ``cont_mean`` (M, G) continuous at its mean speed, ``env_full[full_row[g, m]]`` (B,)
+    intermittent at every bin of group g where the motor reaches the top bin (row -1 where it
+    does not). Groups (G): ratio, efficiency, the demand behind the ratio: ``hull_speed`` (G, B)
+    bin upper edges [rad/s], ``hull_t``/``hull_a`` (G, B, V) hull vertices per bin [N m,
+    rad/s^2], ``all_t``/``all_a`` (G, V2) hull of the whole cycle, ``sums`` (G, 3) S_TT, S_Ta,
+    S_aa, ``g_speed`` (G, 2) max and mean |omega| [rad/s], reflected load inertia [kg m^2].
+    ``rows[row_start[g]:row_start[g + 1]]`` are the gearbox rows (-1 direct) of group g. Gearbox
+    rows: input inertia [kg m^2], input speed limit [rad/s], rated and max output torque [N m]
+    (gaps already filled). ``par``: period [s], torque, RMS and speed margins, inertia-ratio
+    limit, cubic-mean output torque [N m], running load torque [N m].
+
+    The loop body is written once, on local scalars: no per-candidate stores but the results, no
+    helper calls (which would count references to every array they are passed).
+    """
+    (j_rotor, t_peak, w_max, env_top, cont_mean, full_row, env_full, g_ratio, g_eff, hull_speed, hull_t, hull_a,
+     all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_speed, gb_rated, gb_cap, par) = model
+    period, tm, rm, sm, limit, out_cubic, run_t = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
+    n_motors, n_bins, n_v, n_all = j_rotor.shape[0], hull_speed.shape[1], hull_t.shape[2], all_t.shape[1]
+    listed = pick.shape[1] > 0
+    n = pick.shape[1] if listed else n_motors * (row_start[-1] - row_start[0])
+    g, m, q = 0, 0, row_start[0]
+    for k in range(n):
+        if listed:
+            m, g, q = pick[0, k], pick[1, k], pick[2, k]
+        else:
+            # advance the grid: rows fastest, then motors, then groups
+            while q >= row_start[g + 1]:
+                m += 1
+                q = row_start[g]
+                if m == n_motors:
+                    m, g = 0, g + 1
+                    q = row_start[g]
+        r = rows[q]
+        direct = r < 0
+        i = g_ratio[g]
+        j_m = j_rotor[m]
+        j_g = 0.0 if direct else gb_j[r]
+        j = j_m + j_g
+        # peak motor torque over the cycle: the support function of the cycle's hull
+        peak_all = abs(all_t[g, 0] + j * all_a[g, 0])
+        for v in range(1, n_all):
+            peak_all = max(peak_all, abs(all_t[g, v] + j * all_a[g, v]))
+        # peak torque against the intermittent envelope
+        top = n_bins - 1
+        if w_max[m] < hull_speed[g, top]:
+            # slower than the cycle's top speed: judged at the top bin (no torque there)
+            s = abs(hull_t[g, top, 0] + j * hull_a[g, top, 0])
+            for v in range(1, n_v):
+                s = max(s, abs(hull_t[g, top, v] + j * hull_a[g, top, v]))
+            req_p, av_p = s * tm, env_top[m, g]
+            mar_p = av_p / req_p - 1.0 if req_p > 0.0 else math.inf
+        else:
+            # Worst bin, the first on ties and a NaN margin the worst (numpy's argmin over the
+            # bins). From the top speed down (where the envelope is usually lowest) with "<=", so
+            # the lowest index wins a tie; a bin is skipped when even the whole cycle's peak
+            # torque there could not lower the margin (a bound: env_b / (peak tm) - 1 > margin).
+            row = full_row[g, m]
+            bound = peak_all * tm * (1.0 + 1e-12)
+            req_p, av_p, mar_p = 0.0, 0.0, math.inf
+            for b in range(top, -1, -1):
+                eb = env_full[row, b]
+                if math.isnan(mar_p):
+                    if not math.isnan(eb):
+                        continue  # only a NaN margin at a lower bin can replace a NaN one
+                elif b != top and eb > (mar_p + 1.0) * bound:
+                    continue
+                s = abs(hull_t[g, b, 0] + j * hull_a[g, b, 0])
+                for v in range(1, n_v):
+                    s = max(s, abs(hull_t[g, b, v] + j * hull_a[g, b, v]))
+                rb = s * tm
+                mb = eb / rb - 1.0 if rb > 0.0 else math.inf
+                if b == top or mb <= mar_p or math.isnan(mb):
+                    req_p, av_p, mar_p = rb, eb, mb
+        # RMS torque, closed form in J, against the continuous torque at the mean speed
+        rms = math.sqrt(max(sums[g, 0] + 2.0 * j * sums[g, 1] + j * j * sums[g, 2], 0.0) / period)
+        req_r, av_r = rms * rm, cont_mean[m, g]
+        mar_r = av_r / req_r - 1.0 if req_r > 0.0 else math.inf
+        # max speed against the motor's and the gearbox's (a NaN limit propagates, as numpy.minimum)
+        req_s = g_speed[g, 0] * sm
+        av_s = w_max[m]
+        if not direct and (gb_speed[r] < av_s or math.isnan(gb_speed[r])):
+            av_s = gb_speed[r]
+        mar_s = av_s / req_s - 1.0 if req_s > 0.0 else math.inf
+        # inertia ratio, the gearbox's input inertia on the load side
+        ir = (g_j_load[g] + j_g) / j_m
+        mar_i = limit / ir - 1.0 if ir > 0.0 else math.inf
+        # gearbox: rated output torque against the cubic mean; what passes at the motor's peak
+        req_gr = out_cubic * tm
+        if direct:
+            av_gr, mar_gr, req_gp, av_gp, mar_gp = math.inf, math.inf, 0.0, math.inf, math.inf
+        else:
+            av_gr = gb_rated[r]
+            mar_gr = av_gr / max(req_gr, 1e-300) - 1.0
+            t_l = run_t / i
+            split = j / (j + g_j_load[g])
+            req_gp = ((1.0 - split) * (t_peak[m] - t_l) + t_l) * i * g_eff[g]
+            av_gp = gb_cap[r]
+            mar_gp = av_gp / max(req_gp, 1e-300) - 1.0
+        if listed:
+            detail[PEAK, k], detail[RMS, k], detail[SPEED, k] = req_p, req_r, req_s * _RPM
+            detail[INERTIA, k], detail[GB_RATED, k], detail[GB_PEAK, k] = ir, req_gr, req_gp
+            a = N_CHECKS
+            detail[a + PEAK, k], detail[a + RMS, k], detail[a + SPEED, k] = av_p, av_r, av_s * _RPM
+            detail[a + INERTIA, k], detail[a + GB_RATED, k], detail[a + GB_PEAK, k] = limit, av_gr, av_gp
+            a = 2 * N_CHECKS
+            detail[a + PEAK, k], detail[a + RMS, k], detail[a + SPEED, k] = mar_p, mar_r, mar_s
+            detail[a + INERTIA, k], detail[a + GB_RATED, k], detail[a + GB_PEAK, k] = mar_i, mar_gr, mar_gp
+            detail[D_RMS, k], detail[D_PEAK, k], detail[D_INERTIA, k] = rms, peak_all, ir
+        else:
+            w = mar_p
+            bits = 0
+            for c, mc in enumerate((mar_p, mar_r, mar_s, mar_i, mar_gr, mar_gp)):
+                if not mc >= 0.0:
+                    bits |= 1 << c
+                if mc < w or math.isnan(mc):
+                    w = mc
+            motor[k], slot[k], worst[k], failed[k] = m, q, w, bits
+            q += 1
+
+
+__all__ = ["D_INERTIA", "D_PEAK", "D_RMS", "GB_PEAK", "GB_RATED", "INERTIA", "N_CHECKS", "N_DETAIL", "PEAK", "RMS",
+           "SPEED", "check"]
