@@ -4,6 +4,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from drivetrain import catalog
 from drivetrain.axis import load_axis, parse_axis
@@ -150,16 +152,17 @@ def test_compiled_selection_matches_the_reference_checks(axis_file: Path) -> Non
     motors, gb = catalog.motors(), catalog.gearboxes(kind="servo_gearbox")
     c = evaluate(axis, duty, motors, gb, margins)
     assert len(c.motor) == len(motors) * (len(gb) + 1)
-    d = c.details(np.arange(len(c.motor)))
+    every = np.arange(len(c.motor))
+    d = c.details(every)
     arrays = MotorArrays(inertia=motors.rotor_inertia, rated_torque=motors.rated_torque,
                          peak_torque=motors.peak_torque, rated_speed=motors.rated_speed, max_speed=motors.max_speed,
                          stall_torque=motors.stall_torque, approximate=~motors.has_curve, curves=tuple(motors.curves))
     direction = np.asarray(duty.samples.direction, dtype=float)
-    rows = c.gearbox
+    rows = c.gearbox(every)
     eff = np.where(rows >= 0, np.nan_to_num(gb.efficiency[rows], nan=1.0), 1.0)
     checked = np.zeros(len(c.motor), dtype=bool)
-    for ratio, e in {(float(r), float(x)) for r, x in zip(c.ratio, eff, strict=True)}:
-        k = np.flatnonzero((c.ratio == ratio) & (eff == e))
+    for ratio, e in {(float(r), float(x)) for r, x in zip(c.ratio(every), eff, strict=True)}:
+        k = np.flatnonzero((c.ratio(every) == ratio) & (eff == e))
         g = rows[k]
         stage = Stage("g", "gearbox", ratio=1.0, efficiency=e, back_efficiency=e)
         t_in, _ = torque_in(stage, duty.torque, duty.external, duty.omega, duty.alpha, direction,
@@ -192,3 +195,42 @@ def test_compiled_selection_matches_the_reference_checks(axis_file: Path) -> Non
     np.testing.assert_array_equal(c.worst_margin, np.min(margin, axis=0))
     bits = sum((~(margin[b] >= 0)).astype(np.uint8) << b for b in range(len(CHECK_UNITS)))
     np.testing.assert_array_equal(c.failed, bits)
+
+
+@given(st.lists(st.tuples(st.floats(-50, 50), st.floats(-500, 500), st.floats(-5, 5)), min_size=1, max_size=60),
+       st.floats(0.0, 1e-2))
+@settings(max_examples=200, deadline=None)
+def test_demand_hull_gives_the_peak_torque_of_every_sample(points: list, j: float) -> None:
+    """The hull vertices of each speed bin give max |T + J alpha| over the samples of that bin, and
+    the whole cycle's hull over all samples: the convex hull loses no extreme point."""
+    from drivetrain.motor_fit import demand
+
+    omega, torque, alpha = (np.array(c) for c in zip(*points, strict=True))
+    # a few repeated and collinear samples, as constant phases and ramps make
+    omega, torque, alpha = (np.concatenate([x, x[:3], x[:1]]) for x in (omega, torque, alpha))
+    d = demand(omega, alpha, torque, np.ones_like(omega), float(len(omega)), 0.0, bins=8)
+    brute = np.abs(torque + j * alpha)
+    assert np.max(np.abs(d.all_torque + j * d.all_alpha)) == pytest.approx(np.max(brute), rel=1e-12, abs=1e-12)
+    w = np.abs(omega)
+    for b in range(len(d.hull_speed)):
+        # a bin holds the speeds above the previous (non-empty) bin's upper edge, up to its own
+        in_bin = (w <= d.hull_speed[b]) & (w > (d.hull_speed[b - 1] if b else -1.0))
+        got = np.max(np.abs(d.hull_torque[b] + j * d.hull_alpha[b]))
+        assert got == pytest.approx(np.max(brute[in_bin]), rel=1e-12, abs=1e-12)
+
+
+@given(st.lists(st.one_of(st.sampled_from([-0.5, -0.25, 0.0, 0.3, float("nan")]), st.floats(-1, 1)), min_size=1,
+                max_size=80), st.integers(1, 12))
+@settings(max_examples=300, deadline=None)
+def test_closest_failing_equals_a_stable_sort_of_every_failure(worst: list, n: int) -> None:
+    """Ranking the closest failures without sorting them all gives what the stable sort gives."""
+    from types import SimpleNamespace
+
+    from drivetrain.selection import _closest_failing
+
+    w = np.array(worst)
+    ok = w >= 0.0
+    c = SimpleNamespace(worst_margin=w, ok=ok, failed=(~ok).astype(np.uint8))
+    failing = np.flatnonzero(~ok)
+    want = failing[np.argsort(-w[failing], kind="stable")][:n]
+    np.testing.assert_array_equal(_closest_failing(c, n), want)  # type: ignore[arg-type]

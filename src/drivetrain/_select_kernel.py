@@ -184,5 +184,32 @@ def check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np
             q += 1
 
 
+@njit(**_OPTIONS)
+def closest_failing(worst: NDArray[np.float64], failed: NDArray[np.uint8], n: int) -> NDArray[np.int64]:
+    """Indices of the ``n`` failing candidates with the largest worst margin, best first: ties in index
+    order, NaN margins after every number (a stable sort of the failures, in one pass)."""
+    best = np.empty(max(n, 0), dtype=np.int64)
+    key = np.empty(max(n, 0))
+    count = 0
+    if n <= 0:
+        return best
+    for k in range(worst.shape[0]):
+        if failed[k] == 0:
+            continue
+        x = -math.inf if math.isnan(worst[k]) else worst[k]
+        if count == n and not x > key[n - 1]:
+            continue  # not better than the last kept (a tie keeps the earlier index)
+        # insert before the first kept key that is smaller
+        pos = count if count < n else n - 1
+        while pos > 0 and key[pos - 1] < x:
+            pos -= 1
+        last = count if count < n else n - 1
+        for t in range(last, pos, -1):
+            key[t], best[t] = key[t - 1], best[t - 1]
+        key[pos], best[pos] = x, k
+        count = min(count + 1, n)
+    return best[:count]
+
+
 __all__ = ["D_INERTIA", "D_PEAK", "D_RMS", "GB_PEAK", "GB_RATED", "INERTIA", "N_CHECKS", "N_DETAIL", "PEAK", "RMS",
-           "SPEED", "check"]
+           "SPEED", "check", "closest_failing"]

@@ -64,15 +64,16 @@ def demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: fl
     bins_used, starts = np.unique(b_s, return_index=True)
     stops = np.append(starts[1:], len(b_s))
     speeds = edges[bins_used + 1]
-    verts = [_hull_points(a_s[s:e], t_s[s:e]) for s, e in zip(starts, stops, strict=True)]
-    width = max(len(v[0]) for v in verts)
-    ht = np.empty((len(verts), width))
-    ha = np.empty((len(verts), width))
-    for k, (a_v, t_v) in enumerate(verts):
-        # pad by repeating the last vertex: a repeated vertex changes no maximum
-        ha[k, : len(a_v)], ha[k, len(a_v):] = a_v, a_v[-1]
-        ht[k, : len(t_v)], ht[k, len(t_v):] = t_v, t_v[-1]
-    all_a, all_t = _hull_points(np.concatenate([a for a, _ in verts]), np.concatenate([t for _, t in verts]))
+    # points of each bin are sorted by (alpha, T): the monotone chain needs no further sort
+    a_l, t_l = a_s.tolist(), t_s.tolist()
+    verts = [_chain(a_l[s:e], t_l[s:e]) for s, e in zip(starts.tolist(), stops.tolist(), strict=True)]
+    width = max(len(v) for v in verts)
+    ha = np.array([[p[0] for p in v] + [v[-1][0]] * (width - len(v)) for v in verts])
+    ht = np.array([[p[1] for p in v] + [v[-1][1]] * (width - len(v)) for v in verts])
+    # (padding repeats the last vertex: a repeated vertex changes no maximum)
+    every = sorted({p for v in verts for p in v})
+    hull_all = _chain([p[0] for p in every], [p[1] for p in every])
+    all_a, all_t = np.array([p[0] for p in hull_all]), np.array([p[1] for p in hull_all])
     return Demand(omega=omega, alpha=alpha, torque=torque, weights=weights, period=period,
                   load_inertia=load_inertia, hull_speed=np.asarray(speeds, dtype=float), hull_torque=ht, hull_alpha=ha,
                   all_torque=all_t, all_alpha=all_a)
@@ -99,19 +100,36 @@ def scaled(d: Demand, ratio: float) -> Demand:
                   all_torque=d.all_torque / ratio, all_alpha=d.all_alpha * ratio)
 
 
-def _hull_points(alpha: Array, torque: Array) -> tuple[Array, Array]:
-    """Vertices of the convex hull of the points (alpha, T) (qhull; extremes if degenerate)."""
-    from scipy.spatial import ConvexHull, QhullError
+def _chain(alpha: list[float], torque: list[float]) -> list[tuple[float, float]]:
+    """Vertices of the convex hull of points sorted by (alpha, T), without repeats (Andrew's monotone chain).
 
-    pts = np.column_stack([alpha, torque])
-    if len(pts) > 3:
-        try:
-            idx = ConvexHull(pts).vertices
-            return alpha[idx], torque[idx]
-        except QhullError:
-            pass  # collinear or coincident points: their extremes are the hull
-    idx = np.unique([np.argmin(alpha), np.argmax(alpha), np.argmin(torque), np.argmax(torque)])
-    return alpha[idx], torque[idx]
+    Collinear points keep only their ends, so a constant-acceleration phase (points on a line)
+    gives two vertices. Plain floats: a bin holds a handful of points, where numpy's per-call cost
+    would dominate. Source: A. M. Andrew, Another efficient algorithm for convex hulls in two
+    dimensions, Information Processing Letters 9 (1979) 216-219.
+
+    A diamond with a point inside, and three points on a line:
+
+    >>> _chain([0.0, 1.0, 1.0, 1.0, 2.0], [0.0, -1.0, 0.5, 1.0, 0.0])
+    [(0.0, 0.0), (1.0, -1.0), (2.0, 0.0), (1.0, 1.0)]
+    >>> _chain([0.0, 1.0, 2.0], [0.0, 1.0, 2.0])
+    [(0.0, 0.0), (2.0, 2.0)]
+    """
+    pts = list(zip(alpha, torque, strict=True))
+    if len(pts) < 3:
+        return pts
+
+    def half(seq: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        out: list[tuple[float, float]] = []
+        for p in seq:
+            while len(out) >= 2 and ((out[-1][0] - out[-2][0]) * (p[1] - out[-2][1])
+                                     - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])) <= 0.0:
+                out.pop()
+            out.append(p)
+        return out
+
+    lower, upper = half(pts), half(pts[::-1])
+    return lower[:-1] + upper[:-1] or pts[:1]
 
 
 @dataclass(frozen=True)

@@ -79,15 +79,19 @@ class Candidates:
         """True where every check passes."""
         return self.failed == 0
 
-    @cached_property
-    def gearbox(self) -> NDArray[np.int64]:
-        """Gearbox row of each candidate, -1 for direct drive."""
-        return self.slot_row[self.slot]
+    def gearbox(self, ks: NDArray[np.intp] | int) -> Any:
+        """Gearbox row of the candidates ``ks``, -1 for direct drive."""
+        return self.slot_row[self.slot[ks]]
 
-    @cached_property
-    def ratio(self) -> Array:
-        """Gear ratio of each candidate [-]."""
-        return self.group_ratio[self.slot_group[self.slot]]
+    def ratio(self, ks: NDArray[np.intp] | int) -> Any:
+        """Gear ratio of the candidates ``ks`` [-]."""
+        return self.group_ratio[self.slot_group[self.slot[ks]]]
+
+    def of_motors(self, motors: NDArray[np.intp]) -> NDArray[np.intp]:
+        """The candidates of these motors (ascending)."""
+        hit = np.zeros(len(self.approx_motor), dtype=bool)
+        hit[motors] = True
+        return np.flatnonzero(hit[self.motor])
 
     def failures(self) -> dict[str, int]:
         """How many candidates fail each check."""
@@ -133,7 +137,10 @@ def _padded(arrays: list[Array], shape: tuple[int, ...]) -> Array:
     """
     out = np.empty((len(arrays), *shape))
     for k, a in enumerate(arrays):
-        out[k] = np.pad(a, [(0, n - a.shape[d]) for d, n in enumerate(shape)], mode="edge")
+        out[k][tuple(slice(0, n) for n in a.shape)] = a
+        for d, n in enumerate(a.shape):  # fill the rest of each axis with its last entry
+            lead = (slice(None),) * d
+            out[k][(*lead, slice(n, None))] = out[k][(*lead, slice(n - 1, n))]
     return out
 
 
@@ -162,22 +169,23 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
             base[eff] = demand(w0, a0, t_in, duty.weights, duty.period, duty.load_inertia)
     ratio = np.array([i for i, _, _ in groups])
     eff_g = np.array([e for _, e, _ in groups])
-    demands = [base[e] for _, e, _ in groups]
+    demands = list(base.values())
+    e_of = np.array([list(base).index(e) for _, e, _ in groups])  # each group's efficiency
     n_bins = max(d.hull_torque.shape[0] for d in demands)
     n_v = max(d.hull_torque.shape[1] for d in demands)
     n_all = max(d.all_torque.shape[0] for d in demands)
     # The demand behind each ratio (motor_fit.scaled, here as arrays over the groups).
     col = ratio[:, None]
-    hull_speed = _padded([d.hull_speed for d in demands], (n_bins,)) * col
-    hull_t = _padded([d.hull_torque for d in demands], (n_bins, n_v)) / col[:, :, None]
-    hull_a = _padded([d.hull_alpha for d in demands], (n_bins, n_v)) * col[:, :, None]
-    all_t = _padded([d.all_torque for d in demands], (n_all,)) / col
-    all_a = _padded([d.all_alpha for d in demands], (n_all,)) * col
+    hull_speed = _padded([d.hull_speed for d in demands], (n_bins,))[e_of] * col
+    hull_t = _padded([d.hull_torque for d in demands], (n_bins, n_v))[e_of] / col[:, :, None]
+    hull_a = _padded([d.hull_alpha for d in demands], (n_bins, n_v))[e_of] * col[:, :, None]
+    all_t = _padded([d.all_torque for d in demands], (n_all,))[e_of] / col
+    all_a = _padded([d.all_alpha for d in demands], (n_all,))[e_of] * col
     # Cycle sums and speeds behind each ratio, computed as motor_fit.fit_motors does on the scaled
     # demand (same operations, so a speed exactly at a motor's limit is judged the same way).
     w_g = duty.weights[None, :]
-    t_g = np.stack([d.torque for d in demands]) / col
-    a_g = np.stack([d.alpha for d in demands]) * col
+    t_g = np.stack([d.torque for d in demands])[e_of] / col
+    a_g = np.stack([d.alpha for d in demands])[e_of] * col
     speed_g = np.abs(w0[None, :] * col)
     sums = np.stack([np.sum(w_g * t_g**2, axis=1), np.sum(w_g * t_g * a_g, axis=1), np.sum(w_g * a_g**2, axis=1)],
                     axis=1)
@@ -250,7 +258,7 @@ def _objective(c: Candidates, ks: NDArray[np.intp], motors: MotorTable, gb: Gear
         return _energy(c, ks, motors, gb, duty)
     gb_size = np.zeros(len(ks))
     if gb is not None:
-        rows = c.gearbox[ks]
+        rows = c.gearbox(ks)
         has = rows >= 0
         gb_size[has] = np.nan_to_num(gb.rated_output_torque[rows[has]], nan=0.0)
     return _size_key(motors)[c.motor[ks]] * 1e6 + gb_size
@@ -262,7 +270,7 @@ def _energy(c: Candidates, ks: NDArray[np.intp], motors: MotorTable, gb: Gearbox
     out = np.full(len(ks), math.inf)
     ok = np.arange(min(len(ks), 5000))
     direction = np.asarray(duty.samples.direction, dtype=float)
-    ratios, rows, motor = c.ratio[ks], c.gearbox[ks], c.motor[ks]
+    ratios, rows, motor = c.ratio(ks), c.gearbox(ks), c.motor[ks]
     for ratio in np.unique(ratios[ok]):
         sel = ok[ratios[ok] == ratio]
         effs = np.ones(len(sel)) if gb is None else np.where(rows[sel] >= 0,
@@ -284,6 +292,15 @@ def _closest(c: Candidates, pool: NDArray[np.intp]) -> int:
     """The candidate of ``pool`` with the largest worst margin (an unknown, NaN, margin counts as the lowest)."""
     w = c.worst_margin[pool]
     return int(pool[np.argmax(np.where(np.isnan(w), -np.inf, w))])
+
+
+def _closest_failing(c: Candidates, n: int) -> NDArray[np.intp]:
+    """The ``n`` failing candidates with the largest worst margins, best first: ties in index order, NaN
+    margins last (as a stable sort of every failing candidate, without sorting them all)."""
+    from drivetrain._select_kernel import closest_failing
+
+    return np.asarray(closest_failing(np.asarray(c.worst_margin, dtype=float),
+                                      np.asarray(c.failed, dtype=np.uint8), n), dtype=np.intp)
 
 
 def pareto_front(size: Array, margin: Array, ratio: Array) -> NDArray[np.intp]:
@@ -323,8 +340,8 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins) -> d
     ok = c.ok
     passing = np.flatnonzero(ok)
     passing = passing[np.argsort(_objective(c, passing, motors, gb, spec.objective, duty), kind="stable")]
-    failing = np.flatnonzero(~ok)
-    failing = failing[np.argsort(-c.worst_margin[failing], kind="stable")]
+    n_fail = max(spec.top - min(len(passing), spec.top), 3)
+    failing = _closest_failing(c, n_fail)
 
     def row(k: int, rank: int | None) -> dict[str, Any]:
         return candidate_dict(c, k, motors, gb, rank)
@@ -352,14 +369,14 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins) -> d
 
 
 def _label(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None) -> str:
-    g = int(c.gearbox[k])
+    g = int(c.gearbox(k))
     return str(motors.ids[c.motor[k]]) + ("" if g < 0 or gb is None else f" + {gb.ids[g]}")
 
 
 def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None,
                    rank: int | None) -> dict[str, Any]:
     """One candidate as in design.md: motor, gearbox, ratio, inertia ratio, ok, checks, why it failed."""
-    m, g = int(c.motor[k]), int(c.gearbox[k])
+    m, g = int(c.motor[k]), int(c.gearbox(k))
     d = c.details([k])
     checks = []
     for n in CHECK_UNITS:
@@ -380,7 +397,7 @@ def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable |
                   f"{d.available[n][0]:.4g} {CHECK_UNITS[n]})")
     return {
         "rank": rank, "motor": str(motors.ids[m]), "vendor": str(motors.vendor[m]),
-        "gearbox": None if g < 0 or gb is None else str(gb.ids[g]), "ratio": float(c.ratio[k]),
+        "gearbox": None if g < 0 or gb is None else str(gb.ids[g]), "ratio": float(c.ratio(k)),
         "inertia_ratio": float(d.inertia_ratio[0]), "rms_torque_Nm": float(d.rms_torque[0]),
         "peak_torque_Nm": float(d.peak_torque[0]), "rated_power_W": float(motors.rated_power[m]),
         "ok": not bad, "failed": failed, "approximate_envelope": bool(~motors.has_curve[m]),
@@ -391,12 +408,10 @@ def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable |
 def _next_smaller(c: Candidates, motors: MotorTable, gb: GearboxTable | None, best: int) -> dict[str, Any] | None:
     """The next smaller motor than the selected one, in its best configuration, and why it fails."""
     size = _size_key(motors)
-    chosen = size[c.motor[best]]
-    smaller = size[c.motor] < chosen
-    if not np.any(smaller):
+    smaller = np.flatnonzero(size < size[c.motor[best]])  # every motor has candidates
+    if not len(smaller):
         return None
-    top_small = np.max(size[c.motor][smaller])
-    k = _closest(c, np.flatnonzero(size[c.motor] == top_small))
+    k = _closest(c, c.of_motors(np.flatnonzero(size == np.max(size[smaller]))))
     return candidate_dict(c, k, motors, gb, None)
 
 
@@ -466,7 +481,7 @@ def explain(result_selection: dict[str, Any], model: str) -> str:
             hits = np.flatnonzero(ids == lowered[model.lower()])
         else:
             raise InputError("--explain", "is not among the evaluated motors (check the filters)", model)
-    rows = np.flatnonzero(np.isin(c.motor, hits))
+    rows = c.of_motors(hits)
     d = candidate_dict(c, _closest(c, rows), motors, gb, None)
     n_ok = int(np.sum(c.ok[rows]))
     lines = [f"{model}: {n_ok} of {len(rows)} configurations pass; best configuration: "
