@@ -35,7 +35,11 @@ lint: setup
 test: setup browser lint
 	$(PY) -m pytest -n 2 -p no:cacheprovider
 
+## wrk drives the web load benchmark (bench_web_load.py), leaving the cores to the server (skipped when present).
 bench: setup
+	@command -v wrk >/dev/null 2>&1 || \
+	  { if [ "$$(id -u)" = 0 ]; then apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq wrk >/dev/null; \
+	    else sudo apt-get update -qq && sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -qq wrk >/dev/null; fi; }
 	$(PY) bench/run_all.py
 
 clean:

@@ -1,5 +1,8 @@
 """``drivetrain serve``: the local web app on loopback (127.0.0.1 and a free port by default).
 
+``--workers N`` (N > 1) runs N uvicorn worker processes on the one socket bound here; each builds
+its app with ``app_from_env`` from the environment this process exports.
+
 Importing this module is cheap: FastAPI and uvicorn are imported when the command runs.
 """
 
@@ -13,6 +16,12 @@ import sys
 from pathlib import Path
 from typing import Any
 
+MAX_WORKERS = 32
+"""Most worker processes ``--workers`` accepts."""
+ENV_ANY_HOST = "DRIVETRAIN_SERVE_ANY_HOST"
+"""Set to "1" by ``serve --workers N`` on a non-loopback address: the workers answer any Host."""
+APP_FACTORY = "drivetrain.web.cli:app_from_env"
+
 
 def add_parser(subparsers: Any) -> None:
     """Register ``serve`` with the drivetrain CLI."""
@@ -23,6 +32,9 @@ def add_parser(subparsers: Any) -> None:
     p.add_argument("--data-dir", metavar="DIR",
                    help="folder for projects and the user catalog (default $DRIVETRAIN_DATA_DIR or "
                         "~/.local/share/drivetrain)")
+    p.add_argument("--workers", type=int, default=1, metavar="N",
+                   help=f"server processes sharing the socket (default 1; at most {MAX_WORKERS}): more requests "
+                        "computed at once on a machine with several cores")
     p.add_argument("--log-level", default="warning", choices=["critical", "error", "warning", "info", "debug"])
     p.set_defaults(handler=run)
 
@@ -66,8 +78,51 @@ def url_of(sock: socket.socket) -> str:
     return f"http://{shown}:{port}/"
 
 
+def app_from_env() -> Any:
+    """The app of one worker process of ``serve --workers N`` (uvicorn calls it: ``factory=True``).
+
+    The data folder comes from ``$DRIVETRAIN_DATA_DIR`` (or the default one) and the Host check from
+    ``$DRIVETRAIN_SERVE_ANY_HOST``, both exported by ``run`` before it starts the workers.
+    """
+    from drivetrain.web.app import LOOPBACK_HOSTS, create_app
+
+    _exit_with_parent()
+    any_host = os.environ.get(ENV_ANY_HOST) == "1"
+    return create_app(None, allowed_hosts=None if any_host else LOOPBACK_HOSTS)
+
+
+def _exit_with_parent() -> None:
+    """In a worker started by multiprocessing: stop (as on SIGTERM) when the supervisor dies.
+
+    The supervisor stops its workers when it is terminated; this covers SIGKILL or a crash, which
+    would otherwise leave orphans serving on the socket.
+    """
+    import multiprocessing
+    import multiprocessing.connection
+    import signal
+    import threading
+
+    parent = multiprocessing.parent_process()
+    if parent is None:
+        return
+    sentinel = parent.sentinel
+
+    def watch() -> None:
+        multiprocessing.connection.wait([sentinel])
+        os.kill(os.getpid(), signal.SIGTERM)
+
+    threading.Thread(target=watch, name="drivetrain-parent-watch", daemon=True).start()
+
+
 def run(args: argparse.Namespace) -> int:
     """Start the server; returns when it is stopped (Ctrl+C)."""
+    from drivetrain.errors import InputError
+
+    if not 1 <= args.workers <= MAX_WORKERS:
+        raise InputError("--workers", f"must be between 1 and {MAX_WORKERS}", args.workers)
+    if args.workers > 1:
+        return _run_workers(args)
+
     import uvicorn
 
     from drivetrain.web.app import LOOPBACK_HOSTS, create_app
@@ -92,3 +147,45 @@ def run(args: argparse.Namespace) -> int:
     finally:
         sock.close()
     return 0
+
+
+def _run_workers(args: argparse.Namespace) -> int:
+    """``serve --workers N``: uvicorn's supervisor runs N worker processes on the socket bound here.
+
+    Workers are spawned (not forked), so they get the app as an import string and their settings
+    through the environment; they share the data folder (SQLite in WAL mode is safe across processes).
+    """
+    import inspect
+
+    import uvicorn
+    from uvicorn.config import STARTUP_FAILURE
+    from uvicorn.supervisors import Multiprocess
+
+    from drivetrain.web.store import ENV_DATA_DIR, default_data_dir
+
+    data_dir = Path(args.data_dir).expanduser().resolve() if args.data_dir else None
+    if data_dir is not None:
+        os.environ[ENV_DATA_DIR] = str(data_dir)
+    loopback = is_loopback(args.host)
+    # Always set, so a value left in the user's environment cannot lift the loopback Host check.
+    os.environ[ENV_ANY_HOST] = "0" if loopback else "1"
+    sock = bind(args.host, args.port)
+    if not loopback:
+        print(f"warning: serving on {args.host}: anyone who can reach this address can use the app and its "
+              "projects", file=sys.stderr)
+    print(f"drivetrain web app on {url_of(sock)} (data in {data_dir or default_data_dir()}, {args.workers} worker "
+          "processes); Ctrl+C stops it", flush=True)
+    config = uvicorn.Config(APP_FACTORY, factory=True, workers=args.workers, log_level=args.log_level,
+                            access_log=args.log_level in ("info", "debug"), timeout_keep_alive=5,
+                            limit_concurrency=200, server_header=False)
+    # Older uvicorn versions take the worker's entry point as ``target``; newer ones make it themselves.
+    extra: dict[str, Any] = {}
+    if "target" in inspect.signature(Multiprocess).parameters:
+        extra["target"] = uvicorn.Server(config).run
+    supervisor = Multiprocess(config, sockets=[sock], **extra)
+    try:
+        supervisor.run()
+    finally:
+        sock.close()
+    failed = any(getattr(p, "exitcode", None) == STARTUP_FAILURE for p in supervisor.processes)
+    return 1 if failed else 0
