@@ -234,3 +234,26 @@ def test_closest_failing_equals_a_stable_sort_of_every_failure(worst: list, n: i
     failing = np.flatnonzero(~ok)
     want = failing[np.argsort(-w[failing], kind="stable")][:n]
     np.testing.assert_array_equal(_closest_failing(c, n), want)  # type: ignore[arg-type]
+
+
+def test_closed_form_optimal_ratio_is_the_minimum_of_the_sampled_rms() -> None:
+    """The closed-form ratio of least RMS torque against a dense scan of the RMS over the real cycle
+    (rotor included, lossless gearbox): no scanned ratio does better (relative 1e-9)."""
+    from drivetrain.duty import duty_cycle
+    from drivetrain.selection import optimal_ratio
+
+    axis = load_axis(EXAMPLES / "hoist.yaml")
+    duty = duty_cycle(axis, 17)
+    motors = catalog.motors()
+    m = int(np.nanargmin(np.where(np.isfinite(motors.max_speed), np.abs(motors.rotor_inertia - 1e-4), np.nan)))
+    opt = optimal_ratio(axis, duty, motors, m, None)
+    j = float(motors.rotor_inertia[m])
+
+    def rms(i: float) -> float:
+        return float(np.sqrt(np.sum(duty.weights * (duty.torque / i + j * duty.alpha * i) ** 2) / duty.period))
+
+    best = opt["min_rms_ratio"]
+    assert 0.01 <= best <= max(opt["max_ratio_for_speed"], 1.0)
+    assert rms(best) == pytest.approx(opt["min_rms_torque_Nm"], rel=1e-12)
+    scan = np.geomspace(0.01, max(opt["max_ratio_for_speed"], 1.0), 4000)
+    assert rms(best) <= min(rms(float(i)) for i in scan) * (1 + 1e-9)

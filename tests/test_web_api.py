@@ -9,6 +9,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 import yaml
 
@@ -91,6 +92,25 @@ def test_size_example_matches_the_engine(client: TestClient) -> None:
         assert body["selected"]["motor"] == selected
         assert body["envelopes"] and body["envelopes"][0]["name"] == selected
         assert "torque_motor_Nm" in body["selected"]["series"]
+
+
+@pytest.mark.parametrize("name", ["ball_screw", "roll", "custom"])  # direct drive; two selections with a gearbox
+def test_selected_cycle_is_the_cycle_of_the_candidate_sized_again(client: TestClient, name: str) -> None:
+    """The selected candidate's cycle on /api/size (the axis's cycle behind its gearbox, from the
+    selection) is the cycle of the axis sized again with that motor and gearbox given (relative 1e-9)."""
+    axis = parse_yaml((EXAMPLE.parent / f"{name}.yaml").read_text(encoding="utf-8"))
+    r = client.post("/api/size", json=axis)
+    assert r.status_code == 200, r.text
+    sel = r.json()["selected"]
+    assert sel is not None and (sel["gearbox"] is not None) == (name != "ball_screw")
+    params = {"motor": sel["motor"], **({"gearbox": sel["gearbox"]} if sel["gearbox"] else {})}
+    again = client.post("/api/size/candidate", params=params, json=axis)
+    assert again.status_code == 200, again.text
+    for key in ("t_s", "omega_motor_rad_s", "torque_motor_Nm"):
+        np.testing.assert_allclose(sel["series"][key], again.json()["series"][key], rtol=1e-9, atol=1e-12)
+    assert sel["motor_result"]["rms_torque_Nm"] == pytest.approx(again.json()["motor_result"]["rms_torque_Nm"],
+                                                                 rel=1e-9)
+    assert sel["envelope"] == again.json()["envelope"]
 
 
 def test_bad_mass_answers_422_naming_the_field(client: TestClient) -> None:

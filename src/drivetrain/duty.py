@@ -22,11 +22,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from drivetrain.mechanisms.base import LinearLoad
-from drivetrain.stage import torque_in
+from drivetrain.stage import Stage, chain_inertia, torque_in
 from drivetrain.units import to_rpm
 
 if TYPE_CHECKING:
     from drivetrain.axis import Axis
+    from drivetrain.efficiency import EfficiencyModel
     from drivetrain.profiles import Cycle, Samples
 
 Array = NDArray[np.float64]
@@ -73,6 +74,25 @@ class DutyCycle:
         j = np.asarray(rotor_inertia, dtype=float)
         t = self.torque + j[..., None] * self.alpha if j.ndim else self.torque + float(j) * self.alpha
         return np.where(self.braked, 0.0, t)
+
+    def behind(self, stage: Stage, model: EfficiencyModel) -> DutyCycle:
+        """The cycle one stage nearer the motor: what a motor sees through ``stage`` added at its shaft.
+
+        The same stage-by-stage propagation as :func:`duty_from_samples` (four-quadrant rule,
+        stage.torque_in), applied to this cycle's motor-shaft torque; the stage's inertia joins the
+        load inertia (lecture: J_total = J_m + J_L / N^2). This is how the catalog selection puts a
+        gearbox in front of the axis, so a selected candidate's cycle is this one behind its gearbox.
+        """
+        i = stage.ratio
+        omega, alpha = self.omega * i, self.alpha * i
+        direction = np.asarray(self.samples.direction, dtype=float)
+        t_in, ext_in = torque_in(stage, self.torque, self.external, omega, alpha, direction, model)
+        return DutyCycle(
+            samples=self.samples, cycle=self.cycle, omega=omega, alpha=alpha,
+            torque=np.where(self.braked, 0.0, t_in), external=np.where(self.braked, 0.0, ext_in), braked=self.braked,
+            stage_torque=(self.torque, *self.stage_torque), stage_omega=(self.omega, *self.stage_omega),
+            load_inertia=chain_inertia([stage], self.load_inertia), period=self.period,
+        )
 
 
 def duty_cycle(axis: Axis, points_per_phase: int = 64) -> DutyCycle:

@@ -219,10 +219,11 @@ _ALL: tuple[Formula, ...] = (
       "reflected load inertia; compared with the gearbox's max (emergency-stop) torque",
       "lecture, Dynamic Loading and Gearbox Sizing", "drivetrain.duty.gearbox_peak_torque", "lecture, gearbox sizing"),
     F("min_rms_ratio", "Ratio of least RMS torque",
-      ("i_{opt} = argmin_i T_{rms}(i),   T_M(i) = Q(T / i) + J_M α i",),
-      "the four-quadrant reflection through an ideal gearbox of ratio i, minimised by a bounded scalar search",
-      "drivetrain selection (numerical optimum of the lecture's RMS torque)", "drivetrain.selection.optimal_ratio",
-      "minimises the RMS motor torque"),
+      ("T_M(i) = T / i + J_M α i,   i_{opt}^4 = Σ T² Δt / (J_M² Σ α² Δt)",),
+      "T, α load torque and acceleration at the gearbox output, through an ideal gearbox of ratio i; the mean "
+      "square torque is convex in i², least where its derivative vanishes; clamped to the motor's speed",
+      "drivetrain selection (closed-form optimum of the lecture's RMS torque)", "drivetrain.selection.optimal_ratio",
+      "the ratio minimising RMS torque"),
     F("guide", "Moments on a linear guide carriage",
       ("M_p = F_x (l_z + d_p),   M_r = F_z l_y,   M_y = F_x l_y",),
       "F_x force along the travel (inertial and process), F_z weight, l offsets of the load's centre of mass, "

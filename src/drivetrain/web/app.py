@@ -190,7 +190,9 @@ class CandidateOut(BaseModel):
     gearbox: str | None
     ratio: float
     series: dict[str, list[float | None]] = Field(description="t_s, omega_motor_rad_s, torque_motor_Nm")
-    motor_result: dict[str, Any] = Field(description="the `motor` block of the JSON result for this candidate")
+    motor_result: dict[str, Any] = Field(description="/api/size/candidate: the `motor` block of the JSON result "
+                                         "for this candidate; /api/size (the selected one): the selection's figures "
+                                         "for it (RMS and peak torque, inertia ratio, checks)")
     envelope: EnvelopeOut
 
 
@@ -489,11 +491,24 @@ def candidate_payload(axis: dict[str, Any], motor_id: str, gearbox_id: str | Non
         raise
     result = engine(size, parsed, WEB_POINTS_PER_PHASE)
     cols = result.series()
-    series = {k: plain(np.asarray(cols[k], dtype=float)) for k in ("t_s", "omega_motor_rad_s", "torque_motor_Nm")
+    series = {k: np.asarray(cols[k], dtype=float) for k in ("t_s", "omega_motor_rad_s", "torque_motor_Nm")
               if k in cols}
     return {"motor": motor_id, "gearbox": gearbox_id, "ratio": float(parsed.transmission[0].ratio) if gearbox_id
-            else 1.0, "series": series, "motor_result": plain(result.motor or {}),
+            else 1.0, "series": series, "motor_result": result.motor or {},
             "envelope": motor_envelope(motor_id)}
+
+
+def selected_payload(parsed: Any, result: Any) -> dict[str, Any]:
+    """The selected candidate of a sizing: its own cycle (the axis's cycle behind its gearbox, as the
+    selection checked it), the selection's figures for it and its envelope."""
+    from drivetrain.selection import candidate_cycle
+
+    best = result.selection["selected"]
+    cycle, rotor = candidate_cycle(parsed, result.duty, result.selection)
+    series = {"t_s": cycle.t, "omega_motor_rad_s": cycle.omega, "torque_motor_Nm": cycle.motor_torque(rotor)}
+    figures = {k: best[k] for k in ("rms_torque_Nm", "peak_torque_Nm", "inertia_ratio", "checks")}
+    return {"motor": best["motor"], "gearbox": best["gearbox"], "ratio": best["ratio"], "series": series,
+            "motor_result": figures, "envelope": motor_envelope(str(best["motor"]))}
 
 
 def size_payload(axis: dict[str, Any]) -> dict[str, Any]:
@@ -505,7 +520,7 @@ def size_payload(axis: dict[str, Any]) -> dict[str, Any]:
     parsed = engine(parse_axis, axis)
     result = engine(size, parsed, WEB_POINTS_PER_PHASE)
     notes: list[str] = []
-    series = {k: plain(np.asarray(v, dtype=float)) for k, v in result.series().items()}
+    series = {k: np.asarray(v, dtype=float) for k, v in result.series().items()}
     envelopes: list[dict[str, Any]] = []
     motor = parsed.motor
     if motor is not None:
@@ -514,22 +529,28 @@ def size_payload(axis: dict[str, Any]) -> dict[str, Any]:
     selected = None
     if result.candidates:
         envelopes.extend(_candidate_envelopes(result.candidates, notes))
-        best = next((c for c in result.candidates if c.get("ok")), None)
-        if best is not None:
-            try:
-                selected = candidate_payload(axis, str(best["motor"]), best.get("gearbox"))
-            except (InputError, ApiError) as exc:
-                notes.append(f"the selected candidate's own cycle could not be computed: {exc}")
-    return {"result": plain(result.to_dict()), "motion": parsed.mechanism.motion, "series": series,
+        if result.selection is not None and "_best" in result.selection:
+            selected = selected_payload(parsed, result)
+    return {"result": result.to_dict(), "motion": parsed.mechanism.motion, "series": series,
             "envelopes": envelopes, "selected": selected, "notes": notes,
             "elapsed_ms": (time.perf_counter() - t0) * 1e3}
 
 
 def encode(payload: dict[str, Any]) -> bytes:
-    """Compact JSON of a payload made by ``plain`` (no NaN or infinity left)."""
-    import json
+    """Compact JSON of a sizing payload: numpy arrays and scalars as numbers, NaN and infinity as null.
 
-    return json.dumps(payload, separators=(",", ":"), allow_nan=False).encode()
+    orjson writes numpy arrays natively (no Python call per number), which is most of a payload.
+    """
+    import orjson
+
+    return orjson.dumps(payload, default=_json_default, option=orjson.OPT_SERIALIZE_NUMPY | orjson.OPT_NON_STR_KEYS)
+
+
+def _json_default(obj: Any) -> Any:
+    """What orjson does not write itself: strided numpy arrays and other numpy values; anything else as text."""
+    if isinstance(obj, (np.ndarray, np.generic)):
+        return obj.tolist()
+    return str(obj)
 
 
 class ResultCache:
