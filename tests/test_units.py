@@ -3,6 +3,8 @@
 import math
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from drivetrain.errors import InputError
 from drivetrain.units import convert, parse, to_rpm
@@ -59,3 +61,18 @@ def test_bad_values_are_input_errors(bad: object) -> None:
 def test_torque_and_energy_are_named_apart() -> None:
     assert parse("2 J", "energy", "e") == 2.0
     assert parse("2 N*m", "torque", "t") == 2.0
+
+
+@given(st.floats(-1e6, 1e6, allow_nan=False), st.sampled_from([
+    ("kg", "mass"), ("g", "mass"), ("lb", "mass"), ("mm", "length"), ("m/s", "speed"), ("mm/s^2", "acceleration"),
+    ("kg*m^2", "inertia"), ("oz*in*s^2", "inertia"), ("N*m", "torque"), ("lbf*in", "torque"), ("rpm", "angular_speed"),
+    ("1/min", "angular_speed"), ("deg/s", "angular_speed"), ("N/mm", "linear_stiffness"), ("N m/arcmin",
+                                                                                       "torsional_stiffness")]))
+@settings(max_examples=300, deadline=None)
+def test_number_times_remembered_unit_equals_the_full_parse(number: float, unit_quantity: tuple[str, str]) -> None:
+    """The fast path for "<number> <unit>" (the unit's SI factor remembered) gives pint's own answer."""
+    from drivetrain.units import _parse_cached, _parse_string
+
+    unit, quantity = unit_quantity
+    text = f"{number!r} {unit}"
+    assert _parse_cached(text, quantity) == pytest.approx(_parse_string(text, quantity, "f"), rel=1e-12, abs=1e-300)

@@ -118,16 +118,24 @@ class Candidates:
                        rms_torque=out[D_RMS], peak_torque=out[D_PEAK], inertia_ratio=out[D_INERTIA])
 
 
-def _gearbox_options(gb: GearboxTable | None, allow_direct: bool) -> list[tuple[float, float, list[int]]]:
-    """Distinct (ratio, efficiency) groups with the gearbox rows in each; (1, 1, [-1]) is direct drive."""
-    groups: dict[tuple[float, float], list[int]] = {}
-    if allow_direct:
-        groups[(1.0, 1.0)] = [-1]
-    if gb is not None:
-        eff = np.where(np.isnan(gb.efficiency), 1.0, gb.efficiency)
-        for k in range(len(gb)):
-            groups.setdefault((float(gb.ratio[k]), float(eff[k])), []).append(k)
-    return [(i, e, rows) for (i, e), rows in groups.items()]
+def _gearbox_options(gb: GearboxTable | None, allow_direct: bool) -> tuple[Array, Array, NDArray[np.int64],
+                                                                          NDArray[np.int64]]:
+    """Distinct (ratio, efficiency) groups, in order of first appearance, direct drive (1, 1) first:
+    their ratios, efficiencies, and the gearbox rows of group g, ``rows[row_start[g]:row_start[g + 1]]``
+    in table order (-1 is direct drive; a catalog row of ratio 1 and efficiency 1 joins it)."""
+    ratio = np.array([1.0] if allow_direct else [])
+    eff = np.array([1.0] if allow_direct else [])
+    rows = np.array([-1] if allow_direct else [], dtype=np.int64)
+    if gb is not None and len(gb):
+        ratio = np.concatenate([ratio, np.asarray(gb.ratio, dtype=float)])
+        eff = np.concatenate([eff, np.where(np.isnan(gb.efficiency), 1.0, gb.efficiency)])
+        rows = np.concatenate([rows, np.arange(len(gb), dtype=np.int64)])
+    _, first, inverse = np.unique(np.stack([ratio, eff], axis=1), axis=0, return_index=True, return_inverse=True)
+    by_appearance = np.argsort(first)
+    group = np.argsort(by_appearance)[inverse.ravel()]  # group number of each row, by first appearance
+    order = np.argsort(group, kind="stable")
+    row_start = np.concatenate([[0], np.cumsum(np.bincount(group))]).astype(np.int64)
+    return ratio[first[by_appearance]], eff[first[by_appearance]], rows[order], row_start
 
 
 def _padded(arrays: list[Array], shape: tuple[int, ...]) -> Array:
@@ -159,18 +167,16 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     direction = np.asarray(duty.samples.direction, dtype=float)
     out_cubic = cubic_mean(t0, w0, duty.weights)
     run_t = float(np.median(np.abs(duty.external))) if duty.external.size else 0.0
-    groups = _gearbox_options(gb, allow_direct)
+    ratio, eff_g, rows, row_start = _gearbox_options(gb, allow_direct)
     base: dict[float, Demand] = {}
-    for _, eff, _ in groups:
+    for eff in eff_g.tolist():
         if eff not in base:
             # Losses applied at ratio 1; every ratio of the same efficiency is a scaling of it.
             stage = Stage("gearbox", "gearbox", ratio=1.0, efficiency=eff, back_efficiency=eff)
             t_in, _ = torque_in(stage, t0, e0, w0, a0, direction, axis.efficiency_model)
             base[eff] = demand(w0, a0, t_in, duty.weights, duty.period, duty.load_inertia)
-    ratio = np.array([i for i, _, _ in groups])
-    eff_g = np.array([e for _, e, _ in groups])
     demands = list(base.values())
-    e_of = np.array([list(base).index(e) for _, e, _ in groups])  # each group's efficiency
+    e_of = np.array([list(base).index(e) for e in eff_g.tolist()])  # each group's efficiency
     n_bins = max(d.hull_torque.shape[0] for d in demands)
     n_v = max(d.hull_torque.shape[1] for d in demands)
     n_all = max(d.all_torque.shape[0] for d in demands)
@@ -193,7 +199,7 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     g_j_load = duty.load_inertia / ratio**2
     # Envelopes: intermittent at each group's top bin, continuous at its mean speed (every motor),
     # intermittent at every bin for the motors that reach the top bin.
-    n_m, n_g = len(motors), len(groups)
+    n_m, n_g = len(motors), len(ratio)
     rated, peak, w_n, w_max, stall = (motors.rated_torque, motors.peak_torque, motors.rated_speed, motors.max_speed,
                                       motors.stall_torque)
     curves = tuple(motors.curves) if any(c is not None for c in motors.curves) else None
@@ -211,8 +217,6 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
         env_full = motor_envelopes(rated[m_of], peak[m_of], w_n[m_of], w_max[m_of], hull_speed[g_of], stall[m_of],
                                    None if curves is None else [curves[m] for m in m_of])[1].torque
     # Gearbox rows, gaps filled as the checks read them.
-    rows = np.array([r for _, _, rs in groups for r in rs], dtype=np.int64)
-    row_start = np.cumsum([0] + [len(rs) for _, _, rs in groups]).astype(np.int64)
     if gb is not None and len(gb):
         gb_j = np.nan_to_num(gb.inertia_input, nan=0.0)
         gb_speed = np.where(np.isnan(gb.max_input_speed), math.inf, gb.max_input_speed)

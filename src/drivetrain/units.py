@@ -115,10 +115,33 @@ def _describe(quantity: str) -> str:
     return f"{quantity.replace('_', ' ')} ({si or 'dimensionless'})"
 
 
+_NUMBER_UNIT = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.+?)\s*")
+_SIMPLE_UNIT = re.compile(r"[A-Za-zµΩ°_]+(?:\^-?\d+)?(?:\s*[*/]?\s*[A-Za-zµΩ°_]+(?:\^-?\d+)?)*")
+
+
 @lru_cache(maxsize=4096)
 def _parse_cached(text: str, quantity: str) -> float:
-    """``_parse_string`` remembered: an axis re-sized again and again repeats the same strings."""
+    """``_parse_string`` remembered: an axis re-sized again and again repeats the same strings.
+
+    "<number> <unit>" with a plain product of units is the number times the unit's SI factor, the
+    factor remembered per unit: an engineer editing a value changes the number, not the unit.
+    """
+    m = _NUMBER_UNIT.fullmatch(text)
+    if m is not None and _SIMPLE_UNIT.fullmatch(m.group(2)):
+        try:
+            scale, offset = _unit_factor(m.group(2), quantity)
+        except InputError:
+            pass  # let the whole text be parsed, for the whole text's message
+        else:
+            if offset == 0.0:  # not an offset unit such as degC
+                return float(m.group(1)) * scale
     return _parse_string(text, quantity, "")
+
+
+@lru_cache(maxsize=512)
+def _unit_factor(unit: str, quantity: str) -> tuple[float, float]:
+    """SI value of one and of zero ``unit`` [SI per unit]."""
+    return _parse_string(f"1 {unit}", quantity, ""), _parse_string(f"0 {unit}", quantity, "")
 
 
 def _parse_string(text: str, quantity: str, field: str) -> float:
