@@ -40,7 +40,8 @@ from numpy.typing import NDArray
 PEAK, RMS, SPEED, INERTIA, GB_RATED, GB_PEAK = range(6)
 N_CHECKS = 6
 
-_OPTIONS: dict[str, Any] = {"cache": True, "error_model": "numpy", "nogil": True, "no_cfunc_wrapper": True}
+_OPTIONS: dict[str, Any] = {"cache": True, "error_model": "numpy", "nogil": True, "no_cfunc_wrapper": True,
+                            "fastmath": {"contract", "afn", "nsz"}}
 
 _RPM = 60.0 / (2.0 * np.pi)
 
@@ -75,113 +76,141 @@ def check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np
     (gaps already filled). ``par``: period [s], torque, RMS and speed margins, inertia-ratio
     limit, cubic-mean output torque [N m], running load torque [N m].
 
-    The loop body is written once, on local scalars: no per-candidate stores but the results, no
-    helper calls (which would count references to every array they are passed).
+    Work runs per (group, motor) pair over the pair's gearbox rows, each quantity in its own short
+    loop over the rows (which the compiler turns into vector instructions); a listed candidate is a
+    pair of one row. One code path serves both modes, and no helper is called (a call would count
+    references to every array it is passed).
     """
     (j_rotor, t_peak, w_max, env_top, cont_mean, full_row, env_full, g_ratio, g_eff, hull_speed, hull_t, hull_a,
      all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_speed, gb_rated, gb_cap, par) = model
     period, tm, rm, sm, limit, out_cubic, run_t = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
     n_motors, n_bins, n_v, n_all = j_rotor.shape[0], hull_speed.shape[1], hull_t.shape[2], all_t.shape[1]
+    top = n_bins - 1
     listed = pick.shape[1] > 0
-    n = pick.shape[1] if listed else n_motors * (row_start[-1] - row_start[0])
-    g, m, q = 0, 0, row_start[0]
-    for k in range(n):
+    n_pairs = pick.shape[1] if listed else (row_start.shape[0] - 1) * n_motors
+    width = 1 if listed else int(np.max(np.diff(row_start)))
+    # per row of the current group (gaps of direct drive filled), and per row of the current pair
+    r_direct = np.empty(width, dtype=np.bool_)
+    r_j, r_speed, r_rated, r_cap = np.empty(width), np.empty(width), np.empty(width), np.empty(width)
+    r_mar_speed, r_mar_rated = np.empty(width), np.empty(width)  # the margins that depend on the row alone
+    j, peak_all, s = np.empty(width), np.empty(width), np.empty(width)
+    req_p, av_p, mar_p = np.empty(width), np.empty(width), np.empty(width)
+    k = 0
+    g_loaded = -1
+    for pair in range(n_pairs):
         if listed:
-            m, g, q = pick[0, k], pick[1, k], pick[2, k]
+            m, g, q0, q1 = pick[0, pair], pick[1, pair], pick[2, pair], pick[2, pair] + 1
         else:
-            # advance the grid: rows fastest, then motors, then groups
-            while q >= row_start[g + 1]:
-                m += 1
-                q = row_start[g]
-                if m == n_motors:
-                    m, g = 0, g + 1
-                    q = row_start[g]
-        r = rows[q]
-        direct = r < 0
+            g, m = pair // n_motors, pair % n_motors
+            q0, q1 = row_start[g], row_start[g + 1]
+        n = q1 - q0
+        if listed or g != g_loaded:
+            for q in range(n):
+                r = rows[q0 + q]
+                r_direct[q] = r < 0
+                r_j[q] = 0.0 if r < 0 else gb_j[r]
+                r_speed[q] = math.inf if r < 0 else gb_speed[r]
+                r_rated[q] = math.inf if r < 0 else gb_rated[r]
+                r_cap[q] = math.inf if r < 0 else gb_cap[r]
+                req_s = g_speed[g, 0] * sm
+                r_mar_speed[q] = r_speed[q] / req_s - 1.0 if req_s > 0.0 else math.inf
+                r_mar_rated[q] = math.inf if r < 0 else r_rated[q] / max(out_cubic * tm, 1e-300) - 1.0
+            g_loaded = g
         i = g_ratio[g]
         j_m = j_rotor[m]
-        j_g = 0.0 if direct else gb_j[r]
-        j = j_m + j_g
+        for q in range(n):
+            j[q] = j_m + r_j[q]
         # peak motor torque over the cycle: the support function of the cycle's hull
-        peak_all = abs(all_t[g, 0] + j * all_a[g, 0])
+        for q in range(n):
+            peak_all[q] = abs(all_t[g, 0] + j[q] * all_a[g, 0])
         for v in range(1, n_all):
-            peak_all = max(peak_all, abs(all_t[g, v] + j * all_a[g, v]))
+            for q in range(n):
+                peak_all[q] = max(peak_all[q], abs(all_t[g, v] + j[q] * all_a[g, v]))
         # peak torque against the intermittent envelope
-        top = n_bins - 1
         if w_max[m] < hull_speed[g, top]:
             # slower than the cycle's top speed: judged at the top bin (no torque there)
-            s = abs(hull_t[g, top, 0] + j * hull_a[g, top, 0])
+            for q in range(n):
+                s[q] = abs(hull_t[g, top, 0] + j[q] * hull_a[g, top, 0])
             for v in range(1, n_v):
-                s = max(s, abs(hull_t[g, top, v] + j * hull_a[g, top, v]))
-            req_p, av_p = s * tm, env_top[m, g]
-            mar_p = av_p / req_p - 1.0 if req_p > 0.0 else math.inf
+                for q in range(n):
+                    s[q] = max(s[q], abs(hull_t[g, top, v] + j[q] * hull_a[g, top, v]))
+            e_top = env_top[m, g]
+            for q in range(n):
+                req_p[q], av_p[q] = s[q] * tm, e_top
+                mar_p[q] = e_top / req_p[q] - 1.0 if req_p[q] > 0.0 else math.inf
         else:
             # Worst bin, the first on ties and a NaN margin the worst (numpy's argmin over the
             # bins). From the top speed down (where the envelope is usually lowest) with "<=", so
             # the lowest index wins a tie; a bin is skipped when even the whole cycle's peak
             # torque there could not lower the margin (a bound: env_b / (peak tm) - 1 > margin).
             row = full_row[g, m]
-            bound = peak_all * tm * (1.0 + 1e-12)
-            req_p, av_p, mar_p = 0.0, 0.0, math.inf
-            for b in range(top, -1, -1):
-                eb = env_full[row, b]
-                if math.isnan(mar_p):
-                    if not math.isnan(eb):
-                        continue  # only a NaN margin at a lower bin can replace a NaN one
-                elif b != top and eb > (mar_p + 1.0) * bound:
-                    continue
-                s = abs(hull_t[g, b, 0] + j * hull_a[g, b, 0])
-                for v in range(1, n_v):
-                    s = max(s, abs(hull_t[g, b, v] + j * hull_a[g, b, v]))
-                rb = s * tm
-                mb = eb / rb - 1.0 if rb > 0.0 else math.inf
-                if b == top or mb <= mar_p or math.isnan(mb):
-                    req_p, av_p, mar_p = rb, eb, mb
-        # RMS torque, closed form in J, against the continuous torque at the mean speed
-        rms = math.sqrt(max(sums[g, 0] + 2.0 * j * sums[g, 1] + j * j * sums[g, 2], 0.0) / period)
-        req_r, av_r = rms * rm, cont_mean[m, g]
-        mar_r = av_r / req_r - 1.0 if req_r > 0.0 else math.inf
-        # max speed against the motor's and the gearbox's (a NaN limit propagates, as numpy.minimum)
+            for q in range(n):
+                bound = peak_all[q] * tm * (1.0 + 1e-12)
+                rq, aq, mq = 0.0, 0.0, math.inf
+                for b in range(top, -1, -1):
+                    eb = env_full[row, b]
+                    if math.isnan(mq):
+                        if not math.isnan(eb):
+                            continue  # only a NaN margin at a lower bin can replace a NaN one
+                    elif b != top and eb > (mq + 1.0) * bound:
+                        continue
+                    sb = abs(hull_t[g, b, 0] + j[q] * hull_a[g, b, 0])
+                    for v in range(1, n_v):
+                        sb = max(sb, abs(hull_t[g, b, v] + j[q] * hull_a[g, b, v]))
+                    rb = sb * tm
+                    mb = eb / rb - 1.0 if rb > 0.0 else math.inf
+                    if b == top or mb <= mq or math.isnan(mb):
+                        rq, aq, mq = rb, eb, mb
+                req_p[q], av_p[q], mar_p[q] = rq, aq, mq
+        # the other checks, each a closed form in J
+        s_tt, s_ta, s_aa = sums[g, 0], sums[g, 1], sums[g, 2]
+        cont, w_m, j_l, t_pk = cont_mean[m, g], w_max[m], g_j_load[g], t_peak[m]
         req_s = g_speed[g, 0] * sm
-        av_s = w_max[m]
-        if not direct and (gb_speed[r] < av_s or math.isnan(gb_speed[r])):
-            av_s = gb_speed[r]
-        mar_s = av_s / req_s - 1.0 if req_s > 0.0 else math.inf
-        # inertia ratio, the gearbox's input inertia on the load side
-        ir = (g_j_load[g] + j_g) / j_m
-        mar_i = limit / ir - 1.0 if ir > 0.0 else math.inf
-        # gearbox: rated output torque against the cubic mean; what passes at the motor's peak
+        mar_motor_speed = w_m / req_s - 1.0 if req_s > 0.0 else math.inf
         req_gr = out_cubic * tm
-        if direct:
-            av_gr, mar_gr, req_gp, av_gp, mar_gp = math.inf, math.inf, 0.0, math.inf, math.inf
-        else:
-            av_gr = gb_rated[r]
-            mar_gr = av_gr / max(req_gr, 1e-300) - 1.0
-            t_l = run_t / i
-            split = j / (j + g_j_load[g])
-            req_gp = ((1.0 - split) * (t_peak[m] - t_l) + t_l) * i * g_eff[g]
-            av_gp = gb_cap[r]
-            mar_gp = av_gp / max(req_gp, 1e-300) - 1.0
-        if listed:
-            detail[PEAK, k], detail[RMS, k], detail[SPEED, k] = req_p, req_r, req_s * _RPM
-            detail[INERTIA, k], detail[GB_RATED, k], detail[GB_PEAK, k] = ir, req_gr, req_gp
-            a = N_CHECKS
-            detail[a + PEAK, k], detail[a + RMS, k], detail[a + SPEED, k] = av_p, av_r, av_s * _RPM
-            detail[a + INERTIA, k], detail[a + GB_RATED, k], detail[a + GB_PEAK, k] = limit, av_gr, av_gp
-            a = 2 * N_CHECKS
-            detail[a + PEAK, k], detail[a + RMS, k], detail[a + SPEED, k] = mar_p, mar_r, mar_s
-            detail[a + INERTIA, k], detail[a + GB_RATED, k], detail[a + GB_PEAK, k] = mar_i, mar_gr, mar_gp
-            detail[D_RMS, k], detail[D_PEAK, k], detail[D_INERTIA, k] = rms, peak_all, ir
-        else:
-            w = mar_p
-            bits = 0
-            for c, mc in enumerate((mar_p, mar_r, mar_s, mar_i, mar_gr, mar_gp)):
-                if not mc >= 0.0:
-                    bits |= 1 << c
-                if mc < w or math.isnan(mc):
-                    w = mc
-            motor[k], slot[k], worst[k], failed[k] = m, q, w, bits
-            q += 1
+        t_l = run_t / i
+        for q in range(n):
+            jq = j[q]
+            # RMS torque against the continuous torque at the mean speed
+            rms = math.sqrt(max(s_tt + 2.0 * jq * s_ta + jq * jq * s_aa, 0.0) / period)
+            req_r = rms * rm
+            mar_r = cont / req_r - 1.0 if req_r > 0.0 else math.inf
+            # max speed against the motor's and the gearbox's (a NaN limit propagates, as numpy.minimum)
+            lim = r_speed[q]
+            by_row = lim < w_m or math.isnan(lim)
+            av_s = lim if by_row else w_m
+            mar_s = r_mar_speed[q] if by_row else mar_motor_speed
+            # inertia ratio, the gearbox's input inertia on the load side
+            ir = (j_l + r_j[q]) / j_m
+            mar_i = limit / ir - 1.0 if ir > 0.0 else math.inf
+            # gearbox: rated output torque against the cubic mean; what passes at the motor's peak
+            direct = r_direct[q]
+            mar_gr = r_mar_rated[q]
+            req_gp = 0.0 if direct else ((1.0 - jq / (jq + j_l)) * (t_pk - t_l) + t_l) * i * g_eff[g]
+            mar_gp = math.inf if direct else r_cap[q] / max(req_gp, 1e-300) - 1.0
+            if listed:
+                detail[PEAK, k], detail[RMS, k], detail[SPEED, k] = req_p[q], req_r, req_s * _RPM
+                detail[INERTIA, k], detail[GB_RATED, k], detail[GB_PEAK, k] = ir, req_gr, req_gp
+                a = N_CHECKS
+                detail[a + PEAK, k], detail[a + RMS, k], detail[a + SPEED, k] = av_p[q], cont, av_s * _RPM
+                detail[a + INERTIA, k], detail[a + GB_RATED, k], detail[a + GB_PEAK, k] = limit, r_rated[q], r_cap[q]
+                a = 2 * N_CHECKS
+                detail[a + PEAK, k], detail[a + RMS, k], detail[a + SPEED, k] = mar_p[q], mar_r, mar_s
+                detail[a + INERTIA, k], detail[a + GB_RATED, k], detail[a + GB_PEAK, k] = mar_i, mar_gr, mar_gp
+                detail[D_RMS, k], detail[D_PEAK, k], detail[D_INERTIA, k] = rms, peak_all[q], ir
+            else:
+                # worst margin (NaN if any is NaN) and the bits of the checks that do not pass
+                mp = mar_p[q]
+                w = mp
+                w = mar_r if (mar_r < w or math.isnan(mar_r)) else w
+                w = mar_s if (mar_s < w or math.isnan(mar_s)) else w
+                w = mar_i if (mar_i < w or math.isnan(mar_i)) else w
+                w = mar_gr if (mar_gr < w or math.isnan(mar_gr)) else w
+                w = mar_gp if (mar_gp < w or math.isnan(mar_gp)) else w
+                bits = ((not mp >= 0.0) * 1 | (not mar_r >= 0.0) * 2 | (not mar_s >= 0.0) * 4
+                        | (not mar_i >= 0.0) * 8 | (not mar_gr >= 0.0) * 16 | (not mar_gp >= 0.0) * 32)
+                motor[k], slot[k], worst[k], failed[k] = m, q0 + q, w, bits
+            k += 1
 
 
 @njit(**_OPTIONS)
