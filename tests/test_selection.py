@@ -134,15 +134,19 @@ def test_datasheet_curve_replaces_the_derived_envelope() -> None:
     assert not measured.checks(0)[0].approximate and derived.checks(0)[0].approximate
 
 
-@pytest.mark.parametrize("axis_file", [EXAMPLES / "ball_screw.yaml", EXAMPLES / "lead_screw.yaml",
-                                       Path(__file__).parent / "axes" / "lecture_two_inertias.yaml"])
-def test_compiled_selection_matches_the_reference_checks(axis_file: Path) -> None:
+@pytest.mark.parametrize(("axis_file", "curves"), [
+    (EXAMPLES / "ball_screw.yaml", False), (EXAMPLES / "lead_screw.yaml", False),
+    (Path(__file__).parent / "axes" / "lecture_two_inertias.yaml", False), (EXAMPLES / "ball_screw.yaml", True)])
+def test_compiled_selection_matches_the_reference_checks(axis_file: Path, curves: bool) -> None:
     """Every candidate of the whole shipped catalog: the compiled pass equals fit_motors (numpy) per
     gearbox group, the gearbox checks equal the lecture formulas, and each candidate's worst margin
     and failure bits agree with its checks (relative tolerance 1e-9: the same operations in another
-    order)."""
+    order). With ``curves``, every third motor gets speed-torque curve points (the datasheet path)."""
+    import dataclasses
+
     from drivetrain.axis import Margins
     from drivetrain.duty import cubic_mean, duty_cycle
+    from drivetrain.envelope import Curve
     from drivetrain.motor_fit import MotorArrays, demand, fit_motors, scaled
     from drivetrain.selection import CHECK_UNITS, evaluate
 
@@ -150,6 +154,11 @@ def test_compiled_selection_matches_the_reference_checks(axis_file: Path) -> Non
     duty = duty_cycle(axis, 17)
     margins = axis.spec.motor.margins if axis.spec.motor else Margins()
     motors, gb = catalog.motors(), catalog.gearboxes(kind="servo_gearbox")
+    if curves:  # a curve a little under the derived envelope, falling to zero at the max speed
+        rows = [Curve.from_points([(0.0, 0.9 * t, 2.5 * t), (0.5 * w, 0.8 * t, 2.0 * t), (w, 0.0, 0.5 * t)])
+                if k % 3 == 0 and np.isfinite(w) else None
+                for k, (t, w) in enumerate(zip(motors.rated_torque, motors.max_speed, strict=True))]
+        motors = dataclasses.replace(motors, curves=tuple(rows), has_curve=np.array([r is not None for r in rows]))
     c = evaluate(axis, duty, motors, gb, margins)
     assert len(c.motor) == len(motors) * (len(gb) + 1)
     every = np.arange(len(c.motor))
@@ -177,6 +186,7 @@ def test_compiled_selection_matches_the_reference_checks(axis_file: Path) -> Non
         for name in ref.names:
             for got, want in ((d.required, ref.required), (d.available, ref.available), (d.margin, ref.margin)):
                 np.testing.assert_allclose(got[name][k], want[name], rtol=1e-9, err_msg=f"{name} at ratio {ratio}")
+            np.testing.assert_array_equal(d.approximate[name][k], ref.approximate[name])
         np.testing.assert_allclose(d.rms_torque[k], ref.rms_torque, rtol=1e-9)
         np.testing.assert_allclose(d.peak_torque[k], ref.peak_torque, rtol=1e-9)
         # gearbox checks (lecture, Dynamic Loading and Gearbox Sizing)

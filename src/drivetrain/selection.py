@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from drivetrain.duty import cubic_mean
-from drivetrain.envelope import motor_envelopes
+from drivetrain.envelope import continuous_torque, intermittent_torque, motor_envelopes
 from drivetrain.errors import InputError
 from drivetrain.motor_fit import Demand, demand
 from drivetrain.stage import Stage, torque_in
@@ -130,7 +130,8 @@ def _gearbox_options(gb: GearboxTable | None, allow_direct: bool) -> tuple[Array
         ratio = np.concatenate([ratio, np.asarray(gb.ratio, dtype=float)])
         eff = np.concatenate([eff, np.where(np.isnan(gb.efficiency), 1.0, gb.efficiency)])
         rows = np.concatenate([rows, np.arange(len(gb), dtype=np.int64)])
-    _, first, inverse = np.unique(np.stack([ratio, eff], axis=1), axis=0, return_index=True, return_inverse=True)
+    # (ratio, efficiency) pairs as complex numbers: numpy sorts them by real, then imaginary part
+    _, first, inverse = np.unique(ratio + 1j * eff, return_index=True, return_inverse=True)
     by_appearance = np.argsort(first)
     group = np.argsort(by_appearance)[inverse.ravel()]  # group number of each row, by first appearance
     order = np.argsort(group, kind="stable")
@@ -203,19 +204,27 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     rated, peak, w_n, w_max, stall = (motors.rated_torque, motors.peak_torque, motors.rated_speed, motors.max_speed,
                                       motors.stall_torque)
     curves = tuple(motors.curves) if any(c is not None for c in motors.curves) else None
-    cont_env, peak_env = motor_envelopes(rated, peak, w_n, w_max, np.concatenate([hull_speed[:, -1], g_speed[:, 1]]),
-                                         stall, curves)
-    env_top, cont_mean = np.ascontiguousarray(peak_env.torque[:, :n_g]), np.ascontiguousarray(cont_env.torque[:, n_g:])
-    approx_motor = (np.asarray(peak_env.approximate, dtype=bool) | np.asarray(cont_env.approximate, dtype=bool)
-                    if curves is not None else ~motors.has_curve)
+    if curves is None:
+        env_top = intermittent_torque(peak, rated, w_n, w_max, hull_speed[:, -1], stall).torque
+        cont_mean = continuous_torque(rated, w_n, w_max, g_speed[:, 1], stall).torque
+        approx_motor = ~motors.has_curve
+    else:
+        cont_env, peak_env = motor_envelopes(rated, peak, w_n, w_max, np.concatenate([hull_speed[:, -1],
+                                                                                      g_speed[:, 1]]), stall, curves)
+        env_top, cont_mean = peak_env.torque[:, :n_g], cont_env.torque[:, n_g:]
+        approx_motor = np.asarray(peak_env.approximate, dtype=bool) | np.asarray(cont_env.approximate, dtype=bool)
+    env_top, cont_mean = np.ascontiguousarray(env_top), np.ascontiguousarray(cont_mean)
     reaches = ~(w_max[None, :] < hull_speed[:, -1:])  # (G, M); an unknown max speed is judged at every bin
     g_of, m_of = np.nonzero(reaches)
     full_row = np.full((n_g, n_m), -1, dtype=np.int64)
     full_row[g_of, m_of] = np.arange(len(g_of))
     env_full = np.zeros((1, n_bins))
-    if len(g_of):
+    if len(g_of) and curves is None:
+        env_full = intermittent_torque(peak[m_of], rated[m_of], w_n[m_of], w_max[m_of], hull_speed[g_of],
+                                       stall[m_of]).torque
+    elif len(g_of) and curves is not None:
         env_full = motor_envelopes(rated[m_of], peak[m_of], w_n[m_of], w_max[m_of], hull_speed[g_of], stall[m_of],
-                                   None if curves is None else [curves[m] for m in m_of])[1].torque
+                                   [curves[m] for m in m_of])[1].torque
     # Gearbox rows, gaps filled as the checks read them.
     if gb is not None and len(gb):
         gb_j = np.nan_to_num(gb.inertia_input, nan=0.0)
