@@ -404,16 +404,25 @@ def engine(fn: Callable[..., T], *args: Any) -> T:
 
 def _motor_envelope(name: str, rated: float, peak: float, rated_speed: float, max_speed: float,
                     stall: float | None, curve: Any = None, rank: int | None = None) -> dict[str, Any]:
+    return _envelopes([name], np.array([rated]), np.array([peak]), np.array([rated_speed]), np.array([max_speed]),
+                      np.array([np.nan if stall is None else stall]), [curve], [rank])[0]
+
+
+def _envelopes(names: list[str], rated: np.ndarray, peak: np.ndarray, rated_speed: np.ndarray,
+               max_speed: np.ndarray, stall: np.ndarray, curves: list[Any],
+               ranks: list[int | None]) -> list[dict[str, Any]]:
+    """Continuous and peak envelopes of motors for the page, from 0 to each one's max speed (one call)."""
     from drivetrain.envelope import motor_envelopes
 
-    top = max_speed if math.isfinite(max_speed) and max_speed > 0 else rated_speed
-    omega = np.linspace(0.0, top, ENVELOPE_POINTS)
-    cont, pk = motor_envelopes(np.array([rated]), np.array([peak]), np.array([rated_speed]), np.array([max_speed]),
-                               omega, None if stall is None else np.array([stall]),
-                               curves=[curve] if curve is not None else None)
-    return {"name": name, "rank": rank, "speed_rad_s": plain(omega), "continuous_Nm": plain(cont.torque[0]),
-            "peak_Nm": plain(pk.torque[0]),
-            "approximate": bool(np.asarray(cont.approximate).any() or np.asarray(pk.approximate).any())}
+    top = np.where(np.isfinite(max_speed) & (max_speed > 0), max_speed, rated_speed)
+    omega = np.linspace(0.0, 1.0, ENVELOPE_POINTS)[None, :] * top[:, None]
+    cont, pk = motor_envelopes(rated, peak, rated_speed, max_speed, omega, stall,
+                               curves=curves if any(c is not None for c in curves) else None)
+    approx = np.asarray(cont.approximate) | np.asarray(pk.approximate)
+    approx = np.broadcast_to(approx, (len(names),))
+    return [{"name": name, "rank": rank, "speed_rad_s": plain(omega[i]), "continuous_Nm": plain(cont.torque[i]),
+             "peak_Nm": plain(pk.torque[i]), "approximate": bool(approx[i])}
+            for i, (name, rank) in enumerate(zip(names, ranks, strict=True))]
 
 
 def _candidate_envelopes(candidates: list[dict[str, Any]], notes: list[str]) -> list[dict[str, Any]]:
@@ -433,14 +442,12 @@ def _candidate_envelopes(candidates: list[dict[str, Any]], notes: list[str]) -> 
     except (ImportError, InputError) as exc:
         notes.append(f"candidate envelopes unavailable: {exc}")
         return []
-    out = []
-    for i, mid in enumerate(ids):
-        rank = next((k + 1 for k, c in enumerate(candidates) if (c.get("motor_id") or c.get("motor")) == mid), None)
-        stall = float(table.stall_torque[i])
-        out.append(_motor_envelope(mid, float(table.rated_torque[i]), float(table.peak_torque[i]),
-                                   float(table.rated_speed[i]), float(table.max_speed[i]),
-                                   stall if math.isfinite(stall) else None, table.curves[i], rank))
-    return out
+    at = {str(mid): i for i, mid in enumerate(table.ids)}
+    idx = np.array([at[mid] for mid in ids])
+    ranks = [next((k + 1 for k, c in enumerate(candidates) if (c.get("motor_id") or c.get("motor")) == mid), None)
+             for mid in ids]
+    return _envelopes(ids, table.rated_torque[idx], table.peak_torque[idx], table.rated_speed[idx],
+                      table.max_speed[idx], table.stall_torque[idx], [table.curves[i] for i in idx], ranks)
 
 
 WEB_POINTS_PER_PHASE = 17
@@ -498,7 +505,7 @@ def candidate_payload(axis: dict[str, Any], motor_id: str, gearbox_id: str | Non
             "envelope": motor_envelope(motor_id)}
 
 
-def selected_payload(parsed: Any, result: Any) -> dict[str, Any]:
+def selected_payload(parsed: Any, result: Any, envelopes: list[dict[str, Any]]) -> dict[str, Any]:
     """The selected candidate of a sizing: its own cycle (the axis's cycle behind its gearbox, as the
     selection checked it), the selection's figures for it and its envelope."""
     from drivetrain.selection import candidate_cycle
@@ -507,8 +514,9 @@ def selected_payload(parsed: Any, result: Any) -> dict[str, Any]:
     cycle, rotor = candidate_cycle(parsed, result.duty, result.selection)
     series = {"t_s": cycle.t, "omega_motor_rad_s": cycle.omega, "torque_motor_Nm": cycle.motor_torque(rotor)}
     figures = {k: best[k] for k in ("rms_torque_Nm", "peak_torque_Nm", "inertia_ratio", "checks")}
+    envelope = next((e for e in envelopes if e["name"] == best["motor"]), None) or motor_envelope(best["motor"])
     return {"motor": best["motor"], "gearbox": best["gearbox"], "ratio": best["ratio"], "series": series,
-            "motor_result": figures, "envelope": motor_envelope(str(best["motor"]))}
+            "motor_result": figures, "envelope": envelope}
 
 
 def size_payload(axis: dict[str, Any]) -> dict[str, Any]:
@@ -530,7 +538,7 @@ def size_payload(axis: dict[str, Any]) -> dict[str, Any]:
     if result.candidates:
         envelopes.extend(_candidate_envelopes(result.candidates, notes))
         if result.selection is not None and "_best" in result.selection:
-            selected = selected_payload(parsed, result)
+            selected = selected_payload(parsed, result, envelopes)
     return {"result": result.to_dict(), "motion": parsed.mechanism.motion, "series": series,
             "envelopes": envelopes, "selected": selected, "notes": notes,
             "elapsed_ms": (time.perf_counter() - t0) * 1e3}
