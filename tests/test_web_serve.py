@@ -95,3 +95,33 @@ def test_workers_out_of_range_is_an_input_error(workers: str, capsys: pytest.Cap
     assert main(["serve", "--port", "0", "--workers", workers]) == 2
     err = capsys.readouterr().err
     assert "--workers" in err and "between 1 and 32" in err
+
+
+def test_accepted_connections_send_without_nagle_delay() -> None:
+    """The listening socket says it is TCP, so asyncio sets TCP_NODELAY on every accepted connection:
+    a response of more than one segment is not held back waiting for the client's delayed ACK."""
+    import asyncio
+    import socket
+
+    from drivetrain.web.cli import bind
+
+    sock = bind("127.0.0.1", 0)
+    port = sock.getsockname()[1]
+    seen: list[int] = []
+
+    async def main_() -> None:
+        async def handle(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+            seen.append(writer.get_extra_info("socket").getsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY))
+            writer.close()
+
+        server = await asyncio.start_server(handle, sock=sock)
+        async with server:
+            _, writer = await asyncio.open_connection("127.0.0.1", port)
+            for _ in range(100):
+                if seen:
+                    break
+                await asyncio.sleep(0.01)
+            writer.close()
+
+    asyncio.run(main_())
+    assert seen and seen[0] != 0
