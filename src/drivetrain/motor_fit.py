@@ -100,13 +100,18 @@ def scaled(d: Demand, ratio: float) -> Demand:
                   all_torque=d.all_torque / ratio, all_alpha=d.all_alpha * ratio)
 
 
+_COLLINEAR = 1e-12
+"""Relative size of a turn below which three hull points count as collinear (rounding of the samples)."""
+
+
 def _chain(alpha: list[float], torque: list[float]) -> list[tuple[float, float]]:
     """Vertices of the convex hull of points sorted by (alpha, T), without repeats (Andrew's monotone chain).
 
-    Collinear points keep only their ends, so a constant-acceleration phase (points on a line)
-    gives two vertices. Plain floats: a bin holds a handful of points, where numpy's per-call cost
-    would dominate. Source: A. M. Andrew, Another efficient algorithm for convex hulls in two
-    dimensions, Information Processing Letters 9 (1979) 216-219.
+    Collinear points (to rounding: a relative turn under 1e-12) keep only their ends, so a
+    constant-acceleration phase or a ramp (points on a line) gives two vertices. Plain floats: a
+    bin holds a handful of points, where numpy's per-call cost would dominate. Source: A. M.
+    Andrew, Another efficient algorithm for convex hulls in two dimensions, Information Processing
+    Letters 9 (1979) 216-219.
 
     A diamond with a point inside, and three points on a line:
 
@@ -122,8 +127,13 @@ def _chain(alpha: list[float], torque: list[float]) -> list[tuple[float, float]]
     def half(seq: list[tuple[float, float]]) -> list[tuple[float, float]]:
         out: list[tuple[float, float]] = []
         for p in seq:
-            while len(out) >= 2 and ((out[-1][0] - out[-2][0]) * (p[1] - out[-2][1])
-                                     - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])) <= 0.0:
+            while len(out) >= 2:
+                (x0, y0), (x1, y1) = out[-2], out[-1]
+                turn_a, turn_b = (x1 - x0) * (p[1] - y0), (y1 - y0) * (p[0] - x0)
+                # a middle point within rounding of the line is dropped (cf. qhull's merging), else a
+                # ramp of samples would keep every one of them
+                if turn_a - turn_b > _COLLINEAR * (abs(turn_a) + abs(turn_b)):
+                    break
                 out.pop()
             out.append(p)
         return out
