@@ -14,7 +14,11 @@ client instead, which competes with the server for the same cores and so measure
     python bench/bench_web_load.py --motor HG-KR43       # same axis with a given motor (no selection)
     python bench/bench_web_load.py --same                # the identical axis every time (answered from the cache)
     python bench/bench_web_load.py --workers 2           # two server processes on one socket
-    python bench/bench_web_load.py --think 500           # each client waits 500 ms between its requests
+    python bench/bench_web_load.py --think 250           # each client waits 250 ms between its requests
+
+``--think 250`` is the page's own pace: the page sends a re-size 250 ms after the last edit
+(SIZE_DELAY_MS in static/app.js), so a user who keeps typing makes it send one request, wait for
+the answer, wait 250 ms, and send the next; without ``--think`` the clients saturate the server.
 
 By default every request carries a slightly different load mass, so each one is a real sizing
 (the server keeps the answers to identical axes); ``--same`` measures the cached path.

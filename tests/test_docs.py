@@ -78,3 +78,13 @@ def test_every_transmission_type_has_a_section_and_an_example() -> None:
     assert set(TRANSMISSION_TYPES) <= sections.get("transmission elements", set())
     used = {t["type"] for _, src in EXAMPLES for t in parse_yaml(src).get("transmission") or []}
     assert set(TRANSMISSION_TYPES) <= used
+
+
+def test_the_load_test_paces_clients_like_the_page() -> None:
+    """make bench's 'page pace' think time is the page's own re-size delay (static/app.js)."""
+    root = Path(__file__).resolve().parents[1]
+    js = (root / "src" / "drivetrain" / "web" / "static" / "app.js").read_text(encoding="utf-8")
+    m = re.search(r"const SIZE_DELAY_MS = (\d+);", js)
+    assert m is not None
+    run_all = (root / "bench" / "run_all.py").read_text(encoding="utf-8")
+    assert f'"--think", "{m.group(1)}"' in run_all
