@@ -1,5 +1,6 @@
 """Catalog selection: every motor against every ratio, checked by hand on one case per family."""
 
+from itertools import pairwise
 from pathlib import Path
 
 import numpy as np
@@ -8,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from drivetrain import catalog
-from drivetrain.axis import load_axis, parse_axis
+from drivetrain.axis import load_axis, parse_axis, parse_yaml
 from drivetrain.errors import InputError
 from drivetrain.sizing import size
 from drivetrain.stage import Stage, torque_in
@@ -267,3 +268,41 @@ def test_closed_form_optimal_ratio_is_the_minimum_of_the_sampled_rms() -> None:
     assert rms(best) == pytest.approx(opt["min_rms_torque_Nm"], rel=1e-12)
     scan = np.geomspace(0.01, max(opt["max_ratio_for_speed"], 1.0), 4000)
     assert rms(best) <= min(rms(float(i)) for i in scan) * (1 + 1e-9)
+
+
+@pytest.mark.parametrize("objective", ["smallest", "rms_utilisation", "inertia_match", "energy"])
+def test_passing_candidates_are_ranked_by_the_objective(objective: str) -> None:
+    """The listed passing candidates come in the order of their score, each score recomputed here
+    from what the candidate's own entry (or its own cycle) says."""
+    from drivetrain.selection import candidate_cycle
+
+    data = parse_yaml((EXAMPLES / "roll.yaml").read_text(encoding="utf-8"))
+    assert isinstance(data, dict)
+    data["motor"] = {**data["motor"], "select": {**data["motor"].get("select", {}), "objective": objective,
+                                                 "top": 8}}
+    res = size(data)
+    sel = res.selection
+    assert sel is not None and sel["passing"] >= 3
+    ranked = [c for c in res.candidates if c["ok"]]
+    assert [c["rank"] for c in ranked] == list(range(1, len(ranked) + 1))
+    c_all = sel["_candidates"]
+
+    def score(c: dict) -> float:
+        check = {ch["name"]: ch for ch in c["checks"]}
+        if objective == "rms_utilisation":
+            return check["rms_torque"]["required"] / check["rms_torque"]["available"]
+        if objective == "inertia_match":
+            return abs(np.log(c["inertia_ratio"]))
+        if objective == "energy":
+            motors, gb = sel["_tables"]
+            m = int(np.flatnonzero(np.asarray(motors.ids) == c["motor"])[0])
+            rows = c_all.of_motors(np.array([m]))
+            g = -1 if c["gearbox"] is None else int(np.flatnonzero(np.asarray(gb.ids) == c["gearbox"])[0])
+            k = int(rows[np.flatnonzero(c_all.gearbox(rows) == g)[0]])
+            cycle, rotor = candidate_cycle(res.axis, res.duty, sel, k)
+            power = cycle.motor_torque(rotor) * cycle.omega
+            return float(np.sum(cycle.weights * np.maximum(power, 0.0)))
+        return c["rated_power_W"]
+
+    scores = [score(c) for c in ranked]
+    assert all(a <= b * (1 + 1e-9) + 1e-12 for a, b in pairwise(scores)), scores
