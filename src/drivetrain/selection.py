@@ -29,7 +29,7 @@ from drivetrain.duty import cubic_mean
 from drivetrain.envelope import continuous_torque, intermittent_torque, motor_envelopes
 from drivetrain.errors import InputError
 from drivetrain.motor_fit import Demand, demand
-from drivetrain.stage import Stage, torque_in
+from drivetrain.stage import Stage
 from drivetrain.units import to_rpm
 
 if TYPE_CHECKING:
@@ -164,8 +164,7 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     from drivetrain._select_kernel import check
 
     limit = margins.inertia_ratio if max_inertia_ratio is None else min(max_inertia_ratio, margins.inertia_ratio)
-    t0, e0, w0, a0 = duty.torque, duty.external, duty.omega, duty.alpha
-    direction = np.asarray(duty.samples.direction, dtype=float)
+    t0, w0, a0 = duty.torque, duty.omega, duty.alpha
     out_cubic = cubic_mean(t0, w0, duty.weights)
     run_t = float(np.median(np.abs(duty.external))) if duty.external.size else 0.0
     ratio, eff_g, rows, row_start = _gearbox_options(gb, allow_direct)
@@ -173,11 +172,11 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     for eff in eff_g.tolist():
         if eff not in base:
             # Losses applied at ratio 1; every ratio of the same efficiency is a scaling of it.
-            stage = Stage("gearbox", "gearbox", ratio=1.0, efficiency=eff, back_efficiency=eff)
-            t_in, _ = torque_in(stage, t0, e0, w0, a0, direction, axis.efficiency_model)
-            base[eff] = demand(w0, a0, t_in, duty.weights, duty.period, duty.load_inertia)
+            lossy = duty.behind(Stage("gearbox", "gearbox", efficiency=eff, back_efficiency=eff), axis.efficiency_model)
+            base[eff] = demand(w0, a0, lossy.torque, duty.weights, duty.period, duty.load_inertia)
+    effs = list(base)
     demands = list(base.values())
-    e_of = np.array([list(base).index(e) for e in eff_g.tolist()])  # each group's efficiency
+    e_of = np.array([effs.index(e) for e in eff_g.tolist()])  # each group's efficiency
     n_bins = max(d.hull_torque.shape[0] for d in demands)
     n_v = max(d.hull_torque.shape[1] for d in demands)
     n_all = max(d.all_torque.shape[0] for d in demands)
@@ -282,7 +281,6 @@ def _energy(c: Candidates, ks: NDArray[np.intp], motors: MotorTable, gb: Gearbox
     """Motoring energy per cycle [J]: integral of max(T omega, 0) at the motor, for the first 5000 of ``ks``."""
     out = np.full(len(ks), math.inf)
     ok = np.arange(min(len(ks), 5000))
-    direction = np.asarray(duty.samples.direction, dtype=float)
     ratios, rows, motor = c.ratio(ks), c.gearbox(ks), c.motor[ks]
     for ratio in np.unique(ratios[ok]):
         sel = ok[ratios[ok] == ratio]
@@ -291,13 +289,12 @@ def _energy(c: Candidates, ks: NDArray[np.intp], motors: MotorTable, gb: Gearbox
         for eff in np.unique(effs):
             s2 = sel[effs == eff]
             stage = Stage("g", "gearbox", ratio=float(ratio), efficiency=float(eff), back_efficiency=float(eff))
-            w_in, a_in = duty.omega * ratio, duty.alpha * ratio
-            t_in, _ = torque_in(stage, duty.torque, duty.external, w_in, a_in, direction, "four_quadrant")
+            cycle = duty.behind(stage, "four_quadrant")
             j = motors.rotor_inertia[motor[s2]]
             if gb is not None:
                 j = j + np.where(rows[s2] >= 0, np.nan_to_num(gb.inertia_input[rows[s2]]), 0.0)
-            p = (t_in[None, :] + j[:, None] * a_in[None, :]) * w_in[None, :]
-            out[s2] = np.sum(duty.weights[None, :] * np.maximum(p, 0.0), axis=1)
+            p = cycle.motor_torque(j) * cycle.omega[None, :]
+            out[s2] = np.sum(cycle.weights[None, :] * np.maximum(p, 0.0), axis=1)
     return out
 
 
