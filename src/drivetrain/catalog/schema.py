@@ -121,6 +121,7 @@ GEARBOX_FIELDS: tuple[Field, ...] = (
     Field("input_bore_min", "length", "input_bore_min_m", "mm"),
     Field("input_flange", "length", "input_flange_m", "mm"),
     Field("input_pilot", "length", "input_pilot_m", "mm"),
+    _text("input_adapters"),
     Field("direction", INTEGER, "direction", positive=False),
     Field("right_angle", FLAG, "right_angle"),
     Field("verified", FLAG, "verified"),
