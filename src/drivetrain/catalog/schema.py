@@ -278,6 +278,17 @@ SHIPPED_FILES: tuple[ShippedFile, ...] = (
         constants=(("type", "planetary"),),
         model_pattern=r"^(.*)-i[0-9.]+$",
     ),
+    # data/SOURCES.md: Beckhoff planetary gear units, every row read from Beckhoff's technical-data pages
+    *(
+        ShippedFile(
+            f"gearboxes_beckhoff_{family}.csv",
+            GEARBOX,
+            "servo_gearbox",
+            constants=(("type", "planetary"),),
+            model_pattern=r"^(.*)-i[0-9.]+$",
+        )
+        for family in ("ag2250", "ag2400", "ag3400")
+    ),
     ShippedFile("gearboxes_small.csv", GEARBOX, "small_gearhead"),
     ShippedFile("drives.csv", DRIVE, "servo_drive"),
 )
