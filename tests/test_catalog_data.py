@@ -45,7 +45,8 @@ SMALL_DC = load("motors_small_dc.csv")
 SMALL_GB = load("gearboxes_small.csv")
 REJECTS = load("rejects.csv")
 BECKHOFF = {family: load(f"gearboxes_beckhoff_{family}.csv") for family in ("ag2250", "ag2400", "ag3400")}
-SERVO_GEARBOXES = {"gearboxes_planetary.csv": PLANETARY} | {f"gearboxes_beckhoff_{k}.csv": v for k, v in BECKHOFF.items()}
+SERVO_GEARBOXES = {"gearboxes_planetary.csv": PLANETARY} | {
+    f"gearboxes_beckhoff_{k}.csv": v for k, v in BECKHOFF.items()}
 FILES = {"motors_ac_servo.csv": AC, "motors_small_dc.csv": SMALL_DC, "gearboxes_small.csv": SMALL_GB,
          **SERVO_GEARBOXES}
 
