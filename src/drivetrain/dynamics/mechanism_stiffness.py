@@ -147,6 +147,28 @@ def belt_specific_stiffness(per_width: float, width: float) -> float:
     return _positive(per_width, "belt.specific_stiffness_per_width", "N/m") * _positive(width, "belt.width", "m")
 
 
+BELT_STRAIN_AT_ALLOWABLE = 0.004
+"""Strain of a steel-cord polyurethane belt at its allowable tensile load (0.4 %): the ELATECH
+tables give C_spez = F_Tzul / 0.004 for every width (AT5, ATL5, AT20, pp. 14-20), and the
+Parker Compax3 manual computes D_spez from F_max and 0.004 the same way."""
+
+
+def belt_specific_stiffness_from_tension(allowable_tension: float,
+                                         strain: float = BELT_STRAIN_AT_ALLOWABLE) -> float:
+    r"""Specific stiffness c_spec [N] of a belt from its allowable tensile load and the strain there.
+
+    .. math:: c_{spec} = \frac{F_{adm}}{\varepsilon_{adm}}
+
+    ``allowable_tension`` F_adm [N] (ELATECH F_Tzul, BRECOflex F_adm) for the belt's width,
+    ``strain`` at that load (0.004 for ELATECH steel-cord belts). Use the catalog's own c_spec
+    where it is printed. ELATECH ATL5, 50 mm: F_Tzul = 5060 N, C_spez = 1 265 000 N:
+
+    >>> belt_specific_stiffness_from_tension(5060.0)
+    1265000.0
+    """
+    return _positive(allowable_tension, "belt.permissible_tension", "N") / _positive(strain, "strain", "")
+
+
 def belt_drive_stiffness(specific_stiffness: float, span_pull: ArrayLike, span_other: ArrayLike) -> Array:
     r"""Axial stiffness of a pretensioned belt at the carriage: both paths in parallel [N/m].
 
