@@ -188,7 +188,7 @@ def belt_drive_stiffness(specific_stiffness: float, span_pull: ArrayLike, span_o
     l2 = np.asarray(span_other, dtype=float)
     if np.any(l1 < 0.0) or np.any(l2 < 0.0) or not (np.all(np.isfinite(l1)) and np.all(np.isfinite(l2))):
         raise InputError("span", "lengths must be finite and >= 0 m", (span_pull, span_other))
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", over="ignore"):
         return np.asarray(c / l1 + c / l2, dtype=float)
 
 
