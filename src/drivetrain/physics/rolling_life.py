@@ -166,7 +166,11 @@ def cubic_mean_load(load: ArrayLike, weights: ArrayLike, exponent: float = 3.0) 
     if total <= 0.0:
         raise InputError("weights", "the cycle must travel some distance for a mean load", total)
     p = _positive(exponent, "exponent", "")
-    return float((np.sum(f**p * w) / total) ** (1.0 / p))
+    scale = float(np.max(f))
+    if scale == 0.0:
+        return 0.0
+    # Scaled by the largest load so that |F|^p neither overflows nor underflows.
+    return scale * float((np.sum((f / scale) ** p * w) / total) ** (1.0 / p))
 
 
 def travel_weights(speed: ArrayLike, dt: ArrayLike) -> Array:
