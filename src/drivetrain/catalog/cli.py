@@ -45,8 +45,12 @@ _LIST_COLUMNS: dict[str, tuple[tuple[str, str], ...]] = {
         ("i", "ratio"),
         ("stages", "stages"),
         ("T2N N·m", "rated_output_torque"),
+        ("T2B N·m", "max_output_torque"),
+        ("T2NOT N·m", "emergency_stop_torque"),
         ("eta", "efficiency"),
         ("n1N rpm", "rated_input_speed"),
+        ("n1max rpm", "max_input_speed"),
+        ("bore mm", "input_bore_max"),
         ("J1 kg·cm²", "inertia_input"),
         ("backlash arcmin", "backlash"),
         ("origin", "origin"),
@@ -243,7 +247,7 @@ def _show(args: argparse.Namespace) -> int:
             "speed-torque curve",
             f"{len(record['curve']['speed_rad_s'])} points"
             if record.get("curve")
-            else "none: envelope derived from the ratings (approximate, see drivetrain.envelope)",
+            else "none: envelope derived from the ratings (approximate, see drivetrain.sizing.envelope)",
         )
     _console().print(out)
     return 0

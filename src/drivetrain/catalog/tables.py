@@ -16,8 +16,8 @@ from typing import Any, ClassVar, Self
 import numpy as np
 from numpy.typing import NDArray
 
+from drivetrain.catalog.curves import Curve
 from drivetrain.catalog.schema import DRIVE, GEARBOX, MOTOR, TableSpec
-from drivetrain.envelope import Curve
 
 FloatArray = NDArray[np.float64]
 StrArray = NDArray[np.str_]
@@ -107,7 +107,7 @@ class MotorTable(_Table):
     ``approx_rated`` is True where the rated torque or speed was derived (e.g. P/omega for the
     shipped FANUC rows), not read from a datasheet; ``derived`` lists the derived fields.
     ``curves[i]`` is the motor's speed-torque curve, or None where the envelope must be derived
-    from the ratings (see drivetrain.envelope).
+    from the ratings (see drivetrain.sizing.envelope).
     """
 
     SPEC: ClassVar[TableSpec] = MOTOR
@@ -160,17 +160,22 @@ class GearboxTable(_Table):
     ratio: FloatArray  # [-]
     stages: FloatArray  # [-] (NaN where unknown)
     rated_output_torque: FloatArray  # [N m]
-    max_output_torque: FloatArray  # [N m] peak/acceleration rating (empty for the shipped G+ rows)
-    emergency_stop_torque: FloatArray  # [N m]
+    max_output_torque: FloatArray  # [N m] T2B, max acceleration torque in cyclic operation
+    emergency_stop_torque: FloatArray  # [N m] T2NOT, allowed only for rare emergency stops
     efficiency: FloatArray  # [-]
-    max_input_speed: FloatArray  # [rad/s]
-    rated_input_speed: FloatArray  # [rad/s]
+    max_input_speed: FloatArray  # [rad/s] n1max, short-time limit
+    rated_input_speed: FloatArray  # [rad/s] n1N, thermal (mean) input speed limit
     inertia_input: FloatArray  # [kg m^2] at the input shaft
     backlash: FloatArray  # [rad]
     torsional_stiffness: FloatArray  # [N m/rad]
-    max_radial_load: FloatArray  # [N]
-    max_axial_load: FloatArray  # [N]
+    max_radial_load: FloatArray  # [N] F2r
+    max_axial_load: FloatArray  # [N] F2a
     mass: FloatArray  # [kg]
+    input_bore_max: FloatArray  # [m] largest motor shaft the input takes (clamping hub)
+    input_bore_min: FloatArray  # [m] smallest motor shaft (with the vendor's bushing); NaN: not printed
+    input_flange: FloatArray  # [m] motor flange (square) the input adapter is made for; NaN: not printed
+    input_pilot: FloatArray  # [m] motor pilot (centring) diameter of the input; NaN: not printed
+    verified: BoolArray  # True: every number of the row traced to a vendor document
 
 
 @dataclass(frozen=True, eq=False)
