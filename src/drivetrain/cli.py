@@ -263,6 +263,10 @@ def _print_table(result: Any) -> None:
     for k, v in rows:
         t.add_row(k, v)
     console.print(t)
+    mech = result.extras.get("mechanism_checks")
+    if mech:
+        _print_checks(console, f"mechanism {result.axis.mechanism.type}",
+                      {"ok": all(c["ok"] for c in mech), "checks": mech})
     if result.motor is not None:
         _print_checks(console, f"motor {result.motor['name']}", result.motor)
     if result.candidates:
