@@ -175,8 +175,9 @@ def _belt_checks(axis: Axis, duty: DutyCycle, force: Array) -> list[dict[str, An
         except InputError as exc:
             raise InputError("mechanism.belt.home_position", f"the carriage leaves the belt over the stroke "
                              f"({exc.rule})", belt.home_position) from None
-        # The pulling span is the one on the side the force acts: positive force pulls the direct span.
-        lp, lo = np.where(force >= 0.0, lp, lo), np.where(force >= 0.0, lo, lp)
+        # A force towards +x (away from the drive pulley) is pulled through the path round the idler
+        # (loop) or the far span (omega); a force towards the pulley through the direct span.
+        lp, lo = np.where(force >= 0.0, lo, lp), np.where(force >= 0.0, lp, lo)
     else:
         lp, lo = np.zeros_like(pull), np.ones_like(pull)  # worst case: all pull on one span
     need = belt_rack.minimum_pretension(pull, lp, lo)
