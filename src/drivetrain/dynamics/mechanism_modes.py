@@ -49,8 +49,8 @@ def mechanism_stiffness_of(axis: Axis, points: int = POINTS) -> ms.MechanismStif
     belt = getattr(spec, "belt", None)
     rack = getattr(spec, "rack", None)
     if kind in ("ball_screw", "lead_screw") and screw is not None:
-        from drivetrain.sizing.mechanism_checks import nut_travel_positions
         from drivetrain.duty.cycle import duty_cycle
+        from drivetrain.sizing.mechanism_checks import nut_travel_positions
 
         nut = getattr(spec, "nut", None)
         pos, span = nut_travel_positions(axis, duty_cycle(axis), points)
