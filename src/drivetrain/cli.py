@@ -127,6 +127,12 @@ def _cmd_modes(args: argparse.Namespace) -> int:
             {"excitation": c.excitation, "order": c.order, "speed_rpm": c.speed_rad_s * 60 / (2 * math.pi),
              "natural_frequency_Hz": c.frequency_hz}
             for c in critical_speeds(out["natural_frequencies_Hz"], 0.0, top, excitation_orders())]
+    if axis.spec.profile and "chain" not in (axis.spec.dynamics or {}):
+        from drivetrain.dynamics.mechanism_modes import modes_across_stroke
+
+        across = modes_across_stroke(axis, dyn.stages, dyn.motor_inertia)
+        if across is not None:
+            out["modes"] = across
     if args.json:
         print(json.dumps(_jsonable(out), indent=2))
         return 0
@@ -134,6 +140,8 @@ def _cmd_modes(args: argparse.Namespace) -> int:
 
     console = Console(width=None if sys.stdout.isatty() else 120)
     console.print(f"[bold]{axis.name}[/] with motor {dyn.motor}: {len(dyn.chain.inertia)} inertias at the motor shaft")
+    if "modes" in out:
+        _print_modes_across(console, out["modes"])
     if not out["natural_frequencies_Hz"]:
         console.print("rigid drive train: no stiffness given (add stiffness to a coupling, gearbox or belt, or "
                       "a dynamics.chain), so there is no resonance to report")
@@ -144,6 +152,21 @@ def _cmd_modes(args: argparse.Namespace) -> int:
         console.print(f"critical speed: {c['excitation']} crosses {c['natural_frequency_Hz']:.1f} Hz at "
                       f"{c['speed_rpm']:.0f} rpm")
     return 0
+
+
+def _print_modes_across(console: Any, modes: dict[str, Any]) -> None:
+    from rich.table import Table
+
+    console.print(f"with the mechanism's stiffness: lowest first mode {modes['f1_min_Hz']:.1f} Hz at position "
+                  f"{modes['worst_position_m'] * 1e3:.0f} mm; weakest link: {modes['weakest_link']}")
+    rows = modes["f1_by_position"]
+    t = Table(title="first natural frequency across the stroke")
+    for col in ("position", "f1", "mechanism stiffness"):
+        t.add_column(col, justify="right")
+    for r in rows[:: max(1, len(rows) // 10)] + ([rows[-1]] if (len(rows) - 1) % max(1, len(rows) // 10) else []):
+        t.add_row(f"{r['position_m'] * 1e3:.0f} mm", f"{r['f1_Hz']:.1f} Hz",
+                  f"{r['axial_stiffness_N_per_m'] / 1e6:.3g} N/um")
+    console.print(t)
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
@@ -263,6 +286,10 @@ def _print_table(result: Any) -> None:
     for k, v in rows:
         t.add_row(k, v)
     console.print(t)
+    mech = result.extras.get("mechanism_checks")
+    if mech:
+        _print_checks(console, f"mechanism {result.axis.mechanism.type}",
+                      {"ok": all(c["ok"] for c in mech), "checks": mech})
     if result.motor is not None:
         _print_checks(console, f"motor {result.motor['name']}", result.motor)
     if result.candidates:

@@ -24,6 +24,7 @@ from drivetrain.fields import (
     LengthAny,
     Spec,
     SpeedPos,
+    Time,
     TorquePos,
     Voltage,
     input_error_from_pydantic,
@@ -116,6 +117,16 @@ class GuideSpec(Spec):
     rated_pitch_moment: TorquePos | None = None
     rated_roll_moment: TorquePos | None = None
     rated_yaw_moment: TorquePos | None = None
+    # Rolling-contact life of the carriages (docs/axis-file.md, "Mechanism limits"): checked when C is given.
+    dynamic_rating: ForcePos | None = None
+    static_rating: ForcePos | None = None
+    rating_distance: Length = 50e3
+    rolling: Literal["ball", "roller"] = "ball"
+    carriages: int = Field(default=1, ge=1, le=16)
+    load_factor: float = Field(default=1.0, ge=1.0, le=10.0)
+    moment_factors: dict[Literal["pitch", "roll", "yaw"], float] | None = None
+    required_life: Time = 20_000.0 * 3600.0
+    static_safety: float = Field(default=1.0, ge=1.0, le=10.0)
 
 
 class AxisSpec(Spec):

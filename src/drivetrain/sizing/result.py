@@ -50,8 +50,9 @@ class SizingResult:
 
     @property
     def ok(self) -> bool:
-        """True when the axis's own checks pass (slip, guide, brake) and the given motor or a candidate does."""
+        """True when the axis's own checks (slip, guide, brake, mechanism) and the given motor or a candidate pass."""
         own = [self.extras[k]["ok"] for k in ("slip_check", "guide", "brake_check") if k in self.extras]
+        own += [c["ok"] for c in self.extras.get("mechanism_checks", [])]
         if not all(own):
             return False
         if self.motor is not None:
@@ -271,6 +272,11 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64) -
         incline = getattr(axis.mechanism.load, "incline", 0.0)
         result.extras["slip_check"] = slip_check(np.asarray(duty.samples.a), axis.mechanism.slip_limit, incline,
                                                  axis.gravity)
+    from drivetrain.sizing.mechanism_checks import mechanism_checks
+
+    checks = mechanism_checks(axis, duty)
+    if checks:
+        result.extras["mechanism_checks"] = checks
     brake = _brake_check(axis, duty)
     if brake is not None:
         result.extras["brake_check"] = brake

@@ -16,6 +16,7 @@ from drivetrain.fields import Angle, BackEfficiency, Coefficient, Efficiency, Le
 from drivetrain.physics.inertia import linear_mass_reflected
 from drivetrain.physics.loads import slip_limit_acceleration
 from drivetrain.physics.mechanisms.base import LinearLoadSpec, Mechanism, WheelSpec
+from drivetrain.physics.mechanisms.limits import BeltDriveSpec
 from drivetrain.physics.stage import Stage
 
 
@@ -33,6 +34,7 @@ class BeltSpec(Spec):
     incline: Angle = 0.0
     carrier_friction: Coefficient | None = None
     load: LinearLoadSpec
+    belt: BeltDriveSpec | None = None
 
     def build(self, g: float) -> Mechanism:
         """The belt as a Stage: drive pulley outside its losses; load, belt, idlers, driven pulley inside."""

@@ -28,6 +28,7 @@ from drivetrain.fields import (
 from drivetrain.physics.inertia import cylinder_from_density, linear_mass_reflected
 from drivetrain.physics.materials import density as density_of
 from drivetrain.physics.mechanisms.base import LinearLoadSpec, Mechanism
+from drivetrain.physics.mechanisms.limits import NutSpec, ScrewLimitsSpec
 from drivetrain.physics.stage import Stage
 
 BALL_SCREW_EFFICIENCY = 0.9
@@ -94,6 +95,8 @@ class ScrewSpec(Spec):
     incline: Angle = 0.0
     friction_torque: TorqueNonNeg = 0.0
     load: LinearLoadSpec
+    screw: ScrewLimitsSpec | None = None
+    nut: NutSpec | None = None
 
     def build(self, g: float) -> Mechanism:
         """The screw as a Stage: screw inertia outside its losses, the load's (M + M_C) r^2 inside."""
