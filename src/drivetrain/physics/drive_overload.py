@@ -87,7 +87,7 @@ def i2t_accumulator(t: ArrayLike, current: ArrayLike, continuous_current: ArrayL
     if i.ndim == 2:
         ic = np.broadcast_to(ic.reshape(-1), (i.shape[0],))
     d = _increments(tt, i, ic)
-    s = np.concatenate([np.zeros(d.shape[:-1] + (1,)), np.cumsum(d, axis=-1)], axis=-1)
+    s = np.concatenate([np.zeros((*d.shape[:-1], 1)), np.cumsum(d, axis=-1)], axis=-1)
     return np.asarray(s - np.minimum(np.minimum.accumulate(s, axis=-1), 0.0))
 
 

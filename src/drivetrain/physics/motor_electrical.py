@@ -161,7 +161,9 @@ class Saturation(NamedTuple):
     peak_current: FloatArray
 
 
-def _kt_line(kt: ArrayLike, sat: Saturation | None) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+def _kt_line(
+    kt: ArrayLike, sat: Saturation | None
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
     k = np.asarray(kt, dtype=float)
     if sat is None:
         nan = np.full_like(k, np.nan)

@@ -50,7 +50,7 @@ def copper_resistance(r_ref: ArrayLike, temperature: ArrayLike, reference: float
     for copper).
 
     >>> round(float(copper_resistance(0.61, 120.0)), 4)
-    0.9449
+    0.8492
     """
     return np.asarray(np.asarray(r_ref, dtype=float) * (COPPER_K + np.asarray(temperature, dtype=float))
                       / (COPPER_K + reference))
@@ -106,7 +106,7 @@ class PeriodicRise:
     mean: FloatArray
     """[K] time mean over the cycle, exactly R_th x mean loss (integral of the ODE over a period)"""
     peak: FloatArray
-    """[K] highest rise over the cycle"""
+    """[K] highest rise over the cycle, including maxima between samples (exact for the piecewise-linear loss)"""
     ripple: FloatArray
     """[K] peak - mean"""
     time_to_95: FloatArray
@@ -174,11 +174,33 @@ def periodic_rise(t: ArrayLike, loss: ArrayLike, r_th: ArrayLike, tau: ArrayLike
     w = _trapezoid(tt)
     # the exact periodic mean: integrating the ODE over one period gives mean(theta) = R_th mean(P)
     mean = np.broadcast_to(rth[:, 0] * (p2 * w).sum(axis=1) / period, (m,))
-    peak = rise.max(axis=1)
+    peak = np.maximum(rise.max(axis=1), _interior_peak(rise, p2, rth, tau_, h, m))
     t95 = time_to_fraction(tau_.reshape(-1), 0.95)
     if not two_d and np.ndim(r_th) == 0 and np.ndim(tau) == 0:
         return PeriodicRise(rise[0], mean[0], peak[0], peak[0] - mean[0], t95[0])
     return PeriodicRise(rise, mean, peak, peak - mean, np.broadcast_to(t95, mean.shape).copy())
+
+
+def _interior_peak(rise: FloatArray, p: FloatArray, rth: FloatArray, tau: FloatArray, h: FloatArray,
+                   m: int) -> FloatArray:
+    r"""Largest rise strictly inside the sample intervals [K], per row (-inf if none).
+
+    With the loss linear, P = P_k + q s on an interval, the solution is
+    :math:`\theta(s) = R(P_k + q(s - \tau)) + (\theta_k - R(P_k - q\tau)) e^{-s/\tau}`; where
+    :math:`\theta' = 0` inside, :math:`e^{-s^*/\tau} = R q \tau / (\theta_k - R P_k + R q \tau)` and
+    :math:`\theta(s^*) = R P(s^*)`.
+    """
+    p = np.broadcast_to(p, (m, p.shape[1]))
+    hh = np.broadcast_to(h, (m, h.shape[1]))
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        q = np.where(hh > 0, (p[:, 1:] - p[:, :-1]) / hh, 0.0)
+        num = rth * q * tau
+        den = rise[:, :-1] - rth * p[:, :-1] + num
+        ratio = num / den
+        s_star = -tau * np.log(ratio)
+        inside = (hh > 0) & (ratio > 0) & (s_star > 0) & (s_star < hh)
+        value = np.where(inside, rth * (p[:, :-1] + q * s_star), -np.inf)
+    return np.asarray(value.max(axis=1, initial=-np.inf))
 
 
 def _trapezoid(t: FloatArray) -> FloatArray:

@@ -85,7 +85,7 @@ def copper_loss(current: ArrayLike, r_phase: ArrayLike) -> FloatArray:
 
 
 def resistor_max_resistance(u_on: ArrayLike, peak_power: ArrayLike) -> FloatArray:
-    r"""Largest braking resistance [ohm] that still takes the peak power at the switch-on voltage: :math:`U_{on}^2/P_{peak}`.
+    r"""Largest braking resistance [ohm] taking the peak power at the switch-on voltage: :math:`U_{on}^2/P_{peak}`.
 
     Source: P = U^2 / R of the resistor across the bus when the brake chopper conducts.
     +inf when no power must be absorbed.
