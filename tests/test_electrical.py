@@ -273,3 +273,51 @@ def test_periodic_i2t_vectorises_over_drives() -> None:
 def test_rms_current() -> None:
     w = np.array([0.5, 0.5])
     assert float(rms_current(np.array([3.0, 4.0]), w, 1.0)) == pytest.approx(math.sqrt(12.5))
+
+
+# ------------------------------------------------------------------------ shipped data
+
+
+def _rows(name: str) -> dict[str, dict[str, str]]:
+    import csv
+    import io
+    from importlib import resources
+
+    text = resources.files("drivetrain.catalog").joinpath("data", name).read_text(encoding="utf-8")
+    return {r["id"]: r for r in csv.DictReader(io.StringIO(text))}
+
+
+def test_shipped_electrical_data_matches_the_motor_table() -> None:
+    """Every electrical row names a catalog motor whose rated and peak torque equal the same vendor table's."""
+    elec = _rows("motors_ac_servo_electrical.csv")
+    motors = _rows("motors_ac_servo.csv")
+    assert len(elec) == 26
+    for mid, row in elec.items():
+        assert mid in motors, mid
+        assert float(row["table_rated_torque_Nm"]) == pytest.approx(float(motors[mid]["rated_torque_Nm"]))
+        assert float(row["table_peak_torque_Nm"]) == pytest.approx(float(motors[mid]["peak_torque_Nm"]))
+        assert row["source"] and row["source_url"].startswith("https://")
+        if row["torque_constant_Nm_per_A"]:
+            kt = float(row["torque_constant_Nm_per_A"])
+            ratio_n = kt * float(row["rated_current_A"]) / float(row["table_rated_torque_Nm"])
+            ratio_p = kt * float(row["peak_current_A"]) / float(row["table_peak_torque_Nm"])
+            assert 1.0 < ratio_n < 1.2, mid
+            assert 1.0 < ratio_p < 1.25, mid
+            assert ratio_n == pytest.approx(float(row["check_kt_x_Irated_over_Trated"]), abs=1e-3)
+
+
+def test_siemens_constants_used_here_are_the_shipped_row() -> None:
+    row = _rows("motors_ac_servo_electrical.csv")["1FT7044-5AK7"]
+    motor = _rows("motors_ac_servo.csv")["1FT7044-5AK7"]
+    assert float(row["torque_constant_Nm_per_A"]) == FT_KT
+    assert float(row["back_emf_V_per_krpm"]) == FT_KE
+    assert float(row["winding_resistance_ohm"]) == FT_R
+    assert float(row["winding_inductance_H"]) == FT_L
+    assert int(row["pole_count"]) == 2 * FT_P
+    assert float(row["rated_current_A"]) == FT_IN
+    assert float(row["stall_current_A"]) == FT_I0
+    assert float(row["stall_torque_Nm"]) == FT_M0
+    assert float(row["peak_current_A"]) == FT_IMAX
+    assert float(motor["rated_torque_Nm"]) == FT_TN
+    assert float(motor["rated_speed_rpm"]) == FT_NN
+    assert float(motor["peak_torque_Nm"]) == FT_TMAX

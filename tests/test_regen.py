@@ -26,7 +26,7 @@ from drivetrain.physics.regen import (
 
 RPM = 2 * math.pi / 60
 
-# Delta ASDA-B2 user manual, Revision May 2018, §2.7, p. 2-13 (manualshive.com/en/manual/delta/
+# Delta ASDA-B2 user manual, Revision May 2018, chapter 2, p. 2-13 (manualshive.com/en/manual/delta/
 # asd-b2-1521-f/2474519?page=34): "Regenerative power from empty load 3000 r/min to stop E_o (joule)"
 # for each motor's rotor inertia J (x 1e-4 kg m^2), and E_o = J n^2 / 182.
 DELTA_ROTOR_TABLE = [  # (motor, J [1e-4 kg m^2], E_o [J] as printed)

@@ -19,8 +19,9 @@ Energy path of one deceleration or lowering event (power signs: positive = motor
   event starts (the motoring between events draws it down). The rest goes to the braking
   resistor: :math:`E_R = \max(0, E - E_C)`, at the event's power once the capacitors are full.
 
-Sources: Delta ASDA-B2 user manual (Revision May 2018), §2.7 "Selecting the regenerative
-resistor", pp. 2-13 to 2-15 (energy method, E_o = J n^2 / 182, and the external-load example);
+Sources: Delta ASDA-B2 user manual (Revision May 2018), chapter 2 "Installation", selection of
+the regenerative resistor, pp. 2-13 to 2-15 (energy method, E_o = J n^2 / 182, and the
+external-load example);
 TECO JSDAP manual p. 5-73 (E_R = E_M - (E_L + E_C)); Servotronix CDHD2 manual (E_BUS =
 1/2 C (V_M^2 - V_NOM^2)); Omron 1S manual §4-4 (winding loss lowers the regenerated energy).
 """
@@ -49,7 +50,7 @@ def rotor_energy_delta(inertia: ArrayLike, speed_rpm: ArrayLike) -> FloatArray:
 
     J [kg m^2]. The exact kinetic energy is J n^2 / 182.38; Delta rounds the divisor.
 
-    Source: Delta ASDA-B2 user manual (May 2018), §2.7, p. 2-13, table "Regenerative power
+    Source: Delta ASDA-B2 user manual (May 2018), chapter 2, p. 2-13, table "Regenerative power
     from empty load 3000 r/min to stop": ECMA-C△0604, J = 0.277e-4 kg m^2 -> 1.37 J.
 
     >>> round(float(rotor_energy_delta(0.277e-4, 3000.0)), 2)
@@ -218,7 +219,7 @@ def regen_cycle(
     sum; per-event sums use ``np.add.reduceat`` (no loop over samples). The resistor's share of
     an event is what remains once the running event energy exceeds E_C.
 
-    Source: module docstring (Delta ASDA-B2 §2.7; TECO JSDAP p. 5-73; Servotronix CDHD2).
+    Source: module docstring (Delta ASDA-B2 pp. 2-13 to 2-15; TECO JSDAP p. 5-73; Servotronix CDHD2).
     """
     tt = np.asarray(t, dtype=float)
     p_m = np.asarray(shaft_power, dtype=float)
