@@ -23,12 +23,12 @@ import numpy as np
 os.environ.setdefault("DRIVETRAIN_DATA_DIR", tempfile.mkdtemp(prefix="drivetrain-bench-"))
 
 from drivetrain import catalog
-from drivetrain.axis import Margins, load_axis, parse_axis
-from drivetrain.duty import duty_from_samples
-from drivetrain.envelope import continuous_torque, intermittent_torque
-from drivetrain.selection import evaluate
-from drivetrain.sizing import size
-from drivetrain.stage import Stage
+from drivetrain.axis.model import Margins, load_axis, parse_axis
+from drivetrain.duty.cycle import duty_from_samples
+from drivetrain.physics.stage import Stage
+from drivetrain.sizing.envelope import continuous_torque, intermittent_torque
+from drivetrain.sizing.result import size
+from drivetrain.sizing.selection import evaluate
 
 AXIS: dict[str, Any] = {
     "mechanism": {"type": "ball_screw", "lead": "10 mm", "diameter": "20 mm", "length": "0.8 m",

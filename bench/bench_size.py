@@ -19,8 +19,8 @@ from typing import Any
 
 import numpy as np
 
-from drivetrain.axis import parse_axis
-from drivetrain.sizing import size
+from drivetrain.axis.model import parse_axis
+from drivetrain.sizing.result import size
 
 AXIS: dict[str, Any] = {
     "axis": "bench 10 moves",

@@ -5,7 +5,7 @@ import math
 import pytest
 
 from drivetrain import catalog
-from drivetrain.axis import parse_axis
+from drivetrain.axis.model import parse_axis
 from drivetrain.errors import InputError
 
 MECH = {"type": "ball_screw", "lead": "10 mm", "load": {"mass": 20}}

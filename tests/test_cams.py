@@ -11,8 +11,8 @@ import math
 import numpy as np
 import pytest
 
-from drivetrain.cams import CAM_LAWS, cam_law, evaluate_pieces
-from drivetrain.profiles import parse_profile
+from drivetrain.motion.cams import CAM_LAWS, cam_law, evaluate_pieces
+from drivetrain.motion.profiles import parse_profile
 
 # law: (C_v, C_a, C_j, relative tolerance of the published figures)
 PUBLISHED = {

@@ -12,10 +12,10 @@ from pathlib import Path
 
 import pytest
 
-from drivetrain.axis import parse_axis, parse_yaml
-from drivetrain.duty import duty_cycle
-from drivetrain.mechanisms import MECHANISM_TYPES
-from drivetrain.transmission import TRANSMISSION_TYPES
+from drivetrain.axis.model import parse_axis, parse_yaml
+from drivetrain.duty.cycle import duty_cycle
+from drivetrain.physics.mechanisms import MECHANISM_TYPES
+from drivetrain.physics.transmission import TRANSMISSION_TYPES
 
 DOCS = Path(__file__).parents[1] / "docs"
 AXIS_FILE = DOCS / "axis-file.md"

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from drivetrain.axis import load_axis, parse_axis
+from drivetrain.axis.model import load_axis, parse_axis
 from drivetrain.dynamics import model
 from drivetrain.errors import InputError
 

@@ -34,7 +34,7 @@ from drivetrain.dynamics.linear import (
 )
 from drivetrain.dynamics.simulation import chain_energy, simulate_linear_exact
 from drivetrain.errors import InputError
-from drivetrain.stage import Stage
+from drivetrain.physics.stage import Stage
 
 
 def test_lecture_two_mass_82_7_hz() -> None:

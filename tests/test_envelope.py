@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 from drivetrain import catalog
 from drivetrain.catalog import db
-from drivetrain.envelope import (
+from drivetrain.sizing.envelope import (
     APPROXIMATE,
     Curve,
     continuous_torque,

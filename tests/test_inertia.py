@@ -4,8 +4,8 @@ import math
 
 import pytest
 
-from drivetrain import inertia as inr
-from drivetrain.materials import DENSITY, FRICTION, shear_modulus
+from drivetrain.physics import inertia as inr
+from drivetrain.physics.materials import DENSITY, FRICTION, shear_modulus
 
 
 def test_point_mass_and_parallel_axis() -> None:

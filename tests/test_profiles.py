@@ -11,9 +11,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from drivetrain import profiles
+from drivetrain.motion import profiles
 from drivetrain.errors import InputError
-from drivetrain.profiles import (
+from drivetrain.motion.profiles import (
     Cycle,
     Samples,
     movement_amount,

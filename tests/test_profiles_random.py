@@ -1,4 +1,4 @@
-"""The profile guarantees of ``drivetrain.profiles``, checked ruckig-style on seeded random moves.
+"""The profile guarantees of ``drivetrain.motion.profiles``, checked ruckig-style on seeded random moves.
 
 Target reached within 1e-9 relative; speed, acceleration and jerk never above the step's peaks
 (or a time-optimal move's limits) by more than 1e-12 relative; rest at both ends; no NaN; and
@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 from ruckig import InputParameter, Result, Ruckig, Trajectory
 
-from drivetrain.cams import CAM_LAWS
-from drivetrain.profiles import Cycle, parse_profile, ruckig_move, time_optimal_parameters
+from drivetrain.motion.cams import CAM_LAWS
+from drivetrain.motion.profiles import Cycle, parse_profile, ruckig_move, time_optimal_parameters
 
 N_PER_FAMILY = 1000
 N_RUCKIG = 100_000

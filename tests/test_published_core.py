@@ -11,11 +11,11 @@ from pathlib import Path
 
 import pytest
 
-from drivetrain.axis import parse_axis
-from drivetrain.duty import steady_state_torque
-from drivetrain.mechanisms.screw import feed_per_pulse, minimum_lead
-from drivetrain.transmission import harmonic_ratio
-from drivetrain.vehicle import reduction_ratio, rollout, top_speed, tyre_diameter
+from drivetrain.axis.model import parse_axis
+from drivetrain.duty.cycle import steady_state_torque
+from drivetrain.physics.mechanisms.screw import feed_per_pulse, minimum_lead
+from drivetrain.physics.transmission import harmonic_ratio
+from drivetrain.physics.vehicle import reduction_ratio, rollout, top_speed, tyre_diameter
 
 PUBLISHED = {e["id"]: e for e in json.loads((Path(__file__).parent / "data" / "published.json").read_text())}
 
@@ -107,7 +107,7 @@ def test_machinemfg_disc_minimum_ratio() -> None:
 
     The source truncates the 500 W ratio to 25 (inertia ratio 3.06 > 3); the strict answer is 25.25.
     """
-    from drivetrain.sizing import ratio_for_inertia_ratio
+    from drivetrain.sizing.result import ratio_for_inertia_ratio
 
     ex = "machinemfg_disc_gear_ratio"
     axis = parse_axis({"mechanism": {"type": "rotary", "diameter": "500 mm", "mass": "50 kg"}})

@@ -13,8 +13,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from drivetrain.duty import cubic_mean, fanuc_accel_torque, fanuc_speed_at_peak_torque
-from drivetrain.sizing import size
+from drivetrain.duty.cycle import cubic_mean, fanuc_accel_torque, fanuc_speed_at_peak_torque
+from drivetrain.sizing.result import size
 
 HERE = Path(__file__).parent
 AXES = HERE / "axes"
@@ -58,7 +58,7 @@ def test_yaskawa_sigma5_four_quadrant_differs_only_in_the_ramps() -> None:
     """The four-quadrant model also loses efficiency on the inertial torque of the screw and load."""
     lto = size(AXES / "yaskawa_sigma5_geared.yaml").to_dict()
     text = (AXES / "yaskawa_sigma5_geared.yaml").read_text().replace("load_torque_only", "four_quadrant")
-    from drivetrain.axis import parse_axis, parse_yaml
+    from drivetrain.axis.model import parse_axis, parse_yaml
 
     axis = parse_axis(parse_yaml(text))
     fq = size(axis).to_dict()

@@ -4,8 +4,8 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from drivetrain.efficiency import torque_through_losses
-from drivetrain.stage import Stage, chain_inertia, torque_in
+from drivetrain.physics.efficiency import torque_through_losses
+from drivetrain.physics.stage import Stage, chain_inertia, torque_in
 
 ratios = st.floats(0.05, 200.0)
 effs = st.floats(0.05, 1.0)

@@ -50,13 +50,13 @@ def _raw(name: str = "ball_screw") -> dict[str, Any]:
 
 
 @pytest.fixture(scope="module")
-def ball() -> drivetrain.sizing.SizingResult:
+def ball() -> drivetrain.sizing.result.SizingResult:
     """The shipped ball screw example: a catalog selection."""
     return drivetrain.size(EXAMPLES / "ball_screw.yaml")
 
 
 @pytest.fixture(scope="module")
-def weak() -> drivetrain.sizing.SizingResult:
+def weak() -> drivetrain.sizing.result.SizingResult:
     """The ball screw with a given motor that passes some checks and fails others, and a hostile name."""
     raw = _raw()
     raw["axis"] = EVIL

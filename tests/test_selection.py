@@ -9,10 +9,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from drivetrain import catalog
-from drivetrain.axis import load_axis, parse_axis, parse_yaml
+from drivetrain.axis.model import load_axis, parse_axis, parse_yaml
 from drivetrain.errors import InputError
-from drivetrain.sizing import size
-from drivetrain.stage import Stage, torque_in
+from drivetrain.physics.stage import Stage, torque_in
+from drivetrain.sizing.result import size
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
 FAMILIES = ["ball_screw", "belt", "rack_pinion", "rotary", "hoist", "chain", "conveyor", "roll", "lead_screw",
@@ -117,8 +117,8 @@ def test_optimal_ratio_of_a_pure_inertia_is_the_inertia_match() -> None:
 
 def test_datasheet_curve_replaces_the_derived_envelope() -> None:
     """A motor with speed-torque points is checked against them and its checks are not approximate."""
-    from drivetrain.envelope import Curve
-    from drivetrain.motor_fit import MotorArrays, demand, fit_motors
+    from drivetrain.catalog.curves import Curve
+    from drivetrain.sizing.motor_fit import MotorArrays, demand, fit_motors
 
     res = size(EXAMPLES / "ball_screw.yaml")
     d = res.duty
@@ -145,11 +145,11 @@ def test_compiled_selection_matches_the_reference_checks(axis_file: Path, curves
     order). With ``curves``, every third motor gets speed-torque curve points (the datasheet path)."""
     import dataclasses
 
-    from drivetrain.axis import Margins
-    from drivetrain.duty import cubic_mean, duty_cycle
-    from drivetrain.envelope import Curve
-    from drivetrain.motor_fit import MotorArrays, demand, fit_motors, scaled
-    from drivetrain.selection import CHECK_UNITS, evaluate
+    from drivetrain.axis.model import Margins
+    from drivetrain.catalog.curves import Curve
+    from drivetrain.duty.cycle import cubic_mean, duty_cycle
+    from drivetrain.sizing.motor_fit import MotorArrays, demand, fit_motors, scaled
+    from drivetrain.sizing.selection import CHECK_UNITS, evaluate
 
     axis = load_axis(axis_file)
     duty = duty_cycle(axis, 17)
@@ -214,7 +214,7 @@ def test_compiled_selection_matches_the_reference_checks(axis_file: Path, curves
 def test_demand_hull_gives_the_peak_torque_of_every_sample(points: list, j: float) -> None:
     """The hull vertices of each speed bin give max |T + J alpha| over the samples of that bin, and
     the whole cycle's hull over all samples: the convex hull loses no extreme point."""
-    from drivetrain.motor_fit import demand
+    from drivetrain.sizing.motor_fit import demand
 
     omega, torque, alpha = (np.array(c) for c in zip(*points, strict=True))
     # a few repeated and collinear samples, as constant phases and ramps make
@@ -237,7 +237,7 @@ def test_closest_failing_equals_a_stable_sort_of_every_failure(worst: list, n: i
     """Ranking the closest failures without sorting them all gives what the stable sort gives."""
     from types import SimpleNamespace
 
-    from drivetrain.selection import _closest_failing
+    from drivetrain.sizing.selection import _closest_failing
 
     w = np.array(worst)
     ok = w >= 0.0
@@ -250,8 +250,8 @@ def test_closest_failing_equals_a_stable_sort_of_every_failure(worst: list, n: i
 def test_closed_form_optimal_ratio_is_the_minimum_of_the_sampled_rms() -> None:
     """The closed-form ratio of least RMS torque against a dense scan of the RMS over the real cycle
     (rotor included, lossless gearbox): no scanned ratio does better (relative 1e-9)."""
-    from drivetrain.duty import duty_cycle
-    from drivetrain.selection import optimal_ratio
+    from drivetrain.duty.cycle import duty_cycle
+    from drivetrain.sizing.selection import optimal_ratio
 
     axis = load_axis(EXAMPLES / "hoist.yaml")
     duty = duty_cycle(axis, 17)
@@ -274,7 +274,7 @@ def test_closed_form_optimal_ratio_is_the_minimum_of_the_sampled_rms() -> None:
 def test_passing_candidates_are_ranked_by_the_objective(objective: str) -> None:
     """The listed passing candidates come in the order of their score, each score recomputed here
     from what the candidate's own entry (or its own cycle) says."""
-    from drivetrain.selection import candidate_cycle
+    from drivetrain.sizing.selection import candidate_cycle
 
     data = parse_yaml((EXAMPLES / "roll.yaml").read_text(encoding="utf-8"))
     assert isinstance(data, dict)

@@ -18,8 +18,8 @@ pytest.importorskip("httpx")
 
 from fastapi.testclient import TestClient
 
-from drivetrain.axis import parse_yaml
-from drivetrain.sizing import size
+from drivetrain.axis.model import parse_yaml
+from drivetrain.sizing.result import size
 from drivetrain.web import app as web_app
 from drivetrain.web.app import create_app
 
@@ -324,8 +324,8 @@ def test_openapi_describes_the_axis_schema(client: TestClient) -> None:
 
 
 def test_form_description_covers_every_mechanism_and_transmission(client: TestClient) -> None:
-    from drivetrain.mechanisms import MECHANISM_TYPES
-    from drivetrain.transmission import TRANSMISSION_TYPES
+    from drivetrain.physics.mechanisms import MECHANISM_TYPES
+    from drivetrain.physics.transmission import TRANSMISSION_TYPES
 
     desc = client.get("/api/form").json()
     fields = {f["name"]: f for f in desc["axis"]["fields"]}

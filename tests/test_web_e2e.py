@@ -20,8 +20,8 @@ from typing import Any
 
 import pytest
 
-from drivetrain.axis import parse_yaml
-from drivetrain.sizing import size
+from drivetrain.axis.model import parse_yaml
+from drivetrain.sizing.result import size
 
 pytestmark = pytest.mark.browser
 

@@ -12,28 +12,28 @@ from typing import TYPE_CHECKING, Any
 __version__ = "0.1.0"
 
 if TYPE_CHECKING:
-    from drivetrain.axis import Axis
-    from drivetrain.sizing import SizingResult
+    from drivetrain.axis.model import Axis
+    from drivetrain.sizing.result import SizingResult
 
 
 def load_axis(path: str) -> Axis:
     """Read and validate an axis file into an SI ``Axis``."""
-    from drivetrain.axis import load_axis as _load
+    from drivetrain.axis.model import load_axis as _load
 
     return _load(path)
 
 
 def size(axis: Any, points_per_phase: int = 64) -> SizingResult:
     """Size an axis (an ``Axis``, a mapping of the axis file, or a path to one)."""
-    from drivetrain.sizing import size as _size
+    from drivetrain.sizing.result import size as _size
 
     return _size(axis, points_per_phase)
 
 
 def simulate(axis: Any, **kwargs: Any) -> Any:
     """Closed-loop simulation of an axis on its own profile (``dynamics.axis_model.simulate_axis``)."""
-    from drivetrain.axis import Axis, parse_axis
-    from drivetrain.axis import load_axis as _load
+    from drivetrain.axis.model import Axis, parse_axis
+    from drivetrain.axis.model import load_axis as _load
     from drivetrain.dynamics.axis_model import simulate_axis
 
     if not isinstance(axis, Axis):

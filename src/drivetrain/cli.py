@@ -82,7 +82,7 @@ def _write_atomic(path: str, text: str) -> None:
 
 
 def _cmd_size(args: argparse.Namespace) -> int:
-    from drivetrain.sizing import size
+    from drivetrain.sizing.result import size
 
     if args.points < 3 or args.points > 100_000:
         from drivetrain.errors import InputError
@@ -110,7 +110,7 @@ def _cmd_size(args: argparse.Namespace) -> int:
 
 
 def _cmd_modes(args: argparse.Namespace) -> int:
-    from drivetrain.axis import load_axis
+    from drivetrain.axis.model import load_axis
     from drivetrain.dynamics import modes_summary
     from drivetrain.dynamics.axis_model import model
     from drivetrain.dynamics.linear import critical_speeds, excitation_orders
@@ -119,7 +119,7 @@ def _cmd_modes(args: argparse.Namespace) -> int:
     dyn = model(axis)
     out: dict[str, Any] = {"axis": axis.name, "motor": dyn.motor, **modes_summary(dyn.chain)}
     if axis.spec.profile and out["natural_frequencies_Hz"]:
-        from drivetrain.duty import duty_cycle
+        from drivetrain.duty.cycle import duty_cycle
 
         ratio = math.prod(s.ratio for s in dyn.stages) / axis.total_ratio
         top = float(abs(duty_cycle(axis).omega).max()) * ratio
@@ -147,7 +147,7 @@ def _cmd_modes(args: argparse.Namespace) -> int:
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
-    from drivetrain.axis import load_axis
+    from drivetrain.axis.model import load_axis
     from drivetrain.dynamics.axis_model import simulate_axis
 
     axis = load_axis(args.axis)
@@ -192,8 +192,8 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
 
 def _cmd_select(args: argparse.Namespace) -> int:
-    from drivetrain.axis import load_axis
-    from drivetrain.sizing import size
+    from drivetrain.axis.model import load_axis
+    from drivetrain.sizing.result import size
 
     axis = load_axis(args.axis)
     result = size(axis)

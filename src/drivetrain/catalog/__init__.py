@@ -133,8 +133,8 @@ def motors(
             f = units.parse(flange, "length", "flange", allow_zero=False)
             rows = [r for r in rows if r["flange_m"] is not None and abs(r["flange_m"] - f) <= FLANGE_TOLERANCE]
         points = rd.curves([r["id"] for r in rows])
+    from drivetrain.catalog.curves import Curve
     from drivetrain.catalog.tables import MotorTable
-    from drivetrain.envelope import Curve
 
     curves = {mid: Curve.from_points(p) for mid, p in points.items()}
     return MotorTable.from_db(rows, curves)
@@ -211,7 +211,7 @@ def _record(
     record: dict[str, Any] = {"table": spec.name, **row}
     if spec is MOTOR:
         record["derived"] = [d for d in (row.get("derived") or "").split(",") if d]
-        from drivetrain.envelope import Curve
+        from drivetrain.catalog.curves import Curve
 
         record["curve"] = None if not points else Curve.from_points(points).to_dict()
     return record

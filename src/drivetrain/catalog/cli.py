@@ -243,7 +243,7 @@ def _show(args: argparse.Namespace) -> int:
             "speed-torque curve",
             f"{len(record['curve']['speed_rad_s'])} points"
             if record.get("curve")
-            else "none: envelope derived from the ratings (approximate, see drivetrain.envelope)",
+            else "none: envelope derived from the ratings (approximate, see drivetrain.sizing.envelope)",
         )
     _console().print(out)
     return 0

@@ -16,8 +16,8 @@ from typing import Any, ClassVar, Self
 import numpy as np
 from numpy.typing import NDArray
 
+from drivetrain.catalog.curves import Curve
 from drivetrain.catalog.schema import DRIVE, GEARBOX, MOTOR, TableSpec
-from drivetrain.envelope import Curve
 
 FloatArray = NDArray[np.float64]
 StrArray = NDArray[np.str_]
@@ -107,7 +107,7 @@ class MotorTable(_Table):
     ``approx_rated`` is True where the rated torque or speed was derived (e.g. P/omega for the
     shipped FANUC rows), not read from a datasheet; ``derived`` lists the derived fields.
     ``curves[i]`` is the motor's speed-torque curve, or None where the envelope must be derived
-    from the ratings (see drivetrain.envelope).
+    from the ratings (see drivetrain.sizing.envelope).
     """
 
     SPEC: ClassVar[TableSpec] = MOTOR

@@ -30,11 +30,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from drivetrain.errors import InputError
-from drivetrain.stage import Stage
+from drivetrain.physics.stage import Stage
 from drivetrain.units import parse
 
 if TYPE_CHECKING:
-    from drivetrain.axis import Axis
+    from drivetrain.axis.model import Axis
     from drivetrain.dynamics.chain import Chain
     from drivetrain.dynamics.control import ServoLoop
     from drivetrain.dynamics.simulation import SimulationResult
@@ -70,7 +70,7 @@ def _motor(axis: Axis) -> tuple[str, float, tuple[Stage, ...]]:
         return axis.motor.name, axis.motor.inertia, axis.stages
     if axis.spec.motor is not None and axis.spec.motor.select is not None:
         from drivetrain import catalog
-        from drivetrain.sizing import size
+        from drivetrain.sizing.result import size
 
         res = size(axis)
         chosen = (res.selection or {}).get("selected")

@@ -291,7 +291,7 @@ def chain_from_spec(chain: Sequence[dict[str, Any]], field: str = "dynamics.chai
 def model_from_stages(motor_inertia: float, stages: Sequence[Any], load_inertia: float) -> Chain:
     """Compliant chain at the motor shaft from the motor, the drive-train stages and the load.
 
-    ``motor_inertia`` [kg m^2]; ``stages`` (``drivetrain.stage.Stage``) from the motor outward;
+    ``motor_inertia`` [kg m^2]; ``stages`` (``drivetrain.physics.stage.Stage``) from the motor outward;
     ``load_inertia`` at the output of the last stage [kg m^2, or kg for a linear mechanism].
 
     Rule (lecture, "Energy Equivalence Principle"; design.md conventions): walking outward with

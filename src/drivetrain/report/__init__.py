@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING
 from drivetrain.errors import InputError
 
 if TYPE_CHECKING:
-    from drivetrain.sizing import SizingResult
+    from drivetrain.sizing.result import SizingResult
 
 __all__ = ["REPORT_SUFFIXES", "render_html", "render_pdf", "repr_html", "write_report"]
 

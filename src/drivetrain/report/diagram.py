@@ -21,7 +21,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from drivetrain.report.focus import Focus
-    from drivetrain.sizing import SizingResult
+    from drivetrain.sizing.result import SizingResult
 
 BLOCK_COLORS: dict[str, str] = {
     "motor": "#1f4e79",
@@ -167,7 +167,7 @@ def build_diagram(result: SizingResult, du: DisplayUnits, focus: Focus | None = 
 
 
 def _load_lines(result: SizingResult, du: DisplayUnits) -> list[str]:
-    from drivetrain.mechanisms.base import LinearLoad
+    from drivetrain.physics.mechanisms.base import LinearLoad
 
     load = result.axis.mechanism.load
     lines: list[str] = []

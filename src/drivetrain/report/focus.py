@@ -17,8 +17,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 if TYPE_CHECKING:
-    from drivetrain.axis import MotorData
-    from drivetrain.sizing import SizingResult
+    from drivetrain.axis.model import MotorData
+    from drivetrain.sizing.result import SizingResult
 
 Array = NDArray[np.float64]
 
@@ -76,7 +76,7 @@ def candidate_label(c: dict[str, Any]) -> str:
 
 def shaft_metrics(result: SizingResult, omega: Array, torque: Array) -> dict[str, Any]:
     """Peak, RMS, speeds, power, regenerated energy and per-phase torques of a motor-shaft cycle (SI keys)."""
-    from drivetrain.duty import rms, signed_extreme
+    from drivetrain.duty.cycle import rms, signed_extreme
     from drivetrain.units import to_rpm
 
     duty = result.duty
@@ -143,9 +143,9 @@ def _from_selection(result: SizingResult) -> Focus | None:
     if not isinstance(cand, dict) or not cand.get("motor"):
         return None
     from drivetrain import catalog
-    from drivetrain.axis import motor_from_catalog_row
+    from drivetrain.axis.model import motor_from_catalog_row
     from drivetrain.errors import InputError
-    from drivetrain.stage import Stage, torque_in
+    from drivetrain.physics.stage import Stage, torque_in
 
     try:
         motor = motor_from_catalog_row(catalog.get(str(cand["motor"])))

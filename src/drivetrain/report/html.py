@@ -21,7 +21,7 @@ from drivetrain.report.model import KeyFigure, ReportModel, Table, Verdict, buil
 from drivetrain.report.plots import PlotSpec
 
 if TYPE_CHECKING:
-    from drivetrain.sizing import SizingResult
+    from drivetrain.sizing.result import SizingResult
 
 e = html.escape
 

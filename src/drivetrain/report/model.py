@@ -31,7 +31,7 @@ from drivetrain.report.formulas import Formula, formulas_for
 from drivetrain.report.plots import PlotSpec, all_plots
 
 if TYPE_CHECKING:
-    from drivetrain.sizing import SizingResult
+    from drivetrain.sizing.result import SizingResult
 
 Status = Literal["pass", "fail", "info"]
 
@@ -627,7 +627,7 @@ def _candidates_table(result: SizingResult, du: DisplayUnits) -> Table | None:
 
 
 def _ratios_table(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> Table | None:
-    from drivetrain.sizing import optimal_ratio_pure_inertia, ratio_for_inertia_ratio
+    from drivetrain.sizing.result import optimal_ratio_pure_inertia, ratio_for_inertia_ratio
 
     rows: list[list[Cell]] = []
     axis = result.axis

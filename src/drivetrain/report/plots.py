@@ -27,7 +27,7 @@ if TYPE_CHECKING:
     from plotly.graph_objects import Figure as PlotlyFigure
 
     from drivetrain.report.focus import Focus
-    from drivetrain.sizing import SizingResult
+    from drivetrain.sizing.result import SizingResult
 
 Array = NDArray[np.float64]
 
@@ -232,7 +232,7 @@ def speed_torque_plot(result: SizingResult, du: DisplayUnits, focus: Focus | Non
     caption = ("Operating points of the cycle as magnitudes (the envelope is the same in every quadrant); "
                "the RMS torque is plotted at the mean speed, where the continuous envelope is checked.")
     if focus is not None:
-        from drivetrain.envelope import continuous_torque, intermittent_torque
+        from drivetrain.sizing.envelope import continuous_torque, intermittent_torque
 
         motor = focus.motor
         w = np.unique(np.concatenate([np.linspace(0.0, motor.max_speed, 241), [motor.rated_speed]]))

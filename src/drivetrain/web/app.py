@@ -1,7 +1,7 @@
 """The web app behind ``drivetrain serve``: a JSON API (FastAPI, described by its OpenAPI schema) and
 one page built from plain JS modules in ``static/``.
 
-No physics here: every number comes from ``drivetrain.sizing.size``, the catalog and the report.
+No physics here: every number comes from ``drivetrain.sizing.result.size``, the catalog and the report.
 The API takes the axis as the JSON form of the axis file (``AxisSpec``), so a bad value gets the
 CLI's message, naming its field: ``{"detail": "mechanism.load.mass: must be > 0 kg, got -3 kg",
 "field": "mechanism.load.mass"}`` with status 422.
@@ -362,7 +362,7 @@ def dump_yaml(axis: dict[str, Any]) -> str:
 
 def parse_axis_text(text: str, field: str = "yaml") -> dict[str, Any]:
     """Axis YAML text to a mapping through the CLI's safe loader and limits."""
-    from drivetrain.axis import parse_yaml
+    from drivetrain.axis.model import parse_yaml
 
     try:
         data = parse_yaml(text)
@@ -412,7 +412,7 @@ def _envelopes(names: list[str], rated: np.ndarray, peak: np.ndarray, rated_spee
                max_speed: np.ndarray, stall: np.ndarray, curves: list[Any],
                ranks: list[int | None]) -> list[dict[str, Any]]:
     """Continuous and peak envelopes of motors for the page, from 0 to each one's max speed (one call)."""
-    from drivetrain.envelope import motor_envelopes
+    from drivetrain.sizing.envelope import motor_envelopes
 
     top = np.where(np.isfinite(max_speed) & (max_speed > 0), max_speed, rated_speed)
     omega = np.linspace(0.0, 1.0, ENVELOPE_POINTS)[None, :] * top[:, None]
@@ -486,8 +486,8 @@ def candidate_axis(axis: dict[str, Any], motor_id: str, gearbox_id: str | None) 
 
 def candidate_payload(axis: dict[str, Any], motor_id: str, gearbox_id: str | None) -> dict[str, Any]:
     """Size the axis with one candidate fixed: its motor-shaft cycle, checks and envelope."""
-    from drivetrain.axis import parse_axis
-    from drivetrain.sizing import size
+    from drivetrain.axis.model import parse_axis
+    from drivetrain.sizing.result import size
 
     fixed = candidate_axis(axis, motor_id, gearbox_id)
     try:
@@ -508,7 +508,7 @@ def candidate_payload(axis: dict[str, Any], motor_id: str, gearbox_id: str | Non
 def selected_payload(parsed: Any, result: Any, envelopes: list[dict[str, Any]]) -> dict[str, Any]:
     """The selected candidate of a sizing: its own cycle (the axis's cycle behind its gearbox, as the
     selection checked it), the selection's figures for it and its envelope."""
-    from drivetrain.selection import candidate_cycle
+    from drivetrain.sizing.selection import candidate_cycle
 
     best = result.selection["selected"]
     cycle, rotor = candidate_cycle(parsed, result.duty, result.selection)
@@ -521,8 +521,8 @@ def selected_payload(parsed: Any, result: Any, envelopes: list[dict[str, Any]]) 
 
 def size_payload(axis: dict[str, Any]) -> dict[str, Any]:
     """Size an axis mapping and collect what the page draws: the result, the sampled cycle, envelopes."""
-    from drivetrain.axis import parse_axis
-    from drivetrain.sizing import size
+    from drivetrain.axis.model import parse_axis
+    from drivetrain.sizing.result import size
 
     t0 = time.perf_counter()
     parsed = engine(parse_axis, axis)
@@ -1026,7 +1026,7 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
     @app.post("/api/yaml/upload", response_model=AxisOut, tags=["axis file"])
     async def yaml_upload(file: Annotated[UploadFile, File(description="an axis YAML file")]) -> dict[str, Any]:
         """Read an uploaded axis file (safe loader, same limits as the CLI)."""
-        from drivetrain.axis import MAX_FILE_BYTES
+        from drivetrain.axis.model import MAX_FILE_BYTES
 
         data = await file.read(MAX_FILE_BYTES + 1)
         if len(data) > MAX_FILE_BYTES:
@@ -1053,7 +1053,7 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
         path = temp_path(suffix)
 
         def write() -> None:
-            from drivetrain.sizing import size
+            from drivetrain.sizing.result import size
 
             module.write_report(engine(size, axis), str(path), units=units)
 

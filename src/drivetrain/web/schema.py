@@ -1,6 +1,6 @@
 """The axis file's JSON schema for the API, and the form description the page builds its editor from.
 
-Both come from ``drivetrain.axis.AxisSpec``, the model the CLI validates files with, so the form
+Both come from ``drivetrain.axis.model.AxisSpec``, the model the CLI validates files with, so the form
 offers every mechanism and transmission type the engine knows, and the API's schema describes
 exactly what the engine accepts. Quantity fields take a number (SI) or a string with units
 ("10 mm"); the schema says so and names the quantity (``x-quantity``) and its SI unit
@@ -98,7 +98,7 @@ class AxisJsonSchema(GenerateJsonSchema):
 @lru_cache(maxsize=4)
 def axis_json_schema(ref_template: str = "#/$defs/{model}") -> dict[str, Any]:
     """JSON schema (validation mode) of the axis file, with quantity hints."""
-    from drivetrain.axis import AxisSpec
+    from drivetrain.axis.model import AxisSpec
 
     schema = AxisSpec.model_json_schema(ref_template=ref_template, schema_generator=AxisJsonSchema)
     profile = schema["properties"]["profile"]
@@ -189,9 +189,9 @@ def _object(node: dict[str, Any], defs: dict[str, Any]) -> dict[str, Any]:
 @lru_cache(maxsize=1)
 def form_description() -> dict[str, Any]:
     """What the page needs to build the axis editor: the axis fields, profile columns, type lists."""
-    from drivetrain.mechanisms import MECHANISM_TYPES
-    from drivetrain.profiles import HOLDING, SHAPES, VALID_KEYS
-    from drivetrain.transmission import TRANSMISSION_TYPES
+    from drivetrain.motion.profiles import HOLDING, SHAPES, VALID_KEYS
+    from drivetrain.physics.mechanisms import MECHANISM_TYPES
+    from drivetrain.physics.transmission import TRANSMISSION_TYPES
 
     schema = axis_json_schema()
     defs = schema.get("$defs", {})

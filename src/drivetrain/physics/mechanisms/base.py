@@ -35,8 +35,8 @@ from drivetrain.fields import (
     TorsionalStiffnessNonNeg,
     Turbulent,
 )
-from drivetrain.loads import coulomb_friction, gravity_force, linear_load_force, spring, turbulent, viscous
-from drivetrain.stage import Stage
+from drivetrain.physics.loads import coulomb_friction, gravity_force, linear_load_force, spring, turbulent, viscous
+from drivetrain.physics.stage import Stage
 
 Array = NDArray[np.float64]
 Motion = Literal["linear", "rotary"]
@@ -239,9 +239,9 @@ def part_inertia(inertia: float | None, mass: float | None, diameter: float, bor
     material with length and diameters (J = pi rho L (D_o^4 - D_i^4) / 32); else 0.
     Lecture: solid and hollow cylinder pages (ERRATA: plus sign in the mass form).
     """
-    from drivetrain import inertia as inertia_mod
     from drivetrain.errors import InputError
-    from drivetrain.materials import density as density_of
+    from drivetrain.physics import inertia as inertia_mod
+    from drivetrain.physics.materials import density as density_of
 
     if inertia is not None:
         return inertia

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import Field, ValidationError, model_validator
 
-from drivetrain.efficiency import EfficiencyModel
+from drivetrain.axis.resolve import resolve_transmission
 from drivetrain.errors import InputError
 from drivetrain.fields import (
     Acceleration,
@@ -28,13 +28,14 @@ from drivetrain.fields import (
     Voltage,
     input_error_from_pydantic,
 )
-from drivetrain.loads import G_STANDARD
-from drivetrain.mechanisms import Mechanism, MechanismSpec
-from drivetrain.stage import Stage, chain_inertia
-from drivetrain.transmission import TransmissionSpec
+from drivetrain.physics.efficiency import EfficiencyModel
+from drivetrain.physics.loads import G_STANDARD
+from drivetrain.physics.mechanisms import Mechanism, MechanismSpec
+from drivetrain.physics.stage import Stage, chain_inertia
+from drivetrain.physics.transmission import TransmissionSpec
 
 if TYPE_CHECKING:
-    from drivetrain.profiles import Cycle
+    from drivetrain.motion.profiles import Cycle
 
 MAX_FILE_BYTES = 1_000_000
 """Largest axis file accepted [bytes]: a real axis is a few kB."""
@@ -180,7 +181,7 @@ class Axis:
 
     def cycle(self) -> Cycle:
         """The motion profile as an exact cycle (InputError naming ``profile[i]`` if impossible)."""
-        from drivetrain.profiles import parse_profile
+        from drivetrain.motion.profiles import parse_profile
 
         if not self.spec.profile:
             raise InputError("profile", "is empty: give at least one move", has_value=False)
@@ -198,7 +199,7 @@ def parse_axis(data: Any) -> Axis:
         raise input_error_from_pydantic(exc, data) from None
     try:
         mechanism = spec.mechanism.build(spec.gravity)
-        stages = tuple(t.build(k) for k, t in enumerate(spec.transmission))
+        stages = tuple(t.build(k) for k, t in enumerate(resolve_transmission(spec.transmission)))
     except InputError as exc:
         raise exc.at("") from None
     motor = _motor_data(spec.motor) if spec.motor is not None else None

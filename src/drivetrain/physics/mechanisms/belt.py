@@ -13,10 +13,10 @@ from __future__ import annotations
 from typing import Literal
 
 from drivetrain.fields import Angle, BackEfficiency, Coefficient, Efficiency, Length, MassNonNeg, Spec
-from drivetrain.inertia import linear_mass_reflected
-from drivetrain.loads import slip_limit_acceleration
-from drivetrain.mechanisms.base import LinearLoadSpec, Mechanism, WheelSpec
-from drivetrain.stage import Stage
+from drivetrain.physics.inertia import linear_mass_reflected
+from drivetrain.physics.loads import slip_limit_acceleration
+from drivetrain.physics.mechanisms.base import LinearLoadSpec, Mechanism, WheelSpec
+from drivetrain.physics.stage import Stage
 
 
 class BeltSpec(Spec):

@@ -6,15 +6,15 @@ from typing import Annotated
 
 from pydantic import Field
 
-from drivetrain.mechanisms.base import LinearLoad, Mechanism, RotaryLoad
-from drivetrain.mechanisms.belt import BeltSpec
-from drivetrain.mechanisms.chain import ChainSpec
-from drivetrain.mechanisms.custom import CustomSpec
-from drivetrain.mechanisms.hoist import HoistSpec
-from drivetrain.mechanisms.rack import RackPinionSpec
-from drivetrain.mechanisms.roll import RollSpec
-from drivetrain.mechanisms.rotary import RotarySpec
-from drivetrain.mechanisms.screw import ScrewSpec
+from drivetrain.physics.mechanisms.base import LinearLoad, Mechanism, RotaryLoad
+from drivetrain.physics.mechanisms.belt import BeltSpec
+from drivetrain.physics.mechanisms.chain import ChainSpec
+from drivetrain.physics.mechanisms.custom import CustomSpec
+from drivetrain.physics.mechanisms.hoist import HoistSpec
+from drivetrain.physics.mechanisms.rack import RackPinionSpec
+from drivetrain.physics.mechanisms.roll import RollSpec
+from drivetrain.physics.mechanisms.rotary import RotarySpec
+from drivetrain.physics.mechanisms.screw import ScrewSpec
 
 MechanismSpec = Annotated[
     ScrewSpec | BeltSpec | RackPinionSpec | RollSpec | RotarySpec | HoistSpec | ChainSpec | CustomSpec,

@@ -25,17 +25,17 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from drivetrain.duty import cubic_mean
-from drivetrain.envelope import continuous_torque, intermittent_torque, motor_envelopes
+from drivetrain.duty.cycle import cubic_mean
 from drivetrain.errors import InputError
-from drivetrain.motor_fit import Demand, demand
-from drivetrain.stage import Stage
+from drivetrain.physics.stage import Stage
+from drivetrain.sizing.envelope import continuous_torque, intermittent_torque, motor_envelopes
+from drivetrain.sizing.motor_fit import Demand, demand
 from drivetrain.units import to_rpm
 
 if TYPE_CHECKING:
-    from drivetrain.axis import Axis, Margins, SelectSpec
+    from drivetrain.axis.model import Axis, Margins, SelectSpec
     from drivetrain.catalog import GearboxTable, MotorTable
-    from drivetrain.duty import DutyCycle
+    from drivetrain.duty.cycle import DutyCycle
 
 Array = NDArray[np.float64]
 
@@ -99,7 +99,7 @@ class Candidates:
 
     def details(self, ks: NDArray[np.intp] | list[int]) -> Details:
         """Required, available and margin of every check of the candidates ``ks``."""
-        from drivetrain._select_kernel import D_INERTIA, D_PEAK, D_RMS, N_CHECKS, N_DETAIL, check
+        from drivetrain.sizing.kernel import D_INERTIA, D_PEAK, D_RMS, N_CHECKS, N_DETAIL, check
 
         ks = np.asarray(ks, dtype=np.intp)
         slots = self.slot[ks]
@@ -161,7 +161,7 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     scaled to each ratio, motor_fit.scaled); envelopes are computed by envelope.py at the speeds
     the checks need; _select_kernel.check does the per-candidate arithmetic.
     """
-    from drivetrain._select_kernel import check
+    from drivetrain.sizing.kernel import check
 
     limit = margins.inertia_ratio if max_inertia_ratio is None else min(max_inertia_ratio, margins.inertia_ratio)
     t0, w0, a0 = duty.torque, duty.omega, duty.alpha
@@ -307,7 +307,7 @@ def _closest(c: Candidates, pool: NDArray[np.intp]) -> int:
 def _closest_failing(c: Candidates, n: int) -> NDArray[np.intp]:
     """The ``n`` failing candidates with the largest worst margins, best first: ties in index order, NaN
     margins last (as a stable sort of every failing candidate, without sorting them all)."""
-    from drivetrain._select_kernel import closest_failing
+    from drivetrain.sizing.kernel import closest_failing
 
     return np.asarray(closest_failing(np.asarray(c.worst_margin, dtype=float),
                                       np.asarray(c.failed, dtype=np.uint8), n), dtype=np.intp)

@@ -23,9 +23,9 @@ from drivetrain.fields import (
     MassNonNeg,
     Spec,
 )
-from drivetrain.inertia import linear_mass_reflected
-from drivetrain.mechanisms.base import LinearLoad, Mechanism, part_inertia
-from drivetrain.stage import Stage
+from drivetrain.physics.inertia import linear_mass_reflected
+from drivetrain.physics.mechanisms.base import LinearLoad, Mechanism, part_inertia
+from drivetrain.physics.stage import Stage
 
 
 class RollLoadSpec(Spec):

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from drivetrain.efficiency import EfficiencyModel, torque_through_losses
+from drivetrain.physics.efficiency import EfficiencyModel, torque_through_losses
 
 
 @dataclass(frozen=True)

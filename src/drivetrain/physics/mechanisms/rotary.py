@@ -19,9 +19,9 @@ from drivetrain.fields import (
     MassNonNeg,
     Spec,
 )
-from drivetrain.inertia import point_mass, solid_cylinder
-from drivetrain.mechanisms.base import Mechanism, RotaryLoad, RotaryLoadSpec, part_inertia
-from drivetrain.stage import Stage
+from drivetrain.physics.inertia import point_mass, solid_cylinder
+from drivetrain.physics.mechanisms.base import Mechanism, RotaryLoad, RotaryLoadSpec, part_inertia
+from drivetrain.physics.stage import Stage
 
 
 class RotarySpec(Spec):

@@ -25,10 +25,10 @@ from drivetrain.fields import (
     Spec,
     TorqueNonNeg,
 )
-from drivetrain.inertia import cylinder_from_density, linear_mass_reflected
-from drivetrain.materials import density as density_of
-from drivetrain.mechanisms.base import LinearLoadSpec, Mechanism
-from drivetrain.stage import Stage
+from drivetrain.physics.inertia import cylinder_from_density, linear_mass_reflected
+from drivetrain.physics.materials import density as density_of
+from drivetrain.physics.mechanisms.base import LinearLoadSpec, Mechanism
+from drivetrain.physics.stage import Stage
 
 BALL_SCREW_EFFICIENCY = 0.9
 """Default ball screw efficiency: the value every selection example of the lecture uses (eta = 0.9)."""

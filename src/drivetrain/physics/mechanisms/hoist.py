@@ -19,9 +19,9 @@ from drivetrain.fields import (
     MassNonNeg,
     Spec,
 )
-from drivetrain.inertia import linear_mass_reflected
-from drivetrain.mechanisms.base import LinearLoadSpec, Mechanism, part_inertia
-from drivetrain.stage import Stage
+from drivetrain.physics.inertia import linear_mass_reflected
+from drivetrain.physics.mechanisms.base import LinearLoadSpec, Mechanism, part_inertia
+from drivetrain.physics.stage import Stage
 
 
 class HoistSpec(Spec):

@@ -6,9 +6,9 @@ import math
 from typing import Literal
 
 from drivetrain.fields import BackEfficiency, Efficiency, Inertia, Spec
-from drivetrain.inertia import point_mass, solid_cylinder
-from drivetrain.mechanisms.base import Mechanism, RotaryLoad, RotaryLoadSpec
-from drivetrain.stage import Stage
+from drivetrain.physics.inertia import point_mass, solid_cylinder
+from drivetrain.physics.mechanisms.base import Mechanism, RotaryLoad, RotaryLoadSpec
+from drivetrain.physics.stage import Stage
 
 
 class CustomSpec(Spec):

@@ -49,8 +49,8 @@ import numpy as np
 import numpy.typing as npt
 
 from drivetrain import units
-from drivetrain.cams import CAM_LAWS, DEGREE, cam_law, evaluate_pieces
 from drivetrain.errors import InputError
+from drivetrain.motion.cams import CAM_LAWS, DEGREE, cam_law, evaluate_pieces
 
 FloatArray = npt.NDArray[np.float64]
 Motion = Literal["linear", "rotary"]

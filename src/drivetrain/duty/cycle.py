@@ -21,14 +21,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from drivetrain.mechanisms.base import LinearLoad
-from drivetrain.stage import Stage, chain_inertia, torque_in
+from drivetrain.physics.mechanisms.base import LinearLoad
+from drivetrain.physics.stage import Stage, chain_inertia, torque_in
 from drivetrain.units import to_rpm
 
 if TYPE_CHECKING:
-    from drivetrain.axis import Axis
-    from drivetrain.efficiency import EfficiencyModel
-    from drivetrain.profiles import Cycle, Samples
+    from drivetrain.axis.model import Axis
+    from drivetrain.motion.profiles import Cycle, Samples
+    from drivetrain.physics.efficiency import EfficiencyModel
 
 Array = NDArray[np.float64]
 

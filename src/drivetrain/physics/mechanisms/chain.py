@@ -25,10 +25,10 @@ from drivetrain.fields import (
     MassNonNeg,
     Spec,
 )
-from drivetrain.inertia import linear_mass_reflected
-from drivetrain.loads import coulomb_friction, normal_force
-from drivetrain.mechanisms.base import Array, LinearLoad, LinearLoadSpec, Mechanism, WheelSpec
-from drivetrain.stage import Stage
+from drivetrain.physics.inertia import linear_mass_reflected
+from drivetrain.physics.loads import coulomb_friction, normal_force
+from drivetrain.physics.mechanisms.base import Array, LinearLoad, LinearLoadSpec, Mechanism, WheelSpec
+from drivetrain.physics.stage import Stage
 
 
 @dataclass(frozen=True)

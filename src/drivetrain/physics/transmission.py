@@ -28,8 +28,8 @@ from drivetrain.fields import (
     TorsionalDamping,
     TorsionalStiffness,
 )
-from drivetrain.mechanisms.base import WheelSpec
-from drivetrain.stage import Stage
+from drivetrain.physics.mechanisms.base import WheelSpec
+from drivetrain.physics.stage import Stage
 
 ARCMIN = math.pi / (180.0 * 60.0)
 """[rad] one arc minute."""
@@ -123,36 +123,17 @@ class GearboxSpec(_Compliance):
                 return harmonic_ratio(self.flexspline_teeth, self.circular_spline_teeth)
             except InputError as exc:
                 raise exc.at(f"transmission[{index}]") from None
-        return float(self._catalog_row(index)["ratio"])
-
-    def _catalog_row(self, index: int) -> dict[str, Any]:
-        from drivetrain import catalog
-
-        try:
-            row = catalog.get(str(self.catalog))
-        except InputError as exc:
-            raise InputError(f"transmission[{index}].catalog", exc.rule, self.catalog) from None
-        if row.get("table") != "gearbox":
-            raise InputError(f"transmission[{index}].catalog", "is not a gearbox in the catalog", self.catalog)
-        return row
+        # A catalog row is resolved where the axis file is read (drivetrain.axis.resolve), which fills the ratio.
+        raise InputError(f"transmission[{index}].catalog", "was not resolved from the catalog", self.catalog)
 
     def build(self, index: int) -> Stage:
         """Gearbox as a Stage: its input inertia outside its losses.
 
-        With ``catalog: ID`` the ratio, efficiency, input inertia, torsional stiffness and
-        backlash come from the catalog row (datasheet values with their source) unless given here.
+        A ``catalog: ID`` gearbox arrives here with its datasheet values already filled in
+        (drivetrain.axis.resolve); the id names the stage.
         """
         if self.catalog is not None:
-            row = self._catalog_row(index)
-            filled = {
-                "ratio": self.ratio if self.ratio is not None else float(row["ratio"]),
-                "efficiency": self.efficiency if self.efficiency is not None else row.get("efficiency"),
-                "inertia": self.inertia or (row.get("inertia_input_kgm2") or 0.0),
-                "stiffness": row.get("torsional_stiffness_Nm_per_rad") if self.stiffness is None else self.stiffness,
-                "backlash": self.backlash or (row.get("backlash_rad") or 0.0),
-            }
-            spec = self.model_copy(update={k: v for k, v in filled.items() if v is not None})
-            return spec._stage(index, name=f"{self.catalog} ({spec.ratio:g}:1)")
+            return self._stage(index, name=f"{self.catalog} ({self.gear_ratio(index):g}:1)")
         return self._stage(index)
 
     def _stage(self, index: int, name: str | None = None) -> Stage:

@@ -10,9 +10,9 @@ from __future__ import annotations
 from typing import Literal
 
 from drivetrain.fields import Angle, BackEfficiency, Density, Efficiency, Inertia, Length, LengthNonNeg, Spec
-from drivetrain.inertia import linear_mass_reflected
-from drivetrain.mechanisms.base import LinearLoadSpec, Mechanism, part_inertia
-from drivetrain.stage import Stage
+from drivetrain.physics.inertia import linear_mass_reflected
+from drivetrain.physics.mechanisms.base import LinearLoadSpec, Mechanism, part_inertia
+from drivetrain.physics.stage import Stage
 
 
 class RackPinionSpec(Spec):

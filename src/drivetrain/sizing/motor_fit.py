@@ -15,8 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from drivetrain.checks import Check, margin_of
-from drivetrain.envelope import Curve, continuous_torque, intermittent_torque, motor_envelopes
+from drivetrain.sizing.checks import Check, margin_of
+from drivetrain.sizing.envelope import Curve, continuous_torque, intermittent_torque, motor_envelopes
 
 Array = NDArray[np.float64]
 

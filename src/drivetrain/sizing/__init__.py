@@ -1,0 +1,1 @@
+"""The sizing engine: checks, motor envelopes, the compiled candidate pass, selection and the result."""
