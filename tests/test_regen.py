@@ -9,8 +9,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from drivetrain.axis import parse_axis
-from drivetrain.duty import duty_cycle, load_metrics
+from drivetrain.axis.model import parse_axis
+from drivetrain.duty.cycle import duty_cycle, load_metrics
 from drivetrain.physics.regen import (
     DELTA_ROTOR_ENERGY_DIVISOR,
     builtin_resistor_sufficient,
