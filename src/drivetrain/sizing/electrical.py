@@ -113,7 +113,7 @@ def electrical_answer(axis: Axis, duty: DutyCycle, motor: MotorData, margins: Ma
     # envelope at the supply voltage
     if elec.has_voltage_model and bus is not None:
         envelope_source = "electrical"
-        out.checks.append(_voltage_check(t_m, w, kt, elec, drive, bus, sat, torque_margin, out))
+        out.checks.append(_voltage_check(t_m, w, kt, elec, drive, bus, sat, torque_margin, motor.peak_torque, out))
     out.motor["envelope_source"] = envelope_source
     # winding temperature
     out.motor.update(_thermal(duty, current, elec, derate, out))
@@ -124,7 +124,8 @@ def electrical_answer(axis: Axis, duty: DutyCycle, motor: MotorData, margins: Ma
 
 
 def _voltage_check(t_m: Array, w: Array, kt: float, elec: MotorElectrical, drive: DriveData | None, bus: float,
-                   sat: motor_electrical.Saturation | None, torque_margin: float, out: ElectricalAnswer) -> Check:
+                   sat: motor_electrical.Saturation | None, torque_margin: float, motor_peak: float,
+                   out: ElectricalAnswer) -> Check:
     """Every sample's torque (x margin) against the voltage- and current-limited curve at its speed."""
     assert elec.ke is not None and elec.resistance is not None and elec.inductance is not None
     assert elec.pole_pairs is not None
@@ -136,7 +137,8 @@ def _voltage_check(t_m: Array, w: Array, kt: float, elec: MotorElectrical, drive
     args = (kt, elec.ke, elec.resistance, elec.inductance, elec.pole_pairs, bus, i_c, i_p)
     mot = motor_electrical.torque_speed_curve(np.abs(w), *args, saturation=sat).peak[0]
     gen = motor_electrical.torque_speed_curve(np.abs(w), *args, saturation=sat, generating=True).peak[0]
-    available = np.where(generating, gen, mot)
+    # the datasheet peak torque stays a limit of its own (the curve knows only the current limits)
+    available = np.minimum(np.where(generating, gen, mot), motor_peak)
     required = np.abs(t_m) * torque_margin
     with np.errstate(divide="ignore", invalid="ignore"):
         margins = np.where(required > 0, available / np.where(required > 0, required, 1.0) - 1.0, np.inf)
@@ -144,8 +146,9 @@ def _voltage_check(t_m: Array, w: Array, kt: float, elec: MotorElectrical, drive
     w_max = float(np.max(np.abs(w))) if w.size else 0.0
     speeds = np.linspace(0.0, max(w_max, float(motor_electrical.no_load_speed(elec.ke, bus))) * 1.05, 101)
     curve = motor_electrical.torque_speed_curve(speeds, *args, saturation=sat)
-    out.curve = {"speed_rad_s": speeds.tolist(), "continuous_torque_Nm": curve.continuous[0].tolist(),
-                 "peak_torque_Nm": curve.peak[0].tolist(), "dc_bus_voltage_V": bus}
+    out.curve = {"speed_rad_s": speeds.tolist(),
+                 "continuous_torque_Nm": np.minimum(curve.continuous[0], motor_peak).tolist(),
+                 "peak_torque_Nm": np.minimum(curve.peak[0], motor_peak).tolist(), "dc_bus_voltage_V": bus}
     out.motor["no_load_speed_rpm"] = float(motor_electrical.no_load_speed(elec.ke, bus)) * 60.0 / (2.0 * math.pi)
     return _check("peak_torque_at_supply_voltage", float(required[k]), float(available[k]), "N*m",
                   f"at {abs(float(w[k])) * 60.0 / (2.0 * math.pi):.0f} rpm, {bus:.0f} V DC bus")
