@@ -17,6 +17,7 @@ from collections.abc import Callable
 from importlib import resources
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from drivetrain import catalog
@@ -43,8 +44,11 @@ PLANETARY = load("gearboxes_planetary.csv")
 SMALL_DC = load("motors_small_dc.csv")
 SMALL_GB = load("gearboxes_small.csv")
 REJECTS = load("rejects.csv")
-FILES = {"motors_ac_servo.csv": AC, "gearboxes_planetary.csv": PLANETARY, "motors_small_dc.csv": SMALL_DC,
-         "gearboxes_small.csv": SMALL_GB}
+BECKHOFF = {family: load(f"gearboxes_beckhoff_{family}.csv") for family in ("ag2250", "ag2400", "ag3400")}
+SERVO_GEARBOXES = {"gearboxes_planetary.csv": PLANETARY} | {
+    f"gearboxes_beckhoff_{k}.csv": v for k, v in BECKHOFF.items()}
+FILES = {"motors_ac_servo.csv": AC, "motors_small_dc.csv": SMALL_DC, "gearboxes_small.csv": SMALL_GB,
+         **SERVO_GEARBOXES}
 
 
 @pytest.fixture(scope="module")
@@ -73,6 +77,7 @@ def test_row_counts_match_the_data_readme() -> None:
     assert len(SMALL_GB) == 300
     assert len(REJECTS) == 256
     assert load("drives.csv") == []  # schema only: no sourced drive data exists
+    assert {k: len(v) for k, v in BECKHOFF.items()} == {"ag2250": 22, "ag2400": 23, "ag3400": 23}
 
 
 def test_ac_servo_vendors_and_counts() -> None:
@@ -126,6 +131,12 @@ REQUIRED = {
     "gearboxes_small.csv": ["id", "vendor", "ratio", "efficiency", "max_continuous_torque_Nm",
                             "max_intermittent_torque_Nm", "inertia_input_kgm2", "source", "notes"],
 }
+# every servo gearbox file: the planetary file's columns plus the ratings, bore and the document read
+SERVO_GEARBOX_COLUMNS = [*REQUIRED["gearboxes_planetary.csv"], "emergency_stop_torque_Nm", "input_bore_max_mm",
+                         "input_bore_min_mm", "input_flange_mm", "input_pilot_mm", "input_adapters", "verified",
+                         "source_document", "source_section", "source_page", "source_url"]
+for _name in SERVO_GEARBOXES:
+    REQUIRED[_name] = SERVO_GEARBOX_COLUMNS
 
 
 @pytest.mark.parametrize("name", list(REQUIRED))
@@ -200,6 +211,46 @@ def planetary_problems(r: Row) -> list[str]:
         out.append("stages")
     if not r["vendor"]:
         out.append("vendor empty")
+    return out + servo_rating_problems(r)
+
+
+def servo_rating_problems(r: Row) -> list[str]:
+    """Issue #12's gearbox ratings and issue #17's traceability, for one servo gearbox row.
+
+    T2N <= T2B <= T2NOT where printed, n1N <= n1max, plausible units (a unit slip of mm/m, rpm/rad/s or
+    kg*cm^2/kg*m^2 lands outside these windows), and every row names its document, page and URL or says
+    verified = no with the reason in its notes.
+    """
+    out = []
+    t2n, t2b, t2not = (num(r[k]) for k in ("rated_output_torque_Nm", "max_output_torque_Nm",
+                                             "emergency_stop_torque_Nm"))
+    n1n, n1max = num(r["rated_input_speed_rpm"]), num(r["max_input_speed_rpm"])
+    if t2n is not None and t2b is not None and t2b < t2n:
+        out.append("T2B < T2N")
+    if t2b is not None and t2not is not None and t2not < t2b:
+        out.append("T2NOT < T2B")
+    if t2n is not None and t2b is not None and t2b > 5 * t2n:
+        out.append("T2B > 5 T2N (unit slip?)")
+    if n1n is not None and n1max is not None and n1max < n1n:
+        out.append("n1max < n1N")
+    for speed in (n1n, n1max):
+        if speed is not None and not 300 <= speed <= 20000:
+            out.append("input speed outside 300..20000 rpm")
+    bmin, bmax = num(r["input_bore_min_mm"]), num(r["input_bore_max_mm"])
+    for bore in (bmin, bmax, num(r["input_pilot_mm"]), num(r["input_flange_mm"])):
+        if bore is not None and not 3 <= bore <= 300:
+            out.append("input bore/pilot/flange outside 3..300 mm")
+    if bmin is not None and bmax is not None and bmin > bmax:
+        out.append("input bore min > max")
+    if r["verified"] not in ("yes", "no"):
+        out.append("verified not yes/no")
+    documented = all(r[k].strip() for k in ("source_document", "source_page", "source_url"))
+    if r["verified"] == "yes" and not (documented and r["source_url"].startswith("https://")):
+        out.append("verified row without document, page and URL")
+    if r["verified"] == "no" and "not verified" not in r["notes"] and "no vendor document" not in r["notes"]:
+        out.append("unverified row without the reason in its notes")
+    if not documented and r["verified"] != "no":
+        out.append("row without document, page and URL must be verified = no")
     return out
 
 
@@ -241,6 +292,7 @@ def small_gearhead_problems(r: Row) -> list[str]:
 CHECKS: dict[str, tuple[list[Row], Callable[[Row], list[str]]]] = {
     "ac_servo": (AC, ac_servo_problems),
     "planetary": (PLANETARY, planetary_problems),
+    **{f"beckhoff_{k}": (v, planetary_problems) for k, v in BECKHOFF.items()},
     "small_dc": (SMALL_DC, small_dc_problems),
     "small_gearhead": (SMALL_GB, small_gearhead_problems),
 }
@@ -265,6 +317,20 @@ BROKEN = [
     ("planetary", "GPB042-L1-i3", {"efficiency": "1.2"}, "efficiency outside (0,1]"),
     ("planetary", "GPB042-L1-i3", {"inertia_input_kgm2": "0.03"}, "input inertia/output torque implausible"),
     ("planetary", "GPB042-L1-i3", {"emergency_stop_torque_Nm": "10"}, "emergency-stop torque < rated"),
+    ("beckhoff_ag2400", "AG2400-TP010-MF-i4", {"max_output_torque_Nm": "80"}, "T2B < T2N"),
+    ("beckhoff_ag2400", "AG2400-TP010-MF-i4", {"emergency_stop_torque_Nm": "170"}, "T2NOT < T2B"),
+    ("beckhoff_ag2400", "AG2400-TP010-MF-i4", {"max_output_torque_Nm": "1720"}, "T2B > 5 T2N (unit slip?)"),
+    ("beckhoff_ag2400", "AG2400-TP010-MF-i4", {"max_input_speed_rpm": "2000"}, "n1max < n1N"),
+    ("beckhoff_ag2400", "AG2400-TP010-MF-i4", {"rated_input_speed_rpm": "272"},
+     "input speed outside 300..20000 rpm"),
+    ("beckhoff_ag2400", "AG2400-TP010-MF-i4", {"input_bore_max_mm": "0.024"},
+     "input bore/pilot/flange outside 3..300 mm"),
+    ("beckhoff_ag2400", "AG2400-TP010-MF-i4", {"input_bore_min_mm": "28"}, "input bore min > max"),
+    ("beckhoff_ag2400", "AG2400-TP010-MF-i4", {"verified": "maybe"}, "verified not yes/no"),
+    ("beckhoff_ag2400", "AG2400-TP010-MF-i4", {"source_url": ""}, "verified row without document, page and URL"),
+    ("beckhoff_ag2400", "AG2400-TP010-MF-i4", {"source_page": ""},
+     "row without document, page and URL must be verified = no"),
+    ("planetary", "GPB042-L1-i3", {"notes": "backlash per drawing"}, "unverified row without the reason in its notes"),
     ("small_dc", "ECXZ06M1VF44N1IL1D659A", {"no_load_speed_rad_s": "5000"},
      "no-load speed inconsistent with (V - R I_nl)/k_t"),
     ("small_gearhead", "354723", {"max_intermittent_torque_Nm": "0.5"},
@@ -336,7 +402,7 @@ def test_database_holds_every_shipped_row_in_si(use_data_dir: Path) -> None:
     m = catalog.motors()
     assert len(m) == 297 + 298
     assert len(catalog.motors(kind="ac_servo")) == 297
-    assert len(catalog.gearboxes(kind="servo_gearbox")) == 713
+    assert len(catalog.gearboxes(kind="servo_gearbox")) == 713 + 68
     assert len(catalog.gearboxes(kind="small_gearhead")) == 300
     assert len(catalog.drives()) == 0
     row = catalog.get("HG-KR43")
@@ -376,3 +442,105 @@ def test_data_version_is_documented() -> None:
     assert catalog.DATA_VERSION in sources
     for commit in ("a616618b206f66391d37f0485a3f89cb9b93a427", "215caccec6e05a58fdcdce14956d658853bf5128"):
         assert commit in sources
+
+
+# ---------------------------------------------------------------------------------- gearbox spot checks
+
+# Values as printed on the page each row cites (source_url), checked cell by cell:
+# (row id, column, printed value, page).
+_AG2250 = "https://infosys.beckhoff.com/content/1033/ag2250_ba/"
+_AG2400 = "https://infosys.beckhoff.com/content/1033/ag2400_ba/"
+_AG3400 = "https://infosys.beckhoff.com/content/1033/ag3400_ba/"
+GEARBOX_SPOT = [
+    # Beckhoff AG2250, "PLE080 technical data", Mechanical data, 1-stage
+    ("AG2250-PLE080-i4", "rated_output_torque_Nm", 115, _AG2250 + "8411886091.html"),
+    ("AG2250-PLE080-i4", "max_output_torque_Nm", 184, _AG2250 + "8411886091.html"),
+    ("AG2250-PLE080-i7", "emergency_stop_torque_Nm", 178, _AG2250 + "8411886091.html"),
+    ("AG2250-PLE080-i4", "rated_input_speed_rpm", 3900, _AG2250 + "8411886091.html"),
+    ("AG2250-PLE080-i4", "max_input_speed_rpm", 7000, _AG2250 + "8411886091.html"),
+    ("AG2250-PLE080-i4", "max_radial_load_N", 1600, _AG2250 + "8411886091.html"),
+    ("AG2250-PLE160-i8", "rated_input_speed_rpm", 2200, _AG2250 + "8412002827.html"),
+    ("AG2250-PLE060-i5", "max_output_torque_Nm", 64, _AG2250 + "8411826955.html"),
+    # Beckhoff AG2400, "TP010 MF", Mechanical data, 1-stage
+    ("AG2400-TP010-MF-i5", "rated_output_torque_Nm", 81, _AG2400 + "8995369483.html"),
+    ("AG2400-TP010-MF-i8", "max_output_torque_Nm", 126, _AG2400 + "8995369483.html"),
+    ("AG2400-TP010-MF-i7", "emergency_stop_torque_Nm", 251, _AG2400 + "8995369483.html"),
+    ("AG2400-TP010-MF-i4", "rated_input_speed_rpm", 2600, _AG2400 + "8995369483.html"),
+    ("AG2400-TP010-MF-i4", "max_input_speed_rpm", 7500, _AG2400 + "8995369483.html"),
+    ("AG2400-TP010-MF-i4", "inertia_input_kgm2", 2.32e-4, _AG2400 + "8995369483.html"),  # 24 mm hub
+    ("AG2400-TP010-MF-i4", "input_bore_max_mm", 24, _AG2400 + "8995369483.html"),
+    ("AG2400-TP500-MF-i5", "max_output_torque_Nm", 7200, _AG2400 + "8996075403.html"),
+    ("AG2400-TP050-MF-i10", "torsional_stiffness_Nm_per_arcmin", 123, _AG2400 + "8995561355.html"),
+    # Beckhoff AG3400, "NPT025 MF", Mechanical data, 1-stage
+    ("AG3400-NPT025-MF-i5", "rated_output_torque_Nm", 50, _AG3400 + "9187803147.html"),
+    ("AG3400-NPT025-MF-i5", "max_output_torque_Nm", 100, _AG3400 + "9187803147.html"),
+    ("AG3400-NPT025-MF-i5", "emergency_stop_torque_Nm", 190, _AG3400 + "9187803147.html"),
+    ("AG3400-NPT025-MF-i10", "rated_input_speed_rpm", 3900, _AG3400 + "9187803147.html"),
+    ("AG3400-NPT025-MF-i10", "max_input_speed_rpm", 7000, _AG3400 + "9187803147.html"),
+    ("AG3400-NPT025-MF-i3", "input_bore_min_mm", 14, _AG3400 + "9187803147.html"),
+    ("AG3400-NPT025-MF-i3", "max_axial_load_N", 1900, _AG3400 + "9187803147.html"),
+    ("AG3400-NPT005-MF-i4", "rated_output_torque_Nm", 5.1, _AG3400 + "9187662731.html"),
+    # G+ drawing sheets (GIGA Precision), specification table and title block
+    ("GPB042-L1-i5", "rated_output_torque_Nm", 22, "GPB042-L1-(8-30-45-M3).PDF"),
+    ("GPB042-L1-i5", "input_bore_max_mm", 8, "GPB042-L1-(8-30-45-M3).PDF"),
+    ("GPB042-L1-i5", "input_pilot_mm", 30, "GPB042-L1-(8-30-45-M3).PDF"),
+    ("GPB060-L1-i5", "input_bore_min_mm", 8, "GPB060-L1-(8-38.1-47.14-M4).PDF"),
+    ("GPB060-L1-i5", "input_bore_max_mm", 14, "GPB060-L1-(14-50-70-M4).PDF"),
+    ("GPB180-L2-i20", "rated_input_speed_rpm", 2000, "GPB180-L2-(42-114.3-200-M12).PDF"),
+    ("GPB180-L2-i20", "max_input_speed_rpm", 4000, "GPB180-L2-(42-114.3-200-M12).PDF"),
+    ("GPD255-L2-i25", "rated_output_torque_Nm", 1700, "GPD255-L2-(42-114.3-200-M12).PDF"),
+    ("GPD255-L2-i25", "emergency_stop_torque_Nm", 5100, "GPD255-L2-(42-114.3-200-M12).PDF"),  # 3 x rated
+    ("GPDR090-L2-i50", "rated_output_torque_Nm", 160, "GPDR090-L2-(19-70-90-M5).PDF"),
+]
+SERVO_ROWS = {r["id"]: r for rows in SERVO_GEARBOXES.values() for r in rows}
+
+
+@pytest.mark.parametrize(("rid", "column", "printed", "page"), GEARBOX_SPOT)
+def test_gearbox_values_match_the_page_they_cite(rid: str, column: str, printed: float, page: str) -> None:
+    r = SERVO_ROWS[rid]
+    assert num(r[column]) == pytest.approx(printed, rel=1e-9)
+    assert page in r["source_url"]
+
+
+def test_at_least_five_spot_checks_per_new_family() -> None:
+    per_family = collections.Counter(rid.split("-")[0] for rid, *_ in GEARBOX_SPOT)
+    assert min(per_family["AG2250"], per_family["AG2400"], per_family["AG3400"]) >= 5
+
+
+def test_gplus_rows_stay_flagged_with_the_reason_and_have_no_invented_t2b() -> None:
+    assert {r["verified"] for r in PLANETARY} == {"no"}
+    assert not [r["id"] for r in PLANETARY if r["max_output_torque_Nm"]]  # T2B is printed nowhere we found
+    with_drawing = [r for r in PLANETARY if r["source_url"]]
+    assert len(with_drawing) == 527
+    assert all(r["input_bore_min_mm"] and r["input_adapters"] for r in with_drawing)
+    assert all("no vendor document found" in r["notes"] for r in PLANETARY if not r["source_url"])
+
+
+def test_beckhoff_rows_are_verified_and_carry_the_acceleration_torque() -> None:
+    rows = [r for rows in BECKHOFF.values() for r in rows]
+    assert {r["verified"] for r in rows} == {"yes"}
+    assert all(r["max_output_torque_Nm"] and r["rated_input_speed_rpm"] and r["max_input_speed_rpm"] for r in rows)
+    # PLE040's emergency-stop row has 5 cells for 6 ratios: left empty rather than guessed
+    assert {r["id"] for r in rows if not r["emergency_stop_torque_Nm"]} == {
+        f"AG2250-PLE040-i{i}" for i in (3, 4, 5, 7, 8, 10)}
+
+
+def test_database_carries_the_gearbox_ratings_and_fit_data_in_si(use_data_dir: Path) -> None:
+    g = catalog.get("AG2400-TP010-MF-i5")
+    assert g["max_output_torque_Nm"] == pytest.approx(172)
+    assert g["emergency_stop_torque_Nm"] == pytest.approx(250)
+    assert g["rated_input_speed_rad_s"] == pytest.approx(2900 * RPM)
+    assert g["max_input_speed_rad_s"] == pytest.approx(7500 * RPM)
+    assert (g["input_bore_min_m"], g["input_bore_max_m"]) == pytest.approx((0.014, 0.024))
+    assert g["verified"] == 1
+    assert g["source_url"] == _AG2400 + "8995369483.html"
+    assert g["model"] == "AG2400-TP010-MF"
+    table = catalog.gearboxes(vendor="beckhoff")
+    assert len(table) == 68
+    assert bool(table.verified.all())
+    gplus = catalog.gearboxes(series="GPB")
+    assert not bool(gplus.verified.any())
+    assert bool(np.isnan(gplus.max_output_torque).all())
+    i = list(gplus.ids).index("GPB042-L1-i5")
+    assert gplus.input_bore_max[i] == pytest.approx(0.008)
+    assert gplus.input_pilot[i] == pytest.approx(0.030)

@@ -90,7 +90,7 @@ def test_rebuilt_when_the_data_version_changes(data_dir: Path, monkeypatch: pyte
 def test_a_damaged_shipped_database_is_rebuilt(data_dir: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     (data_dir / db.BUILTIN_NAME).write_bytes(b"not a database at all")
     monkeypatch.setattr(db, "_verified", set())
-    assert len(catalog.gearboxes()) == 1013
+    assert len(catalog.gearboxes()) == 1013 + 68  # 68 Beckhoff rows (data/SOURCES.md)
 
 
 def test_imports_never_touch_the_shipped_database(data_dir: Path, user_motors: None) -> None:
@@ -218,7 +218,8 @@ def test_cli_list_json_and_table(capsys: pytest.CaptureFixture[str]) -> None:
     assert [r["id"] for r in rows] == ["SGM7J-A5A", "SGM7J-01A", "SGM7J-C2A"]
     assert cli.main(["catalog", "list", "--kind", "gearbox", "--limit", "2"]) == 0
     out = capsys.readouterr().out
-    assert "GPB042-L1-i3" in out and "1011 more" in out
+    assert "GPB042-L1-i3" in out and "1079 more" in out
+    assert "T2B N·m" in out and "n1max rpm" in out and "bore mm" in out
     assert cli.main(["catalog", "list", "--kind", "drive"]) == 0
     assert "no drives" in capsys.readouterr().out
 
@@ -241,7 +242,7 @@ def test_cli_import_and_export(tmp_path: Path, capsys: pytest.CaptureFixture[str
     assert cli.main(["catalog", "export", "--origin", "user", "--format", "json", "--output", str(out)]) == 0
     assert [r["id"] for r in json.loads(out.read_text())["rows"]] == ["U-400", "U-200"]
     assert cli.main(["catalog", "export", "--kind", "gearbox", "--origin", "builtin"]) == 0
-    assert len(capsys.readouterr().out.splitlines()) == 1 + 1013
+    assert len(capsys.readouterr().out.splitlines()) == 1 + 1013 + 68
 
 
 def test_cli_bad_input_exits_2_without_traceback(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -269,3 +270,41 @@ def test_an_unwritable_data_dir_is_an_input_error(tmp_path: Path, monkeypatch: p
     monkeypatch.setenv(db.ENV_DATA_DIR, str(blocker / "data"))
     with pytest.raises(InputError, match=f"set {db.ENV_DATA_DIR} to a writable folder"):
         catalog.motors()
+
+
+def test_a_user_catalog_of_schema_1_gains_the_new_gearbox_columns(data_dir: Path, user_motors: None) -> None:
+    """Schema 2 only added gearbox columns (ratings' document, bore range, flange, pilot, verified):
+    a schema-1 user catalog is brought up to date in place, its rows kept, not refused."""
+    user = db.user_db_path(data_dir)
+    added = ("input_bore_min_m", "input_flange_m", "input_pilot_m", "input_adapters", "verified",
+             "source_document", "source_section", "source_page", "source_url")
+    conn = sqlite3.connect(user)
+    try:
+        for column in added:
+            conn.execute(f"ALTER TABLE gearboxes DROP COLUMN {column}")
+        conn.execute("UPDATE meta SET value = '1' WHERE key = 'schema_version'")
+        conn.commit()
+    finally:
+        conn.close()
+    catalog._CACHE.clear()
+    assert len(catalog.gearboxes(vendor="beckhoff")) == 68
+    assert "U-400" in set(catalog.motors(vendor="userco").ids)
+    assert meta(user, "schema_version") == str(db.SCHEMA_VERSION)
+    conn = sqlite3.connect(user)
+    try:
+        have = {r[1] for r in conn.execute("PRAGMA table_info(gearboxes)")}
+    finally:
+        conn.close()
+    assert set(added) <= have
+
+
+def test_a_user_catalog_of_an_unknown_schema_is_still_refused(data_dir: Path, user_motors: None) -> None:
+    conn = sqlite3.connect(db.user_db_path(data_dir))
+    try:
+        conn.execute("UPDATE meta SET value = '99' WHERE key = 'schema_version'")
+        conn.commit()
+    finally:
+        conn.close()
+    catalog._CACHE.clear()
+    with pytest.raises(InputError, match="schema version 99"):
+        catalog.gearboxes()

@@ -412,11 +412,11 @@ def test_the_whole_shipped_catalog_exports_and_reimports(tmp_path: Path, built: 
     buffer = io.StringIO()
     csv.writer(buffer, lineterminator="\n").writerows(rows)
     path = write(tmp_path, "copy.csv", buffer.getvalue())
-    originals = {rid: catalog.get(rid) for rid in ("HG-KR43", "GPB042-L1-i3", "354723", "aiF4/4000")
-                 if catalog.get(rid)["table"] == kind}
+    ids = ("HG-KR43", "GPB042-L1-i3", "AG2400-TP010-MF-i5", "354723", "aiF4/4000")
+    originals = {rid: catalog.get(rid) for rid in ids if catalog.get(rid)["table"] == kind}
     fresh_dir(tmp_path / "fresh", built, monkeypatch)
     report = catalog.import_file(path)  # every shipped row passes the import rules
-    assert report.rows == count == {"motor": 595, "gearbox": 1013}[kind]
+    assert report.rows == count == {"motor": 595, "gearbox": 1013 + 68}[kind]
     for rid, original in originals.items():
         again = catalog.get("COPY-" + rid)
         assert comparable({**again, "id": rid, "origin": "builtin"}) == comparable(original)
@@ -455,3 +455,24 @@ def test_json_key_errors_point_at_the_object_that_uses_the_key(tmp_path: Path) -
     errs = errors_of(exc)
     assert "unknown curve column" in errs[f"{path}:5:peak_torq [N*m]"]
     assert "unknown motor column" in errs[f"{path}:6:colour"]
+
+
+def test_gearbox_ratings_bore_and_document_columns_import_and_are_checked(tmp_path: Path) -> None:
+    head = ("id,vendor,ratio,efficiency,rated_output_torque [N*m],max_output_torque [N*m],"
+            "emergency_stop_torque [N*m],input_bore_min [mm],input_bore_max [mm]")
+    path = tmp_path / "g.csv"
+    path.write_text(head + ",rated_input_speed [rpm],max_input_speed [rpm],input_pilot [mm],verified,source_url\n"
+                    "GB-20,Acme,20,0.94,40,80,120,11,19,3000,6000,50,yes,https://example.com/acme-gb.pdf\n",
+                    encoding="utf-8")
+    catalog.import_file(path)
+    g = catalog.gearboxes(ids=["GB-20"])
+    assert (g.input_bore_min[0], g.input_bore_max[0], g.input_pilot[0]) == pytest.approx((0.011, 0.019, 0.050))
+    assert (g.max_output_torque[0], g.emergency_stop_torque[0]) == (80, 120)
+    assert bool(g.verified[0]) and catalog.get("GB-20")["source_url"] == "https://example.com/acme-gb.pdf"
+    bad = tmp_path / "bad.csv"
+    bad.write_text(head + "\nGB-21,Acme,20,0.94,40,80,60,24,19\n", encoding="utf-8")
+    with pytest.raises(InputErrors) as exc:
+        catalog.import_file(bad)
+    rules = {k.rsplit(":", 1)[1]: v for k, v in errors_of(exc).items()}
+    assert rules["emergency_stop_torque [N*m]"] == "must be >= max_output_torque (80 N*m)"
+    assert rules["input_bore_min [mm]"] == "must be <= input_bore_max (19 mm)"

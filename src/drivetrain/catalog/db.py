@@ -37,6 +37,7 @@ from drivetrain.catalog.schema import (
     ShippedFile,
     TableSpec,
     ddl,
+    sql_type,
 )
 from drivetrain.errors import InputError, InputErrors
 
@@ -271,7 +272,34 @@ def _ensure_user_schema(conn: sqlite3.Connection) -> None:
     _check_user_version(conn, "main")
 
 
+_UPGRADABLE = ("1",)
+"""User database versions brought up to SCHEMA_VERSION in place: they lack only columns added since
+(version 2 added the gearbox fields T2B source document, bore range, flange, pilot, verified)."""
+
+
+def _upgrade_user(conn: sqlite3.Connection, schema: str) -> None:
+    """Add the columns a user database of an older, compatible version lacks (one transaction)."""
+    row = conn.execute(f"SELECT value FROM {schema}.meta WHERE key = 'schema_version'").fetchone()
+    if row is None or row[0] not in _UPGRADABLE:
+        return
+    conn.execute("BEGIN IMMEDIATE")
+    try:
+        for spec in ROW_TABLES:
+            have = {r[1] for r in conn.execute(f"PRAGMA {schema}.table_info({spec.sql})")}
+            for f in spec.fields:
+                if f.column not in have:
+                    conn.execute(f"ALTER TABLE {schema}.{spec.sql} ADD COLUMN {f.column} {sql_type(f)}")
+        conn.execute(
+            f"UPDATE {schema}.meta SET value = ? WHERE key = 'schema_version'", (str(SCHEMA_VERSION),)
+        )
+        conn.execute("COMMIT")
+    except BaseException:
+        conn.execute("ROLLBACK")
+        raise
+
+
 def _check_user_version(conn: sqlite3.Connection, schema: str) -> None:
+    _upgrade_user(conn, schema)
     row = conn.execute(f"SELECT value FROM {schema}.meta WHERE key = 'schema_version'").fetchone()
     if row is None or row[0] != str(SCHEMA_VERSION):
         found = row[0] if row else "none"

@@ -694,6 +694,10 @@ def gearbox_rules(v: Mapping[str, Any], kind: str) -> Iterator[tuple[str, str]]:
     for name in ("max_output_torque", "emergency_stop_torque"):
         if _pos(v, "rated_output_torque", name) and v[name] < rated:
             yield name, f"must be >= rated_output_torque ({rated:.6g} N*m)"
+    if _pos(v, "max_output_torque", "emergency_stop_torque") and v["emergency_stop_torque"] < v["max_output_torque"]:
+        yield "emergency_stop_torque", f"must be >= max_output_torque ({v['max_output_torque']:.6g} N*m)"
+    if _pos(v, "input_bore_min", "input_bore_max") and v["input_bore_min"] > v["input_bore_max"]:
+        yield "input_bore_min", f"must be <= input_bore_max ({v['input_bore_max'] * 1e3:.6g} mm)"
     if _pos(v, "max_input_speed", "rated_input_speed") and v["max_input_speed"] < v["rated_input_speed"]:
         yield (
             "max_input_speed",

@@ -13,10 +13,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-DATA_VERSION = "2026.11-1"
+DATA_VERSION = "2026.11-2"
 """Version of the shipped data files; the cached database is rebuilt when it changes."""
 
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 """Version of the SQLite layout; a user database of another version is refused, not migrated."""
 
 # Non-numeric field types; every other ``quantity`` is a units.QUANTITIES key or in EXTRA_QUANTITIES.
@@ -63,6 +63,8 @@ def _text(name: str) -> Field:
 
 _COMMON_HEAD = (_text("id"), _text("kind"), _text("vendor"), _text("series"), _text("model"))
 _COMMON_TAIL = (_text("source"), _text("notes"))
+# The vendor document a row's numbers were read from (gearboxes; data/SOURCES.md).
+_DOCUMENT = (_text("source_document"), _text("source_section"), _text("source_page"), _text("source_url"))
 
 MOTOR_FIELDS: tuple[Field, ...] = (
     *_COMMON_HEAD,
@@ -116,9 +118,15 @@ GEARBOX_FIELDS: tuple[Field, ...] = (
     Field("mass", "mass", "mass_kg", "kg"),
     Field("noise", DECIBEL, "noise_dB", "dB"),
     Field("input_bore_max", "length", "input_bore_max_m", "mm"),
+    Field("input_bore_min", "length", "input_bore_min_m", "mm"),
+    Field("input_flange", "length", "input_flange_m", "mm"),
+    Field("input_pilot", "length", "input_pilot_m", "mm"),
+    _text("input_adapters"),
     Field("direction", INTEGER, "direction", positive=False),
     Field("right_angle", FLAG, "right_angle"),
+    Field("verified", FLAG, "verified"),
     *_COMMON_TAIL,
+    *_DOCUMENT,
 )
 
 DRIVE_FIELDS: tuple[Field, ...] = (
@@ -269,6 +277,17 @@ SHIPPED_FILES: tuple[ShippedFile, ...] = (
         "servo_gearbox",
         constants=(("type", "planetary"),),
         model_pattern=r"^(.*)-i[0-9.]+$",
+    ),
+    # data/SOURCES.md: Beckhoff planetary gear units, every row read from Beckhoff's technical-data pages
+    *(
+        ShippedFile(
+            f"gearboxes_beckhoff_{family}.csv",
+            GEARBOX,
+            "servo_gearbox",
+            constants=(("type", "planetary"),),
+            model_pattern=r"^(.*)-i[0-9.]+$",
+        )
+        for family in ("ag2250", "ag2400", "ag3400")
     ),
     ShippedFile("gearboxes_small.csv", GEARBOX, "small_gearhead"),
     ShippedFile("drives.csv", DRIVE, "servo_drive"),
