@@ -87,6 +87,16 @@ def test_electrical_keys_of_a_catalog_motor_with_a_drive() -> None:
     json.dumps(cli._jsonable(out))
 
 
+def test_continuous_current_falls_from_stall_to_rated_with_the_mean_speed() -> None:
+    """1FT7044-5AK7: I_0 5.7 A, I_N 2.5 A at 6000 rpm; the Z lift's mean speed is 2000 rpm."""
+    out = size(axis(environment=None)).to_dict()
+    m = out["motor"]
+    assert out["mean_speed_rpm"] == pytest.approx(2000.0, rel=1e-9)
+    assert m["continuous_current_A"] == pytest.approx(5.7 + (2.5 - 5.7) * 2000.0 / 6000.0, rel=1e-9)
+    check = next(c for c in m["checks"] if c["name"] == "motor_rms_current")
+    assert check["available"] == pytest.approx(m["continuous_current_A"], rel=1e-12)  # 40 degC, sea level: no derating
+
+
 def test_the_supply_curve_is_the_voltage_limited_curve() -> None:
     m = size(axis()).to_dict()["motor"]
     curve = m["supply_curve"]

@@ -58,6 +58,20 @@ def dc_bus(elec: MotorElectrical | None, drive: DriveData | None) -> tuple[float
     return None, None
 
 
+def continuous_current_at(elec: MotorElectrical, speed: float, rated_speed: float) -> float | None:
+    """Continuous current [A rms] at ``speed`` [rad/s]: I_0 at standstill falling linearly to I_N at rated speed.
+
+    The same shape as the derived continuous torque envelope (docs/checks.md, "The derived
+    envelope"): the stall current I_0 at standstill, the rated current I_N at the rated speed
+    and beyond; one of them alone is used as it is.
+    """
+    i0, i_n = elec.stall_current, elec.rated_current
+    if i0 is None or i_n is None:
+        return i0 if i0 is not None else i_n
+    frac = min(max(speed / rated_speed, 0.0), 1.0) if rated_speed > 0 else 1.0
+    return i0 + (i_n - i0) * frac
+
+
 def electrical_answer(axis: Axis, duty: DutyCycle, motor: MotorData, margins: Margins | None) -> ElectricalAnswer:
     """The electrical figures, checks, drive block and regen block of a given motor on ``axis``.
 
@@ -104,10 +118,12 @@ def electrical_answer(axis: Axis, duty: DutyCycle, motor: MotorData, margins: Ma
         "electrical_sources": list(elec.sources),
     }
     # motor current checks
-    i_cont = elec.continuous_current
+    mean_speed = float(np.sum(duty.weights * np.abs(w)) / duty.period)
+    i_cont = continuous_current_at(elec, mean_speed, motor.rated_speed)
+    out.motor["continuous_current_A"] = i_cont
     if i_cont is not None:
         out.checks.append(_check("motor_rms_current", i_rms, i_cont * derate, "A",
-                                 f"continuous current x derating {derate:.3g} ({env.derating})"))
+                                 f"continuous current at the mean speed x derating {derate:.3g} ({env.derating})"))
     if elec.peak_current is not None:
         out.checks.append(_check("motor_peak_current", i_peak, elec.peak_current, "A"))
     # envelope at the supply voltage
