@@ -292,6 +292,7 @@ def _print_table(result: Any) -> None:
                       {"ok": all(c["ok"] for c in mech), "checks": mech})
     if result.motor is not None:
         _print_checks(console, f"motor {result.motor['name']}", result.motor)
+        _print_electrical(console, result)
     if result.candidates:
         _print_candidates(console, result)
 
@@ -311,6 +312,37 @@ def _print_checks(console: Any, title: str, block: dict[str, Any]) -> None:
         console.print(f"inertia ratio J_L/J_M = {block['inertia_ratio']:.3g} "
                       f"(lecture: below 5:1 recommended, 1:1 ideal); "
                       f"t_am = {block['min_accel_time_s']:.4g} s, t_dm = {block['min_decel_time_s']:.4g} s")
+
+
+def _print_electrical(console: Any, result: Any) -> None:
+    """The electrical half of a given motor: supply, envelope source, currents, winding, drive, regen."""
+    m = result.motor
+    if "rms_current_A" not in m:
+        return
+    bus = m.get("dc_bus_voltage_V")
+    supply = m.get("supply_voltage_V")
+    where = (f"supply {supply:.0f} V, DC bus {bus:.0f} V" if supply and bus else
+             (f"DC bus {bus:.0f} V" if bus else "supply voltage not given"))
+    console.print(f"{where}; envelope: {m['envelope_source']}")
+    console.print(f"motor current: RMS {m['rms_current_A']:.4g} A, peak {m['peak_current_A']:.4g} A "
+                  f"(Kt {m['torque_constant_NmA']:.4g} N*m/A)")
+    rise = m.get("winding_temperature_rise_K")
+    if rise is not None:
+        console.print(f"winding temperature rise {rise:.4g} K (allowed {m['winding_allowed_rise_K']:.4g} K at "
+                      f"{m['ambient_degC']:g} degC, {m['altitude_m']:g} m)")
+    drive = result.extras.get("drive")
+    if drive is not None:
+        _print_checks(console, f"drive {drive['id']}", drive)
+    rg = result.extras.get("regen")
+    if rg is not None:
+        window = (f", resistance {rg['resistor_min_ohm'] or 0:.4g} to {rg['resistor_max_ohm']:.4g} ohm"
+                  if rg.get("resistor_max_ohm") is not None else "")
+        builtin = {True: "; built-in resistor suffices", False: "; built-in resistor does NOT suffice",
+                   None: ""}[rg["builtin_resistor_sufficient"]]
+        console.print(f"regeneration into the bus {rg['energy_per_cycle_J']:.4g} J per cycle, capacitors "
+                      f"{rg['capacitor_absorbed_J']:.4g} J; braking resistor {rg['resistor_energy_per_cycle_J']:.4g} J "
+                      f"per cycle, peak {rg['resistor_peak_power_W']:.4g} W, average "
+                      f"{rg['resistor_average_power_W']:.4g} W{window}{builtin}")
 
 
 def _print_candidates(console: Any, result: Any) -> None:

@@ -13,6 +13,17 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import Field, ValidationError, model_validator
 
+from drivetrain.axis.electrical import (
+    DriveData,
+    DriveSpec,
+    Environment,
+    EnvironmentSpec,
+    MotorElectrical,
+    MotorElectricalSpec,
+    drive_data,
+    environment,
+    motor_electrical,
+)
 from drivetrain.axis.resolve import resolve_transmission
 from drivetrain.errors import InputError
 from drivetrain.fields import (
@@ -75,8 +86,10 @@ class SelectSpec(Spec):
     top: int = Field(default=10, ge=1, le=1000)
 
 
-class MotorSpec(Spec):
-    """``motor:``: a given motor by its parameters or catalog id, or a catalog selection."""
+class MotorSpec(MotorElectricalSpec):
+    """``motor:``: a given motor by its parameters or catalog id, or a catalog selection.
+
+    The electrical keys (kt, ke, resistance, ..., see ``drivetrain.axis.electrical``) are optional."""
 
     name: str | None = None
     id: str | None = None
@@ -142,6 +155,8 @@ class AxisSpec(Spec):
     guide: GuideSpec | None = None
     dynamics: dict[str, Any] | None = None
     extra_inertia: Inertia = 0.0
+    drive: DriveSpec | None = None
+    environment: EnvironmentSpec | None = None
 
 
 @dataclass(frozen=True)
@@ -174,6 +189,9 @@ class Axis:
     spec: AxisSpec
     motor: MotorData | None = None
     raw: dict[str, Any] = field(default_factory=dict, compare=False)
+    electrical: MotorElectrical | None = None
+    drive: DriveData | None = None
+    environment: Environment = field(default_factory=Environment)
 
     @property
     def stages(self) -> tuple[Stage, ...]:
@@ -214,8 +232,16 @@ def parse_axis(data: Any) -> Axis:
     except InputError as exc:
         raise exc.at("") from None
     motor = _motor_data(spec.motor) if spec.motor is not None else None
+    electrical = None
+    if spec.motor is not None and spec.motor.select is None:
+        try:
+            electrical = motor_electrical(spec.motor, spec.motor.id)
+        except InputError as exc:
+            raise exc.at("") from None
     return Axis(name=spec.axis, gravity=spec.gravity, efficiency_model=spec.efficiency_model,
-                mechanism=mechanism, transmission=stages, spec=spec, motor=motor, raw=data)
+                mechanism=mechanism, transmission=stages, spec=spec, motor=motor, raw=data,
+                electrical=electrical, drive=None if spec.drive is None else drive_data(spec.drive),
+                environment=environment(spec.environment))
 
 
 def _motor_data(m: MotorSpec) -> MotorData | None:

@@ -50,8 +50,9 @@ class SizingResult:
 
     @property
     def ok(self) -> bool:
-        """True when the axis's own checks (slip, guide, brake, mechanism) and the given motor or a candidate pass."""
-        own = [self.extras[k]["ok"] for k in ("slip_check", "guide", "brake_check") if k in self.extras]
+        """True when the axis's own checks (slip, guide, brake, mechanism, drive) and the given motor or a
+        candidate pass."""
+        own = [self.extras[k]["ok"] for k in ("slip_check", "guide", "brake_check", "drive") if k in self.extras]
         own += [c["ok"] for c in self.extras.get("mechanism_checks", [])]
         if not all(own):
             return False
@@ -183,6 +184,21 @@ def motor_result(axis: Axis, duty: DutyCycle, motor: MotorData) -> dict[str, Any
     first = _first_move_ramp_times(duty)
     checks: list[Check] = fit.checks(0)
     gearbox = _gearbox_split(axis, motor, duty, run)
+    from drivetrain.sizing.electrical import electrical_answer
+
+    elec = electrical_answer(axis, duty, motor, margins)
+    checks = checks + elec.checks
+    ok = bool(fit.ok[0]) and all(c.ok for c in elec.checks)
+    failed = fit.first_failure(0) or next((f"{c.name}: required {c.required:.4g} {c.unit} > available "
+                                           f"{c.available:.4g} {c.unit} ({c.margin * 100:.1f} %)"
+                                           for c in elec.checks if not c.ok), "")
+    extra: dict[str, Any] = dict(elec.motor)
+    if elec.curve is not None:
+        extra["supply_curve"] = elec.curve
+    if elec.drive is not None:
+        extra["_drive"] = elec.drive
+    if elec.regen is not None:
+        extra["_regen"] = elec.regen
     return {
         "name": motor.name,
         "source": motor.source,
@@ -201,8 +217,9 @@ def motor_result(axis: Axis, duty: DutyCycle, motor: MotorData) -> dict[str, Any
         "operation_power_W": operation_power(n, run),
         "acceleration_power_W": acceleration_power(n, duty.load_inertia, first) if first > 0 else None,
         **gearbox,
-        "ok": bool(fit.ok[0]),
-        "failed": fit.first_failure(0),
+        **extra,
+        "ok": ok,
+        "failed": failed,
         "checks": [c.to_dict() for c in checks],
         "segments": with_rotor["segments"],
     }
@@ -282,6 +299,15 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64) -
         result.extras["brake_check"] = brake
     if axis.motor is not None:
         result.motor = motor_result(axis, duty, axis.motor)
+        for key in ("drive", "regen"):  # the electrical half's blocks sit beside the motor's
+            block = result.motor.pop(f"_{key}", None)
+            if block is not None:
+                result.extras[key] = block
+    elif axis.drive is not None:
+        from drivetrain.errors import InputError
+
+        raise InputError("drive", "a given drive needs a given motor (motor: {id: ...} or its parameters); "
+                         "catalog selection with drives is not available yet", has_value=False)
     elif axis.spec.motor is not None and axis.spec.motor.select is not None:
         from drivetrain.sizing.selection import select
 
