@@ -31,6 +31,7 @@ from drivetrain.fields import (
     MassNonNeg,
     Spec,
     Torque,
+    TorqueNonNeg,
     TorsionalDamping,
     TorsionalStiffnessNonNeg,
     Turbulent,
@@ -189,8 +190,8 @@ class RotaryLoadSpec(Spec):
     unbalance_mass: MassNonNeg = 0.0
     unbalance_radius: LengthNonNeg = 0.0
     unbalance_angle: Angle = 0.0
-    friction_torque: Torque = 0.0
-    static_friction_torque: Torque | None = None
+    friction_torque: TorqueNonNeg = 0.0
+    static_friction_torque: TorqueNonNeg | None = None
     viscous: TorsionalDamping = 0.0
     turbulent: Turbulent = 0.0
     spring: TorsionalStiffnessNonNeg = 0.0
