@@ -39,11 +39,11 @@ class ChainLoad(LinearLoad):
     loop_friction: float = 1.0
 
     def force(self, position: ArrayLike, speed: ArrayLike, direction: ArrayLike, thrust: ArrayLike | None,
-              g: float) -> Array:
+              g: float, breakaway: ArrayLike | None = None) -> Array:
         """Carried-load force plus mu_loop m_Loop g cos(alpha) against the motion [N]."""
         drag = coulomb_friction(normal_force(self.loop_mass, self.incline, g), self.loop_friction,
-                                self.loop_friction, speed, direction)
-        return np.asarray(super().force(position, speed, direction, thrust, g) + drag, dtype=float)
+                                self.loop_friction, speed, direction, breakaway)
+        return np.asarray(super().force(position, speed, direction, thrust, g, breakaway) + drag, dtype=float)
 
 
 class ChainSpec(Spec):

@@ -52,7 +52,7 @@ class RotarySpec(Spec):
             friction_torque=spec.friction_torque,
             static_friction_torque=spec.friction_torque if spec.static_friction_torque is None
             else spec.static_friction_torque,
-            viscous=spec.viscous, turbulent=spec.turbulent, spring=spec.spring,
+            viscous=spec.viscous, turbulent=spec.turbulent, spring=spec.spring, thrust_mode=spec.thrust_mode,
         )
         stage = Stage(name="rotary", kind="rotary", ratio=1.0, inertia_in=0.0,
                       inertia_inside=j_disc + j_load + j_unb, efficiency=self.efficiency,
