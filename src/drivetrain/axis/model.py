@@ -17,11 +17,11 @@ from drivetrain.axis.resolve import resolve_transmission
 from drivetrain.errors import InputError
 from drivetrain.fields import (
     Acceleration,
+    ComponentInertia,
     ForcePos,
-    Inertia,
-    InertiaPos,
     Length,
     LengthAny,
+    RotorInertia,
     Spec,
     SpeedPos,
     TorquePos,
@@ -79,7 +79,7 @@ class MotorSpec(Spec):
 
     name: str | None = None
     id: str | None = None
-    inertia: InertiaPos | None = None
+    inertia: RotorInertia | None = None
     rated_torque: TorquePos | None = None
     stall_torque: TorquePos | None = None
     peak_torque: TorquePos | None = None
@@ -130,7 +130,7 @@ class AxisSpec(Spec):
     motor: MotorSpec | None = None
     guide: GuideSpec | None = None
     dynamics: dict[str, Any] | None = None
-    extra_inertia: Inertia = 0.0
+    extra_inertia: ComponentInertia = 0.0
 
 
 @dataclass(frozen=True)

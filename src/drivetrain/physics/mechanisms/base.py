@@ -122,8 +122,8 @@ class RotaryLoad:
         """
         t_thrust = self.torque if thrust is None else thrust
         phi = np.asarray(angle, dtype=float)
-        t = process_thrust(t_thrust, direction, self.thrust_mode) + self.unbalance_mass * g * self.unbalance_radius * np.sin(
-            phi + self.unbalance_angle) * math.sin(self.incline)
+        t = process_thrust(t_thrust, direction, self.thrust_mode) + self.unbalance_mass * g * self.unbalance_radius \
+            * np.sin(phi + self.unbalance_angle) * math.sin(self.incline)
         t = t + coulomb_friction(1.0, self.friction_torque, self.static_friction_torque or self.friction_torque,
                                  omega, direction, breakaway)
         if self.viscous:

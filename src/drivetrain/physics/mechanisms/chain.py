@@ -17,10 +17,10 @@ from numpy.typing import ArrayLike
 from pydantic import Field
 
 from drivetrain.fields import (
-    Angle,
     BackEfficiency,
     Coefficient,
     Efficiency,
+    Incline,
     Length,
     MassNonNeg,
     Spec,
@@ -56,7 +56,7 @@ class ChainSpec(Spec):
     passive_sprockets: list[WheelSpec] = []
     loop_mass: MassNonNeg = 0.0
     loop_friction: Coefficient = 1.0
-    incline: Angle = 0.0
+    incline: Incline = 0.0
     efficiency: Efficiency = 1.0
     back_efficiency: BackEfficiency | None = None
     load: LinearLoadSpec | None = None

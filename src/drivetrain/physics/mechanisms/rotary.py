@@ -10,10 +10,10 @@ from __future__ import annotations
 from typing import Literal
 
 from drivetrain.fields import (
-    Angle,
     BackEfficiency,
     Density,
     Efficiency,
+    Incline,
     Inertia,
     LengthNonNeg,
     MassNonNeg,
@@ -34,7 +34,7 @@ class RotarySpec(Spec):
     density: Density | None = None
     material: str | None = None
     inertia: Inertia | None = None
-    incline: Angle = 0.0
+    incline: Incline = 0.0
     efficiency: Efficiency = 1.0
     back_efficiency: BackEfficiency | None = None
     load: RotaryLoadSpec = RotaryLoadSpec()
