@@ -38,6 +38,8 @@ class Plausible:
     usual: str
     high: float | None = None
     low: float | None = None
+    ceiling: float | None = None
+    """Above it a number is not judged (a plain error for the bounds): an efficiency of 400 is no percentage."""
 
 
 PLAUSIBLE: dict[str, Plausible] = {
@@ -51,7 +53,7 @@ PLAUSIBLE: dict[str, Plausible] = {
     "mass": Plausible("a mass", "g", high=1.0e5),
     "motor_speed": Plausible("a motor speed", "rpm", high=1500.0),
     "density": Plausible("a density", "g/cm^3", low=50.0),
-    "efficiency": Plausible("an efficiency", "%", high=1.0),
+    "efficiency": Plausible("an efficiency", "%", high=5.0, ceiling=100.0),
     "time": Plausible("a time", "ms", high=3600.0),
 }
 """The plausibility rules, one per kind of field (docs/axis-file.md, "Bare numbers").
@@ -68,7 +70,7 @@ inertia above 1e4 kg m^2 (a load): beyond the largest direct-drive tables.
 mass above 100 t: beyond a servo axis; a number in grams.
 motor speed above 1500 rad/s (14,324 rpm): servo motors are rated in rpm, 1000 to 6000.
 density below 50 kg/m^3: lighter than any solid part; g/cm^3 (steel 7.85).
-efficiency above 1: a percentage.
+efficiency from 5 to 100: a percentage (between 1 and 5 the bound "must be <= 1" answers).
 time above 1 h: a number in milliseconds.
 """
 
@@ -87,6 +89,8 @@ def plausibility(value: Any, si_value: float, rule: str) -> str | None:
         return None
     p = PLAUSIBLE[rule]
     x = abs(si_value)
+    if p.ceiling is not None and not 0.0 < si_value <= p.ceiling:
+        return None
     if not ((p.high is not None and x > p.high) or (p.low is not None and 0.0 < x < p.low)):
         return None
     from drivetrain.units import convert
@@ -97,7 +101,7 @@ def plausibility(value: Any, si_value: float, rule: str) -> str | None:
     shown = convert(si_value, quantity, p.usual)
     limit = f"above {p.high:g}" if p.high is not None and x > p.high else f"below {p.low:g}"
     if not si:
-        return (f"{written} is {limit}, implausible for {p.what} (a fraction); write '{written} {p.usual}' "
+        return (f"{written} is no fraction: {p.what} is at most 1; write '{written} {p.usual}' "
                 f"or {si_value / 100.0:g}")
     return (f"{written} {si} is {_fmt(shown)} {p.usual}; write '{written} {p.usual}' (a bare number is SI, and "
             f"{limit} {si} it is implausible for {p.what}; write '{written} {si}' with its unit to keep it)")

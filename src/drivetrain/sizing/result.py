@@ -249,6 +249,9 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64) -
     duty = duty_cycle(axis, points_per_phase)
     metrics = load_metrics(duty)
     result = SizingResult(axis=axis, duty=duty, metrics=metrics)
+    from drivetrain.duty.sanity import sanity_warnings
+
+    result.extras["warnings"] = sanity_warnings(axis, duty)
     if axis.spec.guide is not None and axis.mechanism.motion == "linear":
         from drivetrain.physics.guides import guide_report
 
