@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from drivetrain.axis.model import parse_axis
 from drivetrain.duty.cycle import duty_cycle, load_metrics
@@ -194,3 +196,25 @@ def test_per_move_thrust_follows_the_same_rule() -> None:
     axis = thrust_axis(thrust=0.0)
     axis["profile"][1]["thrust"] = 50.0
     assert run_torques(axis)[1] == pytest.approx(-50 * 0.02, rel=1e-12)
+
+
+# --------------------------------------------------------------------------- properties
+
+
+@given(st.lists(st.tuples(st.floats(-0.5, 0.5).filter(lambda d: abs(d) > 1e-3), st.floats(0.2, 2.0),
+                          st.floats(0.05, 0.45)), min_size=1, max_size=4),
+       st.floats(0.0, 0.3), st.floats(0.0, 0.5), st.sampled_from(["0 deg", "30 deg", "90 deg"]))
+@settings(max_examples=40, deadline=None)
+def test_rms_is_the_same_at_any_number_of_points(moves: list, mu: float, extra: float, incline: str) -> None:
+    """Piecewise-linear torque (no speed-dependent load): Simpson is exact, and breakaway weighs nothing."""
+    prof: list = []
+    for d, t, f in moves:
+        prof += [{"move": d, "time": t, "accel": t * f}, {"dwell": 0.1}]
+    axis = parse_axis({"mechanism": {"type": "ball_screw", "lead": "10 mm", "efficiency": 0.9, "incline": incline,
+                                     "load": {"mass": 20, "friction": mu, "static_friction": mu + extra,
+                                              "thrust": 30}},
+                       "transmission": [{"type": "gearbox", "ratio": 3, "efficiency": 0.95}],
+                       "profile": prof})
+    coarse, fine = load_metrics(duty_cycle(axis, 5)), load_metrics(duty_cycle(axis, 65))
+    assert coarse["rms_torque_Nm"] == pytest.approx(fine["rms_torque_Nm"], rel=1e-9)
+    assert coarse["peak_torque_Nm"] == pytest.approx(fine["peak_torque_Nm"], rel=1e-9)
