@@ -73,7 +73,7 @@ def slideway(points: int = 64, static: float = 0.3) -> dict:
 def test_breakaway_only_where_motion_starts() -> None:
     """Decel torque = (-m a + mu m g) r; breakaway mu0 m g r + m a r only at the start of the move.
 
-    v_peak = 0.2 / 0.75, a = v_peak / 0.25 = 1.0667 m/s^2: decel -50 a 0.02 + 0.1 50 g 0.02 = -0.0886 N m.
+    v_peak = 0.2 / 0.75, a = v_peak / 0.25 = 1.0667 m/s^2: decel -50 a 0.02 + 0.1 50 g 0.02 = -0.0860 N m.
     """
     m = load_metrics(duty_cycle(parse_axis(slideway())))
     a = 0.2 / 0.75 / 0.25
