@@ -218,3 +218,19 @@ def test_rms_is_the_same_at_any_number_of_points(moves: list, mu: float, extra: 
     coarse, fine = load_metrics(duty_cycle(axis, 5)), load_metrics(duty_cycle(axis, 65))
     assert coarse["rms_torque_Nm"] == pytest.approx(fine["rms_torque_Nm"], rel=1e-9)
     assert coarse["peak_torque_Nm"] == pytest.approx(fine["peak_torque_Nm"], rel=1e-9)
+
+
+@given(st.lists(st.tuples(st.floats(0.01, 0.5), st.floats(0.2, 2.0), st.floats(0.05, 0.45)), min_size=1, max_size=4),
+       st.floats(-200.0, 200.0), st.floats(0.0, 0.3))
+@settings(max_examples=30, deadline=None)
+def test_mirrored_moves_negate_the_torque_with_a_thrust_against_the_motion(moves: list, thrust: float,
+                                                                           mu: float) -> None:
+    """Level axis, thrust against the motion: every quadrant mirrors (lecture: -T_Thrust in quadrants 3 and 4)."""
+    def axis(sign: float) -> dict:
+        return {"mechanism": {"type": "ball_screw", "lead": "10 mm", "efficiency": 0.9,
+                              "load": {"mass": 20, "friction": mu, "static_friction": mu * 1.5, "thrust": thrust}},
+                "transmission": [{"type": "gearbox", "ratio": 3, "efficiency": 0.95, "inertia": 2e-5}],
+                "profile": [{"move": sign * d, "time": t, "accel": t * f} for d, t, f in moves]}
+    a = duty_cycle(parse_axis(axis(1.0)))
+    b = duty_cycle(parse_axis(axis(-1.0)))
+    np.testing.assert_allclose(b.torque, -a.torque, rtol=1e-12, atol=1e-12)
