@@ -20,13 +20,13 @@ if TYPE_CHECKING:
     from drivetrain.axis.model import Axis
     from drivetrain.duty.cycle import DutyCycle
 
-LOAD_SCALE_FACTOR = 25.0
+LOAD_SCALE_FACTOR = 15.0
 """Largest plausible ratio of the load's peak demand to its own static scale [-].
 
 Linear: the peak force on the load against its weight plus its process and press forces, i.e. an
-acceleration of about 25 g; the fastest linear-motor pick-and-place axes stay below 10 g. Rotary: the
+acceleration of about 15 g; the fastest linear-motor pick-and-place axes stay below 10 g. Rotary: the
 peak torque at the load against its weight at its rim plus its process and friction torques; for a disc
-T / (m g R) = R alpha / (2 g), so 25 is a rim acceleration of about 50 g."""
+T / (m g R) = R alpha / (2 g), so 15 is a rim acceleration of about 30 g."""
 MAX_MOTOR_TORQUE = 20_000.0
 """[N m] beyond the largest catalogued servo and direct-drive torque motors (a few thousand N m)."""
 MAX_MOTOR_SPEED = 30_000.0 * 2.0 * math.pi / 60.0
