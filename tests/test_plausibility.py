@@ -174,3 +174,20 @@ def test_the_cli_prints_the_warnings(tmp_path: Path) -> None:
     js = subprocess.run([sys.executable, "-m", "drivetrain.cli", "size", str(path), "--json"], capture_output=True,
                         text=True, timeout=120, check=False)
     assert json.loads(js.stdout)["warnings"]
+
+
+ROOT = Path(__file__).resolve().parents[1]
+SHIPPED = sorted([*ROOT.glob("examples/*.yaml"), *ROOT.glob("tests/axes/*.yaml")])
+
+
+@pytest.mark.parametrize("path", SHIPPED, ids=lambda p: p.name)
+def test_no_shipped_example_is_warned(path: Path) -> None:
+    """Every shipped example and published axis is a real machine: none is out of scale with its load."""
+    from drivetrain.axis.model import load_axis
+    from drivetrain.duty.cycle import duty_cycle
+    from drivetrain.duty.sanity import sanity_warnings
+
+    axis = load_axis(path)
+    if not axis.spec.profile:
+        pytest.skip("no profile")
+    assert sanity_warnings(axis, duty_cycle(axis)) == []
