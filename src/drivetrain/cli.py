@@ -100,6 +100,8 @@ def _cmd_size(args: argparse.Namespace) -> int:
         print(json.dumps(_jsonable(result.to_dict()), indent=2))
         return 0
     _print_table(result)
+    for warning in result.extras.get("warnings", []):
+        print(f"warning: {warning}")
     if explanation:
         print(explanation)
     if args.csv:

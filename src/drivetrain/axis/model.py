@@ -28,11 +28,11 @@ from drivetrain.axis.resolve import resolve_transmission
 from drivetrain.errors import InputError
 from drivetrain.fields import (
     Acceleration,
+    ComponentInertia,
     ForcePos,
-    Inertia,
-    InertiaPos,
     Length,
     LengthAny,
+    RotorInertia,
     Spec,
     SpeedPos,
     Time,
@@ -93,7 +93,7 @@ class MotorSpec(MotorElectricalSpec):
 
     name: str | None = None
     id: str | None = None
-    inertia: InertiaPos | None = None
+    inertia: RotorInertia | None = None
     rated_torque: TorquePos | None = None
     stall_torque: TorquePos | None = None
     peak_torque: TorquePos | None = None
@@ -154,7 +154,7 @@ class AxisSpec(Spec):
     motor: MotorSpec | None = None
     guide: GuideSpec | None = None
     dynamics: dict[str, Any] | None = None
-    extra_inertia: Inertia = 0.0
+    extra_inertia: ComponentInertia = 0.0
     drive: DriveSpec | None = None
     environment: EnvironmentSpec | None = None
 

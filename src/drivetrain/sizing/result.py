@@ -226,23 +226,11 @@ def motor_result(axis: Axis, duty: DutyCycle, motor: MotorData) -> dict[str, Any
 
 
 def _gearbox_split(axis: Axis, motor: MotorData, duty: DutyCycle, run_torque: float) -> dict[str, Any]:
-    """The lecture's gearbox torque split for the first gearbox from the motor, if any.
+    """The lecture's gearbox torque split for the first gearbox from the motor, if any
+    (``duty.cycle.gearbox_split_at_motor_peak``)."""
+    from drivetrain.duty.cycle import gearbox_split_at_motor_peak
 
-    k = J_M / (J_M + J_LR); at the motor's peak torque only (1 - k)(T_M - T_L) + T_L passes the
-    gearbox (motor side), times i eta at its output: the gearbox need not be sized to the motor's peak.
-    """
-    from drivetrain.duty.cycle import gearbox_peak_torque, gearbox_torque_split
-
-    for k, st in enumerate(axis.transmission):
-        if st.kind != "gearbox":
-            continue
-        j_before = sum(s.inertia for s in axis.transmission[: k + 1])
-        j_lr = duty.load_inertia - j_before
-        t_gb = gearbox_peak_torque(motor.peak_torque, motor.inertia + j_before, j_lr, run_torque)
-        return {"gearbox_torque_split_k": gearbox_torque_split(motor.inertia + j_before, j_lr),
-                "gearbox_output_torque_at_motor_peak_Nm": t_gb * st.ratio * st.efficiency,
-                "gearbox_output_peak_torque_Nm": float(np.max(np.abs(duty.stage_torque[k])))}
-    return {}
+    return gearbox_split_at_motor_peak(axis, duty, motor.inertia, motor.peak_torque, run_torque)
 
 
 def _brake_check(axis: Axis, duty: DutyCycle) -> dict[str, Any] | None:
@@ -279,6 +267,9 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64) -
     duty = duty_cycle(axis, points_per_phase)
     metrics = load_metrics(duty)
     result = SizingResult(axis=axis, duty=duty, metrics=metrics)
+    from drivetrain.duty.sanity import sanity_warnings
+
+    result.extras["warnings"] = sanity_warnings(axis, duty)
     if axis.spec.guide is not None and axis.mechanism.motion == "linear":
         from drivetrain.physics.guides import guide_report
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Literal
 
-from drivetrain.fields import Angle, BackEfficiency, Density, Efficiency, Inertia, Length, LengthNonNeg, Spec
+from drivetrain.fields import BackEfficiency, Density, Efficiency, Incline, Inertia, Length, LengthNonNeg, Spec
 from drivetrain.physics.inertia import linear_mass_reflected
 from drivetrain.physics.mechanisms.base import LinearLoadSpec, Mechanism, part_inertia
 from drivetrain.physics.mechanisms.limits import RackSpec
@@ -27,7 +27,7 @@ class RackPinionSpec(Spec):
     inertia: Inertia | None = None
     efficiency: Efficiency = 1.0
     back_efficiency: BackEfficiency | None = None
-    incline: Angle = 0.0
+    incline: Incline = 0.0
     load: LinearLoadSpec
     rack: RackSpec | None = None
 

@@ -14,12 +14,13 @@ from typing import Literal
 
 from drivetrain.errors import InputError
 from drivetrain.fields import (
-    Angle,
     BackEfficiency,
     Coefficient,
     Density,
     Efficiency,
+    Incline,
     Inertia,
+    Lead,
     Length,
     LengthNonNeg,
     Spec,
@@ -83,7 +84,7 @@ class ScrewSpec(Spec):
     """``mechanism: {type: ball_screw | lead_screw, ...}``."""
 
     type: Literal["ball_screw", "lead_screw"]
-    lead: Length
+    lead: Lead
     diameter: Length | None = None
     length: LengthNonNeg | None = None
     density: Density | None = None
@@ -92,7 +93,7 @@ class ScrewSpec(Spec):
     efficiency: Efficiency | None = None
     back_efficiency: BackEfficiency | None = None
     thread_friction: Coefficient = 0.1
-    incline: Angle = 0.0
+    incline: Incline = 0.0
     friction_torque: TorqueNonNeg = 0.0
     load: LinearLoadSpec
     screw: ScrewLimitsSpec | None = None
