@@ -336,6 +336,25 @@ def test_form_description_covers_every_mechanism_and_transmission(client: TestCl
     assert screw["lead"]["kind"] == "quantity" and screw["lead"]["unit"] == "m" and screw["lead"]["required"]
 
 
+
+def test_form_description_gives_every_profile_key_a_field(client: TestClient) -> None:
+    from drivetrain.profiles import VALID_KEYS, parse_profile
+
+    profile = client.get("/api/form").json()["profile"]
+    columns = {c["key"]: c for c in profile["columns"]}
+    assert set(columns) | {"dwell"} == set(VALID_KEYS)
+    kinds = {k["kind"]: k["keys"] for k in profile["kinds"]}
+    assert set().union(*kinds.values()) == set(VALID_KEYS)
+    assert columns["law"]["options"][1:] == ["cycloidal", "modified_sine", "modified_trapezoid", "poly345"]
+    values = {"move": "200 mm", "speed": "0.4 m/s", "time": "0.5 s", "accel": "0.1 s", "decel": "0.1 s",
+              "shape": "trapezoid", "max_speed": "1 m/s", "max_accel": "10 m/s^2", "max_jerk": "500 m/s^3",
+              "law": "cycloidal", "thrust": "5 N", "dwell": "0.2 s", "holding": "brake"}
+    for kind, keys in kinds.items():  # each kind's keys (bar the s-curve's jerk options) make a step the engine takes
+        step = {k: values[k] for k in keys if k in values}
+        cycle = parse_profile([step], "linear")
+        assert cycle.period > 0, kind
+
+
 # ---------------------------------------------------------------------------------- catalog
 
 

@@ -89,7 +89,7 @@ async function onYamlInput() {
 
 function loadAxis(axis, text) {
   state.axis = axis;
-  form.render(axis);
+  form.load(axis);
   setYaml(text !== undefined ? text : toYaml(axis));
   state.lastSized = "";
   state.picks.clear();
@@ -157,7 +157,10 @@ function renderError(err) {
   $("result-body").classList.add("stale");
   if (err instanceof ApiError && err.status === 422) {
     const shown = form.showErrors(err.errors);
-    banner.textContent = `${shown.length} problem${shown.length === 1 ? "" : "s"} in the axis: fix the marked field${shown.length === 1 ? "" : "s"}.`;
+    banner.textContent = shown.length
+      ? `${shown.length} problem${shown.length === 1 ? "" : "s"} in the axis: fix the marked field${shown.length === 1 ? "" : "s"}.`
+      : "Fill in the motor's data (inertia, rated and peak torque, max speed) or its catalog id to check it.";
+    if (!shown.length) banner.className = "banner";
     const box = $("error-summary");
     const list = el("ul");
     for (const e of shown) {
@@ -172,7 +175,11 @@ function renderError(err) {
       list.append(item);
     }
     box.replaceChildren(list);
-    box.hidden = false;
+    box.hidden = !shown.length;
+    if (!shown.length) {
+      setStatus("waiting for the motor's data");
+      return;
+    }
   } else {
     form.clearErrors();
     $("error-summary").hidden = true;
