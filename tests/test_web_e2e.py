@@ -353,6 +353,16 @@ def test_yaml_pane_and_form_stay_in_sync(page: Any) -> None:
 # ---------------------------------------------------------------------------------- the editor, as a new user tries it
 
 
+def test_a_new_axis_shows_no_error_before_the_first_edit(page: Any) -> None:
+    wait_sized(page)
+    assert page.locator("#axis-form .field-error").count() == 0
+    assert page.locator("#error-summary").is_hidden()
+    assert "Fill in the mechanism" in page.inner_text("#result-banner")
+    set_field(page, "mechanism.load.mass", "10 kg")  # the first edit: what is still missing is shown
+    wait_sized(page)
+    assert page.locator(".field[data-field='mechanism.lead'] .field-error").inner_text().endswith("is required")
+
+
 def test_ticking_motor_starts_a_catalog_selection_without_an_error(page: Any) -> None:
     page.select_option("#example-select", "ball_screw")
     wait_sized(page)

@@ -60,14 +60,16 @@ a dwell row keeps its duration in the Time column (key ``dwell``), a move given 
 in the Distance column (key ``speed``)."""
 
 STEP_KINDS: tuple[dict[str, Any], ...] = (
-    {"kind": "move", "label": "move", "keys": ["move", "time", "accel", "decel", "shape", "jerk_fraction", "jerk",
-                                                "thrust"]},
-    {"kind": "speed", "label": "move by speed", "keys": ["speed", "time", "accel", "decel", "shape",
-                                                          "jerk_fraction", "jerk", "thrust"]},
-    {"kind": "optimal", "label": "time-optimal move", "keys": ["move", "max_speed", "max_accel", "max_jerk",
-                                                                "thrust"]},
-    {"kind": "cam", "label": "cam law move", "keys": ["move", "time", "law", "thrust"]},
-    {"kind": "dwell", "label": "dwell", "keys": ["dwell", "holding"]},
+    {"kind": "move", "label": "move", "hint": "a move: distance and time (ramps, shape)",
+     "keys": ["move", "time", "accel", "decel", "shape", "jerk_fraction", "jerk", "thrust"]},
+    {"kind": "speed", "label": "by speed", "hint": "a move given by its speed and time (distance = movement amount)",
+     "keys": ["speed", "time", "accel", "decel", "shape", "jerk_fraction", "jerk", "thrust"]},
+    {"kind": "optimal", "label": "optimal", "hint": "a time-optimal move: distance, max speed, max accel (max jerk)",
+     "keys": ["move", "max_speed", "max_accel", "max_jerk", "thrust"]},
+    {"kind": "cam", "label": "cam law", "hint": "a move along a cam law: distance, time and law",
+     "keys": ["move", "time", "law", "thrust"]},
+    {"kind": "dwell", "label": "dwell", "hint": "a dwell: its time (motor or brake holding)",
+     "keys": ["dwell", "holding"]},
 )
 """The kinds of profile step and the keys each takes (as ``drivetrain.profiles`` parses them)."""
 

@@ -78,6 +78,7 @@ async function onYamlInput() {
       if (seq !== state.yamlSeq) return;
       showYamlError(null);
       state.axis = res.axis;
+      form.pristine.clear(); // an edit in the YAML: every error shows
       form.render(res.axis);
       scheduleSize();
     } catch (err) {
@@ -159,7 +160,7 @@ function renderError(err) {
     const shown = form.showErrors(err.errors);
     banner.textContent = shown.length
       ? `${shown.length} problem${shown.length === 1 ? "" : "s"} in the axis: fix the marked field${shown.length === 1 ? "" : "s"}.`
-      : "Fill in the motor's data (inertia, rated and peak torque, max speed) or its catalog id to check it.";
+      : waitingText(form.waitingFor);
     if (!shown.length) banner.className = "banner";
     const box = $("error-summary");
     const list = el("ul");
@@ -177,7 +178,7 @@ function renderError(err) {
     box.replaceChildren(list);
     box.hidden = !shown.length;
     if (!shown.length) {
-      setStatus("waiting for the motor's data");
+      setStatus(`waiting for the ${form.waitingFor.join(" and ")}`);
       return;
     }
   } else {
@@ -186,6 +187,14 @@ function renderError(err) {
     banner.textContent = err.message;
   }
   setStatus(err.message.split("\n")[0], true);
+}
+
+// What the axis waits for when every error lies in a section the user has not edited yet.
+function waitingText(sections) {
+  const parts = sections.map((p) => (p === "motor"
+    ? "the motor's data (inertia, rated and peak torque, max speed) or its catalog id"
+    : p === "mechanism" ? "the mechanism (its type, dimensions and load)" : `the ${p.replace(/[._]/g, " ")}`));
+  return `Fill in ${parts.join(" and ")} to size the axis.`;
 }
 
 function renderCandidatesAndCompare() {
@@ -402,6 +411,7 @@ function newProject() {
   $("project-name").value = "";
   history.replaceState(null, "", location.pathname);
   loadAxis(JSON.parse(JSON.stringify(BLANK)));
+  form.pristine.add("mechanism"); // a new axis: no error before the user has entered anything
   refreshProjects();
 }
 

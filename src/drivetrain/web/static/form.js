@@ -21,6 +21,7 @@ export class AxisForm {
     // Paths of sections the form just created empty (a given motor): their "is required" errors
     // wait until the user edits something inside.
     this.pristine = new Set();
+    this.waitingFor = [];
     // The last type change's notice: {path, text}, shown in that section until the next edit.
     this.notice = null;
     root.addEventListener("input", (e) => this.onInput(e));
@@ -154,7 +155,8 @@ export class AxisForm {
   showUnit(input) {
     const span = input.closest(".field") && input.closest(".field").querySelector(".unit");
     if (!span) return;
-    const f = { quantity: input.dataset.quantity, unit: input.dataset.unitSi, example_unit: input.dataset.exampleUnit };
+    const f = { quantity: input.dataset.quantity, unit: input.dataset.unitSi, example_unit: input.dataset.exampleUnit,
+      default: input.dataset.default === undefined ? undefined : Number(input.dataset.default) };
     span.textContent = `[${unitOf(f, input.value)}]`;
   }
 
@@ -216,6 +218,7 @@ export class AxisForm {
       "aria-required": f.required ? "true" : undefined, spellcheck: "false",
       "data-quantity": quantity ? f.quantity : undefined, "data-unit-si": quantity ? f.unit || "" : undefined,
       "data-example-unit": quantity ? f.example_unit || "" : undefined,
+      "data-default": quantity && typeof f.default === "number" ? String(f.default) : undefined,
     });
     const unitText = quantity ? `[${unitOf(f, value)}]` : "";
     const hint = quantity ? unitHint(f) : f.help || "";
@@ -428,11 +431,12 @@ export class AxisForm {
 
   // ---------------------------------------------------------------- errors
 
-  // True for an error in a section the user has not edited yet (it waits for the first edit).
+  // The section (a path) holding an error the user has not edited yet (it waits for the first
+  // edit there), else null.
   waiting(field) {
-    if (field === undefined || field === null) return false;
-    for (const p of this.pristine) if (field === p || field.startsWith(p + ".") || field.startsWith(p + "[")) return true;
-    return false;
+    if (field === undefined || field === null) return null;
+    for (const p of this.pristine) if (field === p || field.startsWith(p + ".") || field.startsWith(p + "[")) return p;
+    return null;
   }
 
   clearErrors() {
@@ -469,8 +473,13 @@ export class AxisForm {
   showErrors(errors) {
     this.clearErrors();
     const shown = [];
+    this.waitingFor = [];
     errors.forEach((err, k) => {
-      if (this.waiting(err.field)) return;
+      const section = this.waiting(err.field);
+      if (section) {
+        if (!this.waitingFor.includes(section)) this.waitingFor.push(section);
+        return;
+      }
       const node = this.target(err.field);
       if (!node) {
         shown.push({ ...err, element: null });

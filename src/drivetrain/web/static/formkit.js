@@ -78,13 +78,16 @@ export function label(text) {
 }
 
 // The unit a quantity input is read in: the unit the user typed ("90 deg" -> deg), the SI unit
-// for a bare number (read as SI), else the unit the user is likely to type (the example unit).
+// for a bare number (read as SI) or a nonzero default, else the unit the user is likely to type.
 export function unitOf(f, value) {
   const text = value === undefined || value === null ? "" : String(value).trim();
   if (text !== "" && NUMBER.test(text)) return f.quantity === "dimensionless" ? "-" : f.unit || "-";
   const m = WITH_UNIT.exec(text);
   if (m) return m[3];
-  return f.quantity === "dimensionless" ? "-" : f.example_unit || f.unit || "-";
+  if (f.quantity === "dimensionless") return "-";
+  // Empty: a nonzero default is shown (placeholder) in SI; else the unit the user is likely to type.
+  if (typeof f.default === "number" && f.default !== 0) return f.unit || "-";
+  return f.example_unit || f.unit || "-";
 }
 
 export function unitHint(f) {

@@ -74,8 +74,10 @@ export const profileMethods = {
     const tr = el("tr");
     tr.append(el("th", { scope: "row", rowspan: "2", text: String(k + 1) }));
     const select = el("select", { id: idFor(rowPath) + "-kind", "data-path": rowPath, "data-role": "step-kind", "aria-label": `Step ${k + 1} kind` });
-    for (const x of this.desc.profile.kinds) select.append(el("option", { value: x.kind, text: x.label }));
+    for (const x of this.desc.profile.kinds) select.append(el("option", { value: x.kind, text: x.label, title: x.hint }));
     select.value = kind;
+    const current = this.desc.profile.kinds.find((x) => x.kind === kind);
+    if (current) select.title = current.hint;
     tr.append(el("td", {}, select));
     const inMain = new Set();
     for (const c of main) {
