@@ -1,5 +1,4 @@
-"""Routes about the app itself: health, the editor's form description, the axis schema, examples.
-"""
+"""Routes about the app itself: health, the editor's form description, the axis schema, examples."""
 
 from __future__ import annotations
 

@@ -1,5 +1,4 @@
-"""The report route: the HTML or PDF report of an axis's sizing, as a download.
-"""
+"""The report route: the HTML or PDF report of an axis's sizing, as a download."""
 
 from __future__ import annotations
 
