@@ -8,6 +8,7 @@ import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
+from urllib.parse import quote
 
 import numpy as np
 import pytest
@@ -386,6 +387,21 @@ WEB-B1,Webtest,W,1.3,4.5,3000,6000,3.7e-5
 WEB-B2,Webtest,W,-1,4.5,3000,6000,3.7e-5
 WEB-B3,Webtest,W,1.3,lots,3000,6000,3.7e-5
 """
+
+
+def test_catalog_ids_with_a_slash_are_found(client: TestClient) -> None:
+    page = client.get("/api/catalog/motors", params={"q": "/", "limit": 5}).json()
+    slashed = [m["id"] for m in page["items"] if "/" in m["id"]]
+    assert slashed, "the shipped catalog has ids with a slash (FANUC)"
+    for motor_id in slashed:
+        quoted = quote(motor_id, safe="")
+        item = client.get(f"/api/catalog/items/{quoted}")
+        assert item.status_code == 200 and item.json()["id"] == motor_id, item.text
+        envelope = client.get(f"/api/catalog/motors/{quoted}/envelope")
+        assert envelope.status_code == 200 and envelope.json()["name"] == motor_id, envelope.text
+    missing = assert_error(client.get("/api/catalog/items/no%2Fsuch"), 404)
+    assert missing["field"] == "item_id"
+    assert assert_error(client.get("/api/catalog/motors/no%2Fsuch/envelope"), 404)["field"] == "motor_id"
 
 
 def test_catalog_import_reports_every_bad_row_and_writes_nothing(client: TestClient, data_dir: Path) -> None:

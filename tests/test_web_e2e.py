@@ -491,6 +491,11 @@ def test_the_catalog_opens_on_industrial_servos_in_engineering_numbers(page: Any
     assert inertia and all(0.001 <= v < 1e6 for v in inertia), inertia  # kg·cm², plain numbers
     assert page.evaluate("() => import('/static/results.js').then(m => [m.fmt(1.2e-5), m.fmt(0.54), m.fmt(1.27), "
                          "m.fmt(2.4e7), m.fmt(999999.9)])") == ["12e-6", "0.54", "1.27", "24e6", "1e6"]
+    slashed = page.locator(".catalog-table tbody th button", has_text="/").first  # FANUC's "beta 0.2/5000is"
+    name = slashed.inner_text()
+    slashed.click()
+    wait_until(page, "t => document.querySelector('#catalog-detail h3')?.innerText === t", name)
+    assert name in page.inner_text("#plot-envelope")
 
 
 def test_candidate_columns_fit_or_scroll_with_the_motor_in_view(page: Any) -> None:

@@ -20,6 +20,8 @@ from drivetrain.web.payload import engine, motor_envelope, plain
 MAX_UPLOAD_BYTES = 5_000_000
 """Largest catalog import [bytes]."""
 _CATALOG_ID = Annotated[str, PathParam(min_length=1, max_length=200, description="catalog id")]
+"""A catalog id in a path: it may hold a slash (FANUC's "beta 0.2/5000is"), so the routes take the
+rest of the path (``{...:path}``) and the page sends it percent-encoded."""
 
 
 MotorSort = Literal["id", "vendor", "series", "rated_power", "rated_torque", "peak_torque", "rated_speed",
@@ -142,7 +144,7 @@ def register(app: FastAPI, ctx: Context) -> None:
         return await blocking(gearboxes_page, vendor, series, kind, ratio_min, ratio_max, q, sort, order, offset,
                               limit)
 
-    @app.get("/api/catalog/items/{item_id}", tags=["catalog"])
+    @app.get("/api/catalog/items/{item_id:path}", tags=["catalog"])
     async def catalog_item(item_id: _CATALOG_ID) -> dict[str, Any]:
         """One motor, gearbox or drive with its source and notes."""
         need_catalog()
@@ -154,7 +156,7 @@ def register(app: FastAPI, ctx: Context) -> None:
             raise ApiError(404, str(exc).replace("id:", "item_id:", 1), "item_id") from None
         return record
 
-    @app.get("/api/catalog/motors/{motor_id}/envelope", response_model=EnvelopeOut, tags=["catalog"])
+    @app.get("/api/catalog/motors/{motor_id:path}/envelope", response_model=EnvelopeOut, tags=["catalog"])
     async def catalog_envelope(motor_id: _CATALOG_ID) -> dict[str, Any]:
         """A motor's continuous and peak speed-torque envelope (from its curve, or derived from ratings)."""
         need_catalog()
