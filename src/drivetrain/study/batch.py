@@ -502,11 +502,33 @@ class Engine:
             out["selection"] = sel
             out["ok"] = own_ok and pick.passing
             cycle = duty if pick.cycle_stage is None else duty.behind(pick.cycle_stage, axis.efficiency_model)
-            out["energy_per_cycle_J"] = motoring_energy(cycle, pick.rotor_inertia)
+            # energy of the selected candidate; none when nothing passes (as full_result)
+            out["energy_per_cycle_J"] = motoring_energy(cycle, pick.rotor_inertia) if pick.passing else math.nan
         else:
             out["ok"] = own_ok
             out["energy_per_cycle_J"] = motoring_energy(duty, 0.0)
         return out
 
 
-__all__ = ["Engine", "Pick", "Tables", "fast_demand", "load_tables", "motoring_energy", "select_fast"]
+def full_result(axis: Axis, points_per_phase: int = 64) -> dict[str, Any]:
+    """``drivetrain.size(axis).to_dict()`` with ``ok`` and ``energy_per_cycle_J`` (the unbatched path,
+    for results that record keys the batched path does not compute)."""
+    from drivetrain.selection import candidate_cycle
+    from drivetrain.sizing import size
+
+    r = size(axis, points_per_phase)
+    out = r.to_dict()
+    out["ok"] = r.ok
+    if axis.motor is not None:
+        out["energy_per_cycle_J"] = motoring_energy(r.duty, axis.motor.inertia)
+    elif r.selection is not None and "_best" in r.selection:
+        cycle, j = candidate_cycle(axis, r.duty, r.selection)
+        out["energy_per_cycle_J"] = motoring_energy(cycle, j)
+    elif r.selection is not None:
+        out["energy_per_cycle_J"] = math.nan
+    else:
+        out["energy_per_cycle_J"] = motoring_energy(r.duty, 0.0)
+    return out
+
+
+__all__ = ["Engine", "full_result", "Pick", "Tables", "fast_demand", "load_tables", "motoring_energy", "select_fast"]
