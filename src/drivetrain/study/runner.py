@@ -32,6 +32,8 @@ BATCH = 200
 PARTIAL_EVERY = 5.0
 """Seconds between rewrites of the partial result."""
 META_KEY = b"drivetrain.study"
+CONNECT_TIMEOUT = "10s"
+"""How long to try reaching an existing scheduler."""
 
 
 @dataclass(frozen=True)
@@ -174,7 +176,7 @@ def read_parquet(path: Path) -> tuple[pd.DataFrame, dict[str, Any]]:
 
 def write_results(df: pd.DataFrame, out: Path, study: Study) -> list[Path]:
     """``out`` (.parquet), the same table as CSV beside it and the metadata as JSON; returns the paths."""
-    meta = metadata(study)
+    meta = {**metadata(study), **df.attrs.get("drivetrain", {})}
     pq_path = out.with_suffix(".parquet")
     csv_path = out.with_suffix(".csv")
     meta_path = out.with_suffix(".meta.json")
@@ -303,7 +305,7 @@ def _run_dask(plan: Plan, todo: list[tuple[int, tuple[Any, ...]]], batch: int, a
         client = Client(cluster)
     else:
         try:
-            client = Client(address, timeout="10s")
+            client = Client(address, timeout=CONNECT_TIMEOUT)
         except OSError as exc:
             raise InputError("--scheduler", f"cannot reach the Dask scheduler ({exc})", address) from None
     try:

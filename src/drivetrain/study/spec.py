@@ -438,6 +438,8 @@ def _check_paths(study: Study) -> None:
                 parse_axis(data)
             except InputError as exc:
                 where = "" if found else " (the base axis file has no such key)"
+                if exc.field == p.path:  # the parameter's own field: its rule and value
+                    raise InputError(field, exc.rule + where, exc.value, has_value=exc.has_value) from None
                 raise InputError(field, f"{exc}{where}", has_value=False) from None
         if found and isinstance(old, str) and p.unit:
             _same_dimension(old, p.unit, field)
