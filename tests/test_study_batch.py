@@ -150,3 +150,21 @@ def test_compiled_hull_equals_demand(mass: float, lead: float, time: float, eff:
     a, b = fast_demand(*args), demand(*args)
     for key in ("hull_speed", "hull_torque", "hull_alpha", "all_torque", "all_alpha"):
         assert np.array_equal(getattr(a, key), getattr(b, key)), key
+
+
+@settings(max_examples=20, deadline=None)
+@given(mass=st.floats(1.0, 200.0), lead=st.floats(0.002, 0.05), time=st.floats(0.25, 2.0))
+def test_batched_hulls_equal_demand(mass: float, lead: float, time: float) -> None:
+    """Several efficiencies in one pass give each efficiency's motor_fit.demand."""
+    from drivetrain.stage import Stage
+    from drivetrain.study.batch import fast_demands
+
+    axis = parse_axis(_variant(mass, lead, time))
+    duty = duty_cycle(axis, 16)
+    torques = [duty.behind(Stage("g", "gearbox", efficiency=e, back_efficiency=e), axis.efficiency_model).torque
+               for e in (1.0, 0.97, 0.9, 0.7)]
+    got = fast_demands(duty.omega, duty.alpha, torques, duty.weights, duty.period, duty.load_inertia)
+    for t, a in zip(torques, got, strict=True):
+        b = demand(duty.omega, duty.alpha, t, duty.weights, duty.period, duty.load_inertia)
+        for key in ("hull_speed", "hull_torque", "hull_alpha", "all_torque", "all_alpha"):
+            assert np.array_equal(getattr(a, key), getattr(b, key)), key

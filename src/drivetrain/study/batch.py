@@ -12,7 +12,9 @@ What it saves per variant against ``drivetrain.size``, without changing any answ
 * for the objective ``smallest`` the motors are tried in chunks from the smallest up, and the
   search stops at the first chunk with a passing candidate once no larger motor can beat it
   (objective = size x 1e6 + gearbox size, so a motor whose size key exceeds the best objective /
-  1e6 cannot win); ties are broken by the catalog order of the full selection;
+  1e6 cannot win); ties are broken by the catalog order of the full selection; motors that fail
+  the max-speed or the inertia-ratio check behind every ratio (no gearbox row can rescue them) are
+  not tried; when nothing passes, the whole catalog is evaluated, as ``select`` does;
 * profiles equal (same profile entries, same kind of motion, same points per phase) share
   their sampled kinematics (``Cycle`` and ``Samples`` are functions of those alone);
 * no Pareto front, next-smaller motor, optimal ratio or candidate list unless asked.
@@ -25,7 +27,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -55,7 +57,7 @@ if TYPE_CHECKING:
 
 Array = NDArray[np.float64]
 
-CHUNK = 24
+CHUNK = 12
 """Motors per chunk of the smallest-first search (extended to include motors of equal size)."""
 OWN_CHECKS = ("slip_check", "guide", "brake_check")
 
@@ -159,6 +161,61 @@ def fast_demand(omega: Array, alpha: Array, torque: Array, weights: Array, perio
                   all_torque=vt[all_v], all_alpha=va[all_v])
 
 
+def fast_demands(omega: Array, alpha: Array, torques: list[Array], weights: Array, period: float,
+                 load_inertia: float, bins: int = 64) -> list[Demand]:
+    """``fast_demand`` of several torque arrays over the same motion (one per gearbox efficiency),
+    with one sort and one compiled pass for all of them (numpy's per-call cost dominates at this size).
+
+    Each result equals ``motor_fit.demand`` of that torque: the points are sorted by (torque
+    array, bin, alpha, T), so each array's points come in demand's own order.
+    """
+    n_e, n = len(torques), len(omega)
+    w = np.abs(omega)
+    top = float(w.max()) if w.size else 0.0
+    edges = np.linspace(0.0, top if top > 0 else 1.0, bins + 1)
+    idx = np.clip(np.searchsorted(edges, w, side="left") - 1, 0, bins - 1)
+    t_all = np.concatenate(torques)
+    a_all = np.tile(alpha, n_e)
+    b_all = np.tile(idx, n_e)
+    e_all = np.repeat(np.arange(n_e), n)
+    order = np.lexsort((t_all, a_all, b_all, e_all))
+    e_s, b_s, a_s, t_s = e_all[order], b_all[order], a_all[order], t_all[order]
+    keep = np.ones(len(b_s), dtype=bool)
+    keep[1:] = (np.diff(e_s) != 0) | (np.diff(b_s) != 0) | (np.diff(a_s) != 0) | (np.diff(t_s) != 0)
+    e_s, b_s, a_s, t_s = e_s[keep], b_s[keep], a_s[keep], t_s[keep]
+    run_key = e_s * bins + b_s
+    new_run = np.ones(len(run_key), dtype=bool)
+    new_run[1:] = np.diff(run_key) != 0
+    starts = np.flatnonzero(new_run)
+    stops = np.append(starts[1:], len(run_key))
+    verts, count = _hulls(a_s, t_s, starts.astype(np.int64), stops.astype(np.int64))
+    first = np.concatenate([[0], np.cumsum(count)[:-1]])
+    run_e = e_s[starts]
+    # hull of every vertex, per torque array: its distinct vertices sorted by (alpha, T)
+    ve, va, vt = e_s[verts], a_s[verts], t_s[verts]
+    o = np.lexsort((vt, va, ve))
+    ve, va, vt = ve[o], va[o], vt[o]
+    k = np.ones(len(va), dtype=bool)
+    k[1:] = (np.diff(ve) != 0) | (np.diff(va) != 0) | (np.diff(vt) != 0)
+    ve, va, vt = ve[k], va[k], vt[k]
+    v_start = np.searchsorted(ve, np.arange(n_e), side="left")
+    v_stop = np.searchsorted(ve, np.arange(n_e), side="right")
+    all_v, all_count = _hulls(va, vt, v_start.astype(np.int64), v_stop.astype(np.int64))
+    all_first = np.concatenate([[0], np.cumsum(all_count)[:-1]])
+    out = []
+    for e in range(n_e):
+        runs = np.flatnonzero(run_e == e)
+        c_e = count[runs]
+        width = int(c_e.max())
+        pos = np.minimum(np.arange(width)[None, :], c_e[:, None] - 1)  # padding repeats the last vertex
+        sel = verts[first[runs][:, None] + pos]
+        av = all_v[all_first[e]:all_first[e] + all_count[e]]
+        out.append(Demand(omega=omega, alpha=alpha, torque=torques[e], weights=weights, period=period,
+                          load_inertia=load_inertia, hull_speed=np.asarray(edges[b_s[starts[runs]] + 1], dtype=float),
+                          hull_torque=t_s[sel], hull_alpha=a_s[sel], all_torque=vt[av], all_alpha=va[av]))
+    return out
+
+
 # ---------------------------------------------------------------------------------------------
 # the catalog, loaded once
 
@@ -176,11 +233,21 @@ class Tables:
     rows: NDArray[np.int64]
     row_start: NDArray[np.int64]
     size_key: Array
-    chunks: list[tuple[NDArray[np.intp], MotorTable]]  # motor indices (ascending) and their sub-table
-    after: list[float]  # smallest size key of the motors after each chunk (inf: none)
+    order: NDArray[np.intp]  # motors by size key, ascending (stable; NaN last)
     gb_arrays: tuple[Array, Array, Array, Array]
     gb_size: Array  # rated output torque per gearbox row, 0 where unknown [N m]
     curves: bool  # the full table has datasheet curves: every chunk takes motor_envelopes' path
+    _subs: dict[bytes, MotorTable] = field(default_factory=dict)
+
+    def sub_table(self, members: NDArray[np.intp]) -> MotorTable:
+        """The motors ``members`` (ascending) as a table, kept for the next variant that needs them."""
+        key = members.tobytes()
+        hit = self._subs.get(key)
+        if hit is None:
+            if len(self._subs) > 2048:
+                self._subs.clear()
+            hit = self._subs[key] = self.motors.take(members)
+        return hit
 
 
 def load_tables(spec: Any, own_gearbox: bool) -> Tables:
@@ -206,19 +273,6 @@ def load_tables(spec: Any, own_gearbox: bool) -> Tables:
     ratio, eff_g, rows, row_start = _gearbox_options(gb, allow_direct)
     size_key = _size_key(motors)
     order = np.argsort(size_key, kind="stable")  # NaN sizes last
-    chunks: list[tuple[NDArray[np.intp], MotorTable]] = []
-    after: list[float] = []
-    start = 0
-    n = len(order)
-    while start < n:
-        stop = min(start + CHUNK, n)
-        while stop < n and size_key[order[stop]] == size_key[order[stop - 1]]:
-            stop += 1  # motors of equal size go in the same chunk
-        members = np.sort(order[start:stop])
-        chunks.append((members, motors.take(members)))
-        after.append(float(size_key[order[stop]]) if stop < n and not math.isnan(size_key[order[stop]])
-                     else (math.inf if stop >= n else math.nan))
-        start = stop
     if gb is not None and len(gb):
         gb_j = np.nan_to_num(gb.inertia_input, nan=0.0)
         gb_speed = np.where(np.isnan(gb.max_input_speed), math.inf, gb.max_input_speed)
@@ -233,8 +287,8 @@ def load_tables(spec: Any, own_gearbox: bool) -> Tables:
         gb_size = np.zeros(1)
     f64 = np.ascontiguousarray
     return Tables(motors=motors, gb=gb, allow_direct=allow_direct, max_inertia_ratio=spec.max_inertia_ratio,
-                  ratio=ratio, eff_g=eff_g, rows=rows, row_start=row_start, size_key=size_key, chunks=chunks,
-                  after=after, gb_arrays=(f64(gb_j, dtype=float), f64(gb_speed, dtype=float),
+                  ratio=ratio, eff_g=eff_g, rows=rows, row_start=row_start, size_key=size_key, order=order,
+                  gb_arrays=(f64(gb_j, dtype=float), f64(gb_speed, dtype=float),
                                           f64(gb_rated, dtype=float), f64(gb_cap, dtype=float)),
                   gb_size=gb_size, curves=any(c is not None for c in motors.curves))
 
@@ -267,13 +321,10 @@ def _groups(axis: Axis, duty: DutyCycle, tb: Tables, margins: Any) -> _Groups:
     out_cubic = cubic_mean(t0, w0, duty.weights)
     run_t = float(np.median(np.abs(duty.external))) if duty.external.size else 0.0
     ratio, eff_g = tb.ratio, tb.eff_g
-    base: dict[float, Demand] = {}
-    for eff in eff_g.tolist():
-        if eff not in base:
-            lossy = duty.behind(Stage("gearbox", "gearbox", efficiency=eff, back_efficiency=eff), axis.efficiency_model)
-            base[eff] = fast_demand(w0, a0, lossy.torque, duty.weights, duty.period, duty.load_inertia)
-    effs = list(base)
-    demands = list(base.values())
+    effs = list(dict.fromkeys(eff_g.tolist()))
+    lossy = [duty.behind(Stage("gearbox", "gearbox", efficiency=eff, back_efficiency=eff), axis.efficiency_model).torque
+             for eff in effs]
+    demands = fast_demands(w0, a0, lossy, duty.weights, duty.period, duty.load_inertia)
     e_of = np.array([effs.index(e) for e in eff_g.tolist()])
     n_bins = max(d.hull_torque.shape[0] for d in demands)
     n_v = max(d.hull_torque.shape[1] for d in demands)
@@ -375,13 +426,23 @@ def select_fast(axis: Axis, duty: DutyCycle, tb: Tables) -> Pick:
         from drivetrain.selection import _closest_failing
 
         return _pick(c, int(_closest_failing(c, 1)[0]), tb.motors, tb, False, True, c.failures())
+    # Motors that fail every candidate for a reason no gearbox row can change are left out: the
+    # motor's max speed below the cycle's (x margin) behind every ratio (a gearbox's input-speed
+    # limit only lowers the available speed), or the load inertia behind every ratio above the
+    # limit x rotor inertia (a gearbox's input inertia only adds to the load side). Both with a
+    # relative slack of 1e-9, so a motor at a limit to rounding is evaluated.
+    feasible = _feasible_motors(gr, tb)
+    order = tb.order[feasible[tb.order]]
     best: tuple[float, tuple[int, int, int], Candidates, int, MotorTable] | None = None
-    closest: tuple[float, tuple[int, int, int], Candidates, int, MotorTable] | None = None
-    fails = np.zeros(len(CHECK_UNITS), dtype=np.int64)
-    for ci, (members, sub) in enumerate(tb.chunks):
+    start = 0
+    while start < len(order):
+        stop = min(start + CHUNK, len(order))
+        while stop < len(order) and tb.size_key[order[stop]] == tb.size_key[order[stop - 1]]:
+            stop += 1  # motors of equal size go in the same chunk
+        members = np.sort(order[start:stop])
+        sub = tb.sub_table(members)
         c = _evaluate_chunk(gr, tb, sub)
         ok = np.flatnonzero(c.failed == 0)
-        fails += np.array([np.count_nonzero(c.failed & (1 << b)) for b in range(len(CHECK_UNITS))])
         if ok.size:
             rows = c.gearbox(ok)
             gb_size = np.where(rows >= 0, tb.gb_size[np.maximum(rows, 0)], 0.0) if tb.gb is not None else 0.0
@@ -391,20 +452,28 @@ def select_fast(axis: Axis, duty: DutyCycle, tb: Tables) -> Pick:
             cand = (float(obj[j]), _order_key(c, int(ok[j]), members), c, int(ok[j]), sub)
             if best is None or (cand[0], cand[1]) < (best[0], best[1]):
                 best = cand
-        elif best is None:
-            w = np.where(np.isnan(c.worst_margin), -math.inf, c.worst_margin)
-            j = int(np.argmax(w))  # the first of equal margins
-            cand = (-float(w[j]), _order_key(c, j, members), c, j, sub)
-            if closest is None or (cand[0], cand[1]) < (closest[0], closest[1]):
-                closest = cand
-        nxt = tb.after[ci]
-        if best is not None and ci < len(tb.chunks) - 1 and not math.isnan(nxt) and best[0] < nxt * 1e6:
+        start = stop
+        nxt = float(tb.size_key[order[stop]]) if stop < len(order) else math.inf
+        if best is not None and not math.isnan(nxt) and best[0] < nxt * 1e6:
             return _pick(best[2], best[3], best[4], tb, True, False, None)
-    failures = dict(zip(CHECK_UNITS, (int(f) for f in fails), strict=True))
     if best is not None:
-        return _pick(best[2], best[3], best[4], tb, True, True, failures)
-    assert closest is not None
-    return _pick(closest[2], closest[3], closest[4], tb, False, True, failures)
+        return _pick(best[2], best[3], best[4], tb, True, False, None)
+    # nothing passes: the closest candidate of the whole catalog, as selection.select reports it
+    from drivetrain.selection import _closest_failing
+
+    c = _evaluate_chunk(gr, tb, tb.motors)
+    return _pick(c, int(_closest_failing(c, 1)[0]), tb.motors, tb, False, True, c.failures())
+
+
+def _feasible_motors(gr: _Groups, tb: Tables) -> NDArray[np.bool_]:
+    """Motors that pass the max-speed and inertia-ratio checks behind at least one ratio (necessary
+    conditions of any passing candidate; see select_fast)."""
+    m = tb.motors
+    sm, limit = gr.par[3], gr.par[4]
+    need_speed = gr.g_speed[:, 0] * sm  # (G,)
+    speed_ok = ~(m.max_speed[None, :] < need_speed[:, None] * (1.0 - 1e-9))  # NaN max speed: kept
+    inertia_ok = ~(gr.g_j_load[:, None] > limit * m.rotor_inertia[None, :] * (1.0 + 1e-9))
+    return np.asarray(np.any(speed_ok & inertia_ok, axis=0), dtype=bool)
 
 
 def _pick(c: Candidates, k: int, motors: MotorTable, tb: Tables, passing: bool, evaluated_all: bool,
@@ -531,4 +600,4 @@ def full_result(axis: Axis, points_per_phase: int = 64) -> dict[str, Any]:
     return out
 
 
-__all__ = ["Engine", "full_result", "Pick", "Tables", "fast_demand", "load_tables", "motoring_energy", "select_fast"]
+__all__ = ["Engine", "full_result", "Pick", "Tables", "fast_demand", "fast_demands", "load_tables", "motoring_energy", "select_fast"]
