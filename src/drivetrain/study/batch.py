@@ -40,7 +40,6 @@ from drivetrain.envelope import continuous_torque, intermittent_torque, motor_en
 from drivetrain.errors import InputError
 from drivetrain.motor_fit import _COLLINEAR, Demand
 from drivetrain.selection import (
-    CHECK_UNITS,
     Candidates,
     _gearbox_options,
     _objective,
@@ -412,8 +411,9 @@ def _order_key(c: Candidates, k: int, members: NDArray[np.intp]) -> tuple[int, i
 
 def select_fast(axis: Axis, duty: DutyCycle, tb: Tables) -> Pick:
     """The candidate ``selection.select`` ranks first, by chunks of motors where the objective allows."""
-    spec = axis.spec.motor.select  # type: ignore[union-attr]
-    margins = axis.spec.motor.margins  # type: ignore[union-attr]
+    motor = axis.spec.motor
+    assert motor is not None and motor.select is not None
+    spec, margins = motor.select, motor.margins
     gr = _groups(axis, duty, tb, margins)
     if spec.objective != "smallest":
         # every candidate, ranked exactly as selection.select does
@@ -421,8 +421,8 @@ def select_fast(axis: Axis, duty: DutyCycle, tb: Tables) -> Pick:
         passing = np.flatnonzero(c.ok)
         if len(passing):
             score = _objective(c, passing, tb.motors, tb.gb, spec.objective, duty)
-            best = int(passing[np.argsort(score, kind="stable")[0]])
-            return _pick(c, best, tb.motors, tb, True, True, c.failures())
+            first = int(passing[np.argsort(score, kind="stable")[0]])
+            return _pick(c, first, tb.motors, tb, True, True, c.failures())
         from drivetrain.selection import _closest_failing
 
         return _pick(c, int(_closest_failing(c, 1)[0]), tb.motors, tb, False, True, c.failures())
@@ -512,7 +512,9 @@ class Engine:
 
     def tables(self, axis: Axis) -> Tables:
         """The catalog tables of this axis's selection (loaded on first use, then kept)."""
-        spec = axis.spec.motor.select  # type: ignore[union-attr]
+        motor = axis.spec.motor
+        assert motor is not None and motor.select is not None
+        spec = motor.select
         own = any(st.kind == "gearbox" for st in axis.transmission)
         key = json.dumps([spec.model_dump(mode="json"), own], sort_keys=True, default=str)
         if key not in self._tables:
@@ -600,4 +602,5 @@ def full_result(axis: Axis, points_per_phase: int = 64) -> dict[str, Any]:
     return out
 
 
-__all__ = ["Engine", "full_result", "Pick", "Tables", "fast_demand", "fast_demands", "load_tables", "motoring_energy", "select_fast"]
+__all__ = ["Engine", "Pick", "Tables", "fast_demand", "fast_demands", "full_result", "load_tables", "motoring_energy",
+           "select_fast"]

@@ -135,7 +135,7 @@ def _differential_evolution(study: Study, score: Any, trials: int) -> None:
     seen: dict[tuple[Any, ...], float] = {}
 
     def f(x: np.ndarray) -> float:
-        values = tuple(p.values[int(round(v))] if p.values is not None else float(v)
+        values = tuple(p.values[round(float(v))] if p.values is not None else float(v)
                        for p, v in zip(study.parameters, x, strict=True))
         if values not in seen:
             seen[values] = score(values)

@@ -38,9 +38,9 @@ def get_path(data: Any, tokens: tuple[Token, ...]) -> tuple[bool, Any]:
     """(found, value) at ``tokens`` in nested mappings and lists."""
     node = data
     for t in tokens:
-        if isinstance(t, int) and isinstance(node, list) and 0 <= t < len(node):
-            node = node[t]
-        elif isinstance(t, str) and isinstance(node, dict) and t in node:
+        in_list = isinstance(t, int) and isinstance(node, list) and 0 <= t < len(node)
+        in_map = isinstance(t, str) and isinstance(node, dict) and t in node
+        if in_list or in_map:
             node = node[t]
         else:
             return False, None

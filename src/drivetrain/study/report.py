@@ -158,8 +158,9 @@ def sensitivity(study: Study, df: pd.DataFrame, output: str) -> dict[str, Any] |
         idx = {"delta": r["delta"], "S1": r["S1"]}
         method, key = "moment-independent delta and first-order Sobol (Plischke's estimator)", "delta"
     names = study.names
-    rows = sorted(({"parameter": n, **{k: float(v[j]) for k, v in idx.items()}} for j, n in enumerate(names)),
-                  key=lambda d: -d[key] if math.isfinite(d[key]) else math.inf)
+    rows: list[dict[str, Any]] = [{"parameter": n, **{k: float(v[j]) for k, v in idx.items()}}
+                                  for j, n in enumerate(names)]
+    rows.sort(key=lambda d: -float(d[key]) if math.isfinite(float(d[key])) else math.inf)
     return {"method": method, "output": output, "rank_by": key, "rows": rows, "failed_variants": missing}
 
 
@@ -181,7 +182,7 @@ def render(result: StudyResult) -> str:
     study, df = result.study, result.table
     meta = df.attrs.get("drivetrain", {})
     names = study.names
-    numeric = [n for n in names if n in df and np.issubdtype(df[n].dtype, np.number)] or names
+    numeric = [n for n in names if n in df and _is_numeric(df[n])] or names
     x = study.spec.report.x or (numeric[0] if numeric else names[0])
     y = study.spec.report.y or (numeric[1] if len(numeric) > 1 else (names[1] if len(names) > 1 else x))
     figs: list[tuple[str, Figure]] = []
@@ -253,19 +254,25 @@ def render(result: StudyResult) -> str:
             json.dumps({"failures": fails, "sensitivity": sens}).replace("</", "<\\/") + "</script></body></html>")
 
 
+def _is_numeric(s: pd.Series) -> bool:
+    import pandas as pd
+
+    return bool(pd.api.types.is_numeric_dtype(s)) and not pd.api.types.is_bool_dtype(s)
+
+
 def _describe(df: pd.DataFrame, name: str) -> str:
     s = df[name]
-    if np.issubdtype(s.dtype, np.number) and len(s):
+    if _is_numeric(s) and len(s):
         return f"{s.min():.4g} to {s.max():.4g} ({s.nunique()} distinct)"
     return ", ".join(str(v) for v in s.unique()[:8])
 
 
 def write_report(result: StudyResult, path: Path) -> Path:
     """Write the report atomically; returns its path."""
-    from drivetrain.study.runner import _atomic
+    from drivetrain.study.runner import _atomic, _write_text
 
     text = render(result)
-    _atomic(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+    _atomic(path, lambda tmp: _write_text(tmp, text))
     return path
 
 

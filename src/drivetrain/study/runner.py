@@ -52,7 +52,8 @@ class Plan:
         data: Any = self.base
         for p, v in zip(self.parameters, values, strict=True):
             data = set_path(data, p.tokens, p.to_si(v), f"parameters.{p.path}")
-        return data  # type: ignore[no-any-return]
+        out: dict[str, Any] = data
+        return out
 
 
 _ENGINE: Any = None
@@ -142,6 +143,10 @@ def _atomic(path: Path, write: Callable[[Path], None]) -> None:
     tmp.replace(path)
 
 
+def _write_text(path: Path, text: str) -> None:
+    path.write_text(text, encoding="utf-8")
+
+
 def write_parquet(df: pd.DataFrame, path: Path, meta: dict[str, Any]) -> None:
     """Parquet through pyarrow, the study's metadata in the schema (``drivetrain.study``), atomically."""
     import pyarrow as pa
@@ -182,7 +187,7 @@ def write_results(df: pd.DataFrame, out: Path, study: Study) -> list[Path]:
     meta_path = out.with_suffix(".meta.json")
     write_parquet(df, pq_path, meta)
     _atomic(csv_path, lambda tmp: df.to_csv(tmp, index=False))
-    _atomic(meta_path, lambda tmp: tmp.write_text(json.dumps(meta, indent=1), encoding="utf-8"))
+    _atomic(meta_path, lambda tmp: _write_text(tmp, json.dumps(meta, indent=1)))
     return [pq_path, csv_path, meta_path]
 
 
@@ -205,8 +210,14 @@ class _Progress:
     def __init__(self, total: int, done: int, enabled: bool, label: str) -> None:
         self.bar: Any = None
         if enabled:
-            from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn,
-                                       TimeRemainingColumn)
+            from rich.progress import (
+                BarColumn,
+                MofNCompleteColumn,
+                Progress,
+                TextColumn,
+                TimeElapsedColumn,
+                TimeRemainingColumn,
+            )
 
             self.bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), MofNCompleteColumn(),
                                 TimeElapsedColumn(),
@@ -290,7 +301,7 @@ def _resume_rows(study: Study, out: Path) -> list[dict[str, Any]]:
     df, meta = read_parquet(part)
     if meta.get("study_file") != study.text or meta.get("base_axis_file") != study.base_text:
         raise InputError("--resume", "the partial result is of another study file or base axis file", str(part))
-    return [{k: v for k, v in r.items()} for r in df.to_dict("records")]
+    return [{str(k): v for k, v in r.items()} for r in df.to_dict("records")]
 
 
 def _run_dask(plan: Plan, todo: list[tuple[int, tuple[Any, ...]]], batch: int, address: str | None,

@@ -171,7 +171,7 @@ def _quantity(value: Any, unit: str | None, field: str) -> tuple[float, str | No
 
     ureg = registry()
     try:
-        q = ureg.Quantity(_normalise(str(value)))
+        q: Any = ureg.Quantity(_normalise(str(value)))
     except Exception:
         raise InputError(field, "is not a number or a quantity with a unit", value) from None
     if unit is None:
@@ -364,7 +364,8 @@ class Study:
         data: Any = self.base
         for p, v in zip(self.parameters, values, strict=True):
             data = set_path(data, p.tokens, p.to_si(v), f"parameters.{p.path}")
-        return data  # type: ignore[no-any-return]
+        out: dict[str, Any] = data
+        return out
 
 
 def _plain(v: Any) -> Any:
@@ -450,7 +451,7 @@ def _same_dimension(base_value: str, unit: str, field: str) -> None:
 
     ureg = registry()
     try:
-        q = ureg.Quantity(_normalise(base_value))
+        q: Any = ureg.Quantity(_normalise(base_value))
         u = ureg.Quantity(1.0, _normalise(unit))
     except Exception:
         return
