@@ -293,3 +293,21 @@ def test_examples_validate() -> None:
         s = load_study(f)
         assert s.spec.optimize is not None or s.n_variants() > 0
         assert not math.isnan(float(len(s.parameters)))
+
+
+def test_documented_study_validates(tmp_path: Path) -> None:
+    """The study file of docs/studies.md is accepted as written (its base pointed at the example)."""
+    import re
+
+    text = (Path(__file__).parents[1] / "docs" / "studies.md").read_text(encoding="utf-8")
+    blocks = [b for b in re.findall(r"^```yaml\n(.*?)^```", text, re.MULTILINE | re.DOTALL) if "study: 1" in b]
+    assert blocks
+    for block in blocks:
+        body = block.replace("base: ../ball_screw.yaml", f"base: {BASE}")
+        s = parse_study(body, base_dir=tmp_path)
+        assert s.n_variants() == 8 * 4 * 4
+    opt = [b for b in re.findall(r"^```yaml\n(.*?)^```", text, re.MULTILINE | re.DOTALL) if "optimize:" in b]
+    spec = yaml.safe_load(opt[0])["optimize"]
+    s = parse_study(yaml.safe_dump({"study": 1, "base": str(BASE), "parameters": OPT["parameters"],
+                                    "optimize": spec}), base_dir=tmp_path)
+    assert s.spec.optimize is not None and s.spec.optimize.trials == 200
