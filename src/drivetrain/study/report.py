@@ -27,7 +27,7 @@ if TYPE_CHECKING:
 
 MAX_LEVELS = 30
 """A parameter with more distinct values than this is binned (by quantiles) on the maps."""
-BINS = 12
+BINS = 8
 
 
 def _levels(s: pd.Series) -> pd.Series:
@@ -170,6 +170,8 @@ def _bar(labels: list[str], values: list[float], title: str, xaxis: str) -> Figu
     fig = go.Figure(go.Bar(x=values, y=labels, orientation="h", marker={"color": "#1f4e79"}))
     fig.update_layout(title=title, xaxis_title=xaxis, height=120 + 32 * len(labels),
                       yaxis={"autorange": "reversed"})
+    if values and all(0.0 <= v <= 1.0 for v in values) and xaxis.startswith("fraction"):
+        fig.update_xaxes(range=[0.0, 1.0])
     return fig
 
 
