@@ -210,6 +210,7 @@ class _Progress:
     def __init__(self, total: int, done: int, enabled: bool, label: str) -> None:
         self.bar: Any = None
         if enabled:
+            from rich.console import Console
             from rich.progress import (
                 BarColumn,
                 MofNCompleteColumn,
@@ -221,7 +222,8 @@ class _Progress:
 
             self.bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), MofNCompleteColumn(),
                                 TimeElapsedColumn(),
-                                TextColumn("ETA"), TimeRemainingColumn(), transient=False)
+                                TextColumn("ETA"), TimeRemainingColumn(), transient=False,
+                                console=Console(stderr=True))
             self.bar.start()
             self.task = self.bar.add_task(label, total=total, completed=done)
 
