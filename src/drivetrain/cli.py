@@ -56,6 +56,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     _optional_parser(sub, "drivetrain.catalog.cli")
     _optional_parser(sub, "drivetrain.web.cli")
+    _optional_parser(sub, "drivetrain.study.cli")
     return parser
 
 
