@@ -29,7 +29,7 @@ from typing import Any
 import yaml
 
 import drivetrain
-from drivetrain.axis import parse_axis
+from drivetrain.axis.model import parse_axis
 from drivetrain.study import load_study, sweep
 from drivetrain.study.batch import Engine
 from drivetrain.study.runner import make_plan, run_batch

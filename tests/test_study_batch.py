@@ -20,9 +20,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import drivetrain
-from drivetrain.axis import parse_axis
-from drivetrain.duty import duty_cycle
-from drivetrain.motor_fit import demand
+from drivetrain.axis.model import parse_axis
+from drivetrain.duty.cycle import duty_cycle
+from drivetrain.sizing.motor_fit import demand
 from drivetrain.study.batch import Engine, fast_demand, full_result
 from drivetrain.study.record import row_from
 
@@ -141,7 +141,7 @@ def test_shared_kinematics_equal_fresh(engine: Engine) -> None:
        eff=st.sampled_from([1.0, 0.97, 0.9, 0.7]))
 def test_compiled_hull_equals_demand(mass: float, lead: float, time: float, eff: float) -> None:
     """The compiled hull gives the same vertices (and padding) as motor_fit.demand."""
-    from drivetrain.stage import Stage
+    from drivetrain.physics.stage import Stage
 
     axis = parse_axis(_variant(mass, lead, time))
     duty = duty_cycle(axis, 16)
@@ -156,7 +156,7 @@ def test_compiled_hull_equals_demand(mass: float, lead: float, time: float, eff:
 @given(mass=st.floats(1.0, 200.0), lead=st.floats(0.002, 0.05), time=st.floats(0.25, 2.0))
 def test_batched_hulls_equal_demand(mass: float, lead: float, time: float) -> None:
     """Several efficiencies in one pass give each efficiency's motor_fit.demand."""
-    from drivetrain.stage import Stage
+    from drivetrain.physics.stage import Stage
     from drivetrain.study.batch import fast_demands
 
     axis = parse_axis(_variant(mass, lead, time))

@@ -39,7 +39,7 @@ def optimize(study: Study, progress: bool = False) -> tuple[pd.DataFrame, dict[s
     """
     from dataclasses import replace
 
-    from drivetrain.axis import parse_axis
+    from drivetrain.axis.model import parse_axis
     from drivetrain.study.batch import full_result
     from drivetrain.study.runner import _Progress, frame, make_plan, run_batch
 

@@ -71,7 +71,7 @@ def _engine(points: int) -> Any:
 
 def size_variant(plan: Plan, values: tuple[Any, ...]) -> dict[str, Any]:
     """One variant's result mapping (batched path, or ``size().to_dict()`` when the record needs it)."""
-    from drivetrain.axis import parse_axis
+    from drivetrain.axis.model import parse_axis
     from drivetrain.study.batch import full_result
 
     axis = parse_axis(plan.axis_dict(values))
@@ -95,7 +95,7 @@ def run_batch(plan: Plan, items: list[tuple[int, tuple[Any, ...]]]) -> list[dict
 
 def make_plan(study: Study) -> Plan:
     """The worker plan; the recorded keys are checked against a sizing of the base axis first."""
-    from drivetrain.axis import parse_axis
+    from drivetrain.axis.model import parse_axis
     from drivetrain.study.batch import full_result
 
     axis = parse_axis(study.base)

@@ -374,7 +374,7 @@ def _plain(v: Any) -> Any:
 
 def parse_study(text: str, source: str = "<text>", base_dir: Path | None = None, yes: bool = False) -> Study:
     """Validate a study file's text (and its base axis file) into a Study; nothing is sized yet."""
-    from drivetrain.axis import parse_axis, parse_yaml, read_yaml
+    from drivetrain.axis.model import parse_axis, parse_yaml, read_yaml
 
     data = parse_yaml(text, source)
     if not isinstance(data, dict):
@@ -426,7 +426,7 @@ def _check_paths(study: Study) -> None:
     The base with each parameter's extreme values written with their unit (``"40.0 kg"``) is parsed
     as an axis file: a key the axis file does not know, a position that does not exist or a unit of
     the wrong dimension is an InputError, renamed to the parameter."""
-    from drivetrain.axis import parse_axis
+    from drivetrain.axis.model import parse_axis
 
     for p in study.parameters:
         field = f"parameters.{p.path}"
@@ -472,7 +472,7 @@ def _check_record(study: Study) -> None:
 
 def load_study(path: str | Path, yes: bool = False) -> Study:
     """Read and validate a study file."""
-    from drivetrain.axis import read_yaml  # noqa: F401  (same limits as an axis file)
+    from drivetrain.axis.model import read_yaml  # noqa: F401  (same limits as an axis file)
 
     p = Path(path)
     try:
