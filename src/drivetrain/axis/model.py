@@ -42,6 +42,11 @@ MAX_FILE_BYTES = 1_000_000
 MAX_ALIASES = 100
 """YAML aliases allowed: enough for shared blocks, far too few for an alias bomb."""
 MAX_NODES = 100_000
+"""Values a file may expand to, aliases included."""
+MAX_DEPTH = 100
+"""Deepest nesting of mappings and lists: a real axis file is under 8 levels deep."""
+MAX_DIGITS = 400
+"""Longest number written in a file [digits]: a float has 17 significant digits."""
 
 
 
@@ -273,11 +278,14 @@ def parse_yaml(text: str, source: str = "<text>") -> Any:
     if len(text.encode("utf-8", "replace")) > MAX_FILE_BYTES:
         raise InputError("file", f"is too large (an axis file is at most {MAX_FILE_BYTES} bytes)", _src(source))
     try:
+        _check_depth(text, source)
         loader = yaml.SafeLoader(text)
         try:
             node = loader.get_single_node()
         finally:
             loader.dispose()
+    except RecursionError:
+        raise InputError("file", f"is nested too deeply (over {MAX_DEPTH} levels)", _src(source)) from None
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
@@ -287,9 +295,54 @@ def parse_yaml(text: str, source: str = "<text>") -> Any:
         raise InputError("file", "is empty", _src(source))
     _check_graph(node, source)
     try:
-        return yaml.SafeLoader(text).get_single_data()
+        data = yaml.SafeLoader(text).get_single_data()
     except yaml.YAMLError as exc:
         raise InputError("file", f"is not valid YAML: {exc}", _src(source)) from None
+    except (ValueError, OverflowError, RecursionError) as exc:  # e.g. an integer past Python's digit limit
+        raise InputError("file", f"holds a value that cannot be read ({exc})", _src(source)) from None
+    _check_text(data, "")
+    return data
+
+
+def _check_depth(text: str, source: str) -> None:
+    """Refuse deep nesting from the event stream (the parser is iterative; the composer is not)."""
+    import yaml
+
+    depth = 0
+    for event in yaml.parse(text, Loader=yaml.SafeLoader):
+        if isinstance(event, yaml.CollectionStartEvent):
+            depth += 1
+            if depth > MAX_DEPTH:
+                mark = event.start_mark
+                where = f" (line {mark.line + 1})" if mark is not None else ""
+                raise InputError("file", f"is nested too deeply (over {MAX_DEPTH} levels){where}", _src(source))
+        elif isinstance(event, yaml.CollectionEndEvent):
+            depth -= 1
+
+
+def _check_text(data: Any, path: str) -> None:
+    """Every key and text value must be valid Unicode (a lone surrogate cannot be printed or stored)."""
+    if isinstance(data, dict):
+        for key, value in data.items():
+            sub = f"{path}.{key}" if path else str(key)
+            if isinstance(key, str) and not _valid_unicode(key):
+                raise InputError(path or "file", "has a key that is not valid Unicode (a lone surrogate)", key)
+            if isinstance(key, str) and not key:
+                raise InputError(f"{path}.''" if path else "''", "unknown key (the key is empty)", has_value=False)
+            _check_text(value, sub)
+    elif isinstance(data, list):
+        for i, value in enumerate(data):
+            _check_text(value, f"{path}[{i}]")
+    elif isinstance(data, str) and not _valid_unicode(data):
+        raise InputError(path, "is not valid Unicode text (a lone surrogate)", data)
+
+
+def _valid_unicode(text: str) -> bool:
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
 
 
 def _src(source: str | None) -> str | None:
@@ -303,10 +356,10 @@ def _check_graph(root: Any, source: str) -> None:
     seen_ids: dict[int, int] = {}
     aliases = 0
 
-    def expanded(node: Any, depth: int) -> int:
+    def expanded(node: Any, depth: int, path: str) -> int:
         nonlocal aliases
-        if depth > 100:
-            raise InputError("file", "is nested too deeply (over 100 levels)", _src(source))
+        if depth > MAX_DEPTH:
+            raise InputError("file", f"is nested too deeply (over {MAX_DEPTH} levels)", _src(source))
         key = id(node)
         if key in seen_ids:
             aliases += 1
@@ -314,17 +367,29 @@ def _check_graph(root: Any, source: str) -> None:
                 raise InputError("file", f"uses more than {MAX_ALIASES} YAML aliases", _src(source))
             return seen_ids[key]
         if isinstance(node, yaml.MappingNode):
-            n = 1 + sum(expanded(k, depth + 1) + expanded(v, depth + 1) for k, v in node.value)
+            n = 1 + sum(expanded(k, depth + 1, path) + expanded(v, depth + 1, _key_path(path, k))
+                        for k, v in node.value)
         elif isinstance(node, yaml.SequenceNode):
-            n = 1 + sum(expanded(v, depth + 1) for v in node.value)
+            n = 1 + sum(expanded(v, depth + 1, f"{path}[{i}]") for i, v in enumerate(node.value))
         else:
             n = 1
+            if (isinstance(node, yaml.ScalarNode) and node.tag.endswith((":int", ":float"))
+                    and len(node.value) > MAX_DIGITS):
+                raise InputError(path or "file", f"is a number of more than {MAX_DIGITS} digits",
+                                 node.value[:20] + "...")
         seen_ids[key] = n
         if n > MAX_NODES:
             raise InputError("file", f"expands to more than {MAX_NODES} values (YAML alias bomb?)", _src(source))
         return n
 
-    expanded(root, 0)
+    expanded(root, 0, "")
+
+
+def _key_path(path: str, key: Any) -> str:
+    import yaml
+
+    name = str(key.value)[:100] if isinstance(key, yaml.ScalarNode) else "?"
+    return f"{path}.{name}" if path else name
 
 
 def load_axis(path: str | Path) -> Axis:

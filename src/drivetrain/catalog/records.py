@@ -104,6 +104,7 @@ def parse_quantity(value: Any, quantity: str, field_path: str) -> float:
 def _pint_to(text: str, si_unit: str, description: str, field_path: str) -> float:
     import pint
 
+    units.check_grammar(text.strip(), field_path)
     try:
         q: Any = units.registry().Quantity(text.strip().replace("·", "*").replace("µ", "u"))
         return float(q.to(si_unit).magnitude)

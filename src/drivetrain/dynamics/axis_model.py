@@ -42,6 +42,8 @@ if TYPE_CHECKING:
 _KEYS = {"chain", "motor_inertia", "loop", "friction", "load_torque", "cycles", "step", "excitation_orders"}
 _LOOP_KEYS = {"velocity_bandwidth", "notch", "current_bandwidth", "torque_limit", "encoder_counts", "lowpass",
               "fraction_of_anti_resonance", "velocity_kp", "velocity_ti", "position_kv"}
+MAX_GAIN = 1e12
+"""Largest loop gain accepted in SI (N m s/rad, s, 1/s): real drives are below 1e4."""
 _FRICTION_KEYS = {"coulomb", "static", "viscous", "stribeck_speed", "method"}
 
 
@@ -160,19 +162,15 @@ def servo_loop(chain: Chain, block: dict[str, Any]) -> ServoLoop:
                          has_value=False)
     f = "dynamics.loop"
     kwargs: dict[str, Any] = {}
-    if "velocity_bandwidth" in spec:
-        kwargs["velocity_bandwidth_hz"] = parse(spec["velocity_bandwidth"], "frequency", f"{f}.velocity_bandwidth",
-                                                allow_zero=False)
-    if "current_bandwidth" in spec:
-        kwargs["current_bandwidth_hz"] = parse(spec["current_bandwidth"], "frequency", f"{f}.current_bandwidth",
-                                               allow_zero=False)
-    if "torque_limit" in spec:
-        kwargs["torque_limit"] = parse(spec["torque_limit"], "torque", f"{f}.torque_limit", allow_zero=False)
-    if "lowpass" in spec:
-        kwargs["lowpass_hz"] = parse(spec["lowpass"], "frequency", f"{f}.lowpass", allow_zero=False)
-    if "fraction_of_anti_resonance" in spec:
-        kwargs["fraction_of_anti_resonance"] = parse(spec["fraction_of_anti_resonance"], "dimensionless",
-                                                     f"{f}.fraction_of_anti_resonance", allow_zero=False)
+    for key, arg, quantity in (("velocity_bandwidth", "velocity_bandwidth_hz", "frequency"),
+                               ("current_bandwidth", "current_bandwidth_hz", "frequency"),
+                               ("torque_limit", "torque_limit", "torque"), ("lowpass", "lowpass_hz", "frequency"),
+                               ("fraction_of_anti_resonance", "fraction_of_anti_resonance", "dimensionless")):
+        if key in spec:
+            value = parse(spec[key], quantity, f"{f}.{key}", allow_zero=False)
+            if value <= 0.0:
+                raise InputError(f"{f}.{key}", "must be > 0", spec[key])
+            kwargs[arg] = value
     if "encoder_counts" in spec:
         counts = spec["encoder_counts"]
         if not isinstance(counts, int) or isinstance(counts, bool) or counts <= 0:
@@ -189,6 +187,8 @@ def servo_loop(chain: Chain, block: dict[str, Any]) -> ServoLoop:
         for k, v in given.items():
             if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise InputError(f"{f}.{k}", "must be a number in SI units", v)
+            if not math.isinf(v) and abs(v) > MAX_GAIN:  # velocity_ti: .inf means no integral action
+                raise InputError(f"{f}.{k}", f"magnitude is absurd (> {MAX_GAIN:g} in SI)", v)
         loop = loop.with_(**{k: float(v) for k, v in given.items()}, notes=("gains as given",))
     return loop
 
@@ -209,9 +209,10 @@ def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None =
         frictions = list(chain.friction) if chain.friction else [None] * chain.n
         frictions[-1] = friction
         chain = chain.with_(friction=tuple(frictions))
-    n = int(block.get("cycles", 1) if cycles is None else cycles)
-    if n < 1 or n > 100:
-        raise InputError("dynamics.cycles", "must be between 1 and 100", n)
+    given_cycles = block.get("cycles", 1) if cycles is None else cycles
+    if isinstance(given_cycles, bool) or not isinstance(given_cycles, int) or not 1 <= given_cycles <= 100:
+        raise InputError("dynamics.cycles", "must be a whole number between 1 and 100", given_cycles)
+    n = given_cycles
     cycle = axis.cycle()
     # A uniform grid over n periods (the reference must be strictly increasing in time).
     t = np.linspace(0.0, n * cycle.period, int(min(200_000, max(2_000, 4_000 * n))) + 1)
