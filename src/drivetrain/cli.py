@@ -104,14 +104,18 @@ def _check_outputs(args: argparse.Namespace) -> None:
 
 
 def _cmd_size(args: argparse.Namespace) -> int:
+    from drivetrain.errors import InputError
     from drivetrain.sizing.result import size
 
     if args.points < 3 or args.points > 100_000:
-        from drivetrain.errors import InputError
-
         raise InputError("--points", "must be between 3 and 100000", args.points)
     _check_outputs(args)
-    result = size(args.axis, points_per_phase=args.points)
+    try:
+        result = size(args.axis, points_per_phase=args.points)
+    except InputError as exc:
+        if exc.field == "points_per_phase":
+            raise InputError("--points", exc.rule, args.points) from None
+        raise
     explanation = result.explain(args.explain) if args.explain else ""
     if args.csv:
         _write_csv(args.csv, result.series())

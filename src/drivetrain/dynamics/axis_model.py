@@ -63,7 +63,45 @@ def _block(axis: Axis) -> dict[str, Any]:
     if unknown:
         raise InputError(f"dynamics.{sorted(unknown)[0]}", f"unknown key; valid: {', '.join(sorted(_KEYS))}",
                          has_value=False)
+    _check_values(raw)
     return raw
+
+
+_LOOP_QUANTITIES = {"velocity_bandwidth": "frequency", "current_bandwidth": "frequency", "lowpass": "frequency",
+                    "torque_limit": "torque", "fraction_of_anti_resonance": "dimensionless"}
+_FRICTION_QUANTITIES = {"coulomb": "torque", "static": "torque", "viscous": "torsional_damping",
+                        "stribeck_speed": "angular_speed"}
+
+
+def _check_values(raw: dict[str, Any]) -> None:
+    """Every value of the block checked for its form, also those the command at hand does not use
+    (``modes`` does not read the loop, yet a bad loop value is an error there too)."""
+    cycles = raw.get("cycles", 1)
+    if isinstance(cycles, bool) or not isinstance(cycles, int) or not 1 <= cycles <= 100:
+        raise InputError("dynamics.cycles", "must be a whole number between 1 and 100", cycles)
+    if "step" in raw:
+        parse(raw["step"], "time", "dynamics.step", allow_zero=False)
+    if "load_torque" in raw:
+        parse(raw["load_torque"], "torque", "dynamics.load_torque")
+    for key, known, quantities in (("loop", _LOOP_KEYS, _LOOP_QUANTITIES),
+                                   ("friction", _FRICTION_KEYS, _FRICTION_QUANTITIES)):
+        spec = raw.get(key)
+        if spec is None:
+            continue
+        if not isinstance(spec, dict):
+            raise InputError(f"dynamics.{key}", "must be a mapping", spec)
+        unknown = set(spec) - known
+        if unknown:
+            raise InputError(f"dynamics.{key}.{sorted(unknown, key=str)[0]}",
+                             f"unknown key; valid: {', '.join(sorted(known))}", has_value=False)
+        if key == "loop":
+            _check_loop_values(spec)
+        for name, quantity in quantities.items():
+            if name in spec:
+                value = parse(spec[name], quantity, f"dynamics.{key}.{name}")
+                if value < 0 or (key == "loop" and value == 0):
+                    raise InputError(f"dynamics.{key}.{name}", "must be > 0" if key == "loop" else "must be >= 0",
+                                     spec[name])
 
 
 def _motor(axis: Axis) -> tuple[str, float, tuple[Stage, ...]]:
@@ -149,6 +187,25 @@ def _friction(axis: Axis, stages: tuple[Stage, ...], block: dict[str, Any]) -> t
     return friction, load_torque
 
 
+def _check_loop_values(spec: dict[str, Any]) -> None:
+    f = "dynamics.loop"
+    for k in ("velocity_kp", "velocity_ti", "position_kv"):
+        if k not in spec:
+            continue
+        v = spec[k]
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or math.isnan(v):
+            raise InputError(f"{f}.{k}", "must be a number in SI units", v)
+        if not (k == "velocity_ti" and math.isinf(v)) and abs(v) > MAX_GAIN:  # ti: .inf, no integral action
+            raise InputError(f"{f}.{k}", f"magnitude is absurd (> {MAX_GAIN:g} in SI)", v)
+        if v < 0 or (v == 0 and k != "position_kv"):
+            raise InputError(f"{f}.{k}", "must be >= 0" if k == "position_kv" else "must be > 0", v)
+    counts = spec.get("encoder_counts", 1)
+    if not isinstance(counts, int) or isinstance(counts, bool) or counts <= 0:
+        raise InputError(f"{f}.encoder_counts", "must be a positive whole number of counts per revolution", counts)
+    if not isinstance(spec.get("notch", False), bool):
+        raise InputError(f"{f}.notch", "must be true or false", spec.get("notch"))
+
+
 def servo_loop(chain: Chain, block: dict[str, Any]) -> ServoLoop:
     """Gains tuned from the requested bandwidth (or the highest the tuning rule allows)."""
     from drivetrain.dynamics.control import tune
@@ -196,7 +253,14 @@ def servo_loop(chain: Chain, block: dict[str, Any]) -> ServoLoop:
 def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None = None,
                   velocity_bandwidth_hz: float | None = None) -> SimulationResult:
     """Closed-loop simulation of the axis following its own duty-cycle profile."""
-    from drivetrain.dynamics.simulation import Reference, simulate
+    from drivetrain.dynamics.simulation import (
+        MAX_SIMULATION_BYTES,
+        Reference,
+        default_step,
+        estimate_bytes,
+        max_steps,
+        simulate,
+    )
 
     block = _block(axis)
     dyn = model(axis)
@@ -214,6 +278,19 @@ def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None =
         raise InputError("dynamics.cycles", "must be a whole number between 1 and 100", given_cycles)
     n = given_cycles
     cycle = axis.cycle()
+    h = step if step is not None else (parse(block["step"], "time", "dynamics.step", allow_zero=False)
+                                       if "step" in block else default_step(chain, loop))
+    per_cycle = cycle.period / h
+    fit = max_steps(chain.n)
+    if n * per_cycle > fit:
+        need = estimate_bytes(chain.n, round(n * per_cycle)) / 1e9
+        if per_cycle <= fit:
+            raise InputError("dynamics.cycles", f"{n} cycles of {cycle.period:g} s are {n * per_cycle:.3g} steps of "
+                             f"{h:g} s (about {need:.1f} GB); at most {int(fit // per_cycle)} cycles fit in "
+                             f"{MAX_SIMULATION_BYTES / 1e9:g} GB", n)
+        raise InputError("profile", f"one cycle of {cycle.period:g} s is {per_cycle:.3g} steps of {h:g} s (about "
+                         f"{need:.1f} GB); the simulation holds at most {fit * h:.4g} s at this step: simulate a "
+                         "shorter profile", has_value=False)
     # A uniform grid over n periods (the reference must be strictly increasing in time).
     t = np.linspace(0.0, n * cycle.period, int(min(200_000, max(2_000, 4_000 * n))) + 1)
     kin = cycle.evaluate(np.mod(t, cycle.period) if n > 1 else t)
@@ -222,6 +299,4 @@ def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None =
         x = x + np.floor(t / cycle.period) * float(cycle.evaluate(np.array([cycle.period])).x[0])
     ratio = math.prod(s.ratio for s in dyn.stages)
     ref = Reference.from_load(t, x, kin.v, kin.a, ratio)
-    h = step if step is not None else (parse(block["step"], "time", "dynamics.step", allow_zero=False)
-                                       if "step" in block else None)
     return simulate(chain, loop, ref, load_torque=load_torque, step=h)
