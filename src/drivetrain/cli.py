@@ -76,7 +76,10 @@ def _write_atomic(path: str, text: str, field: str = "--csv") -> None:
     """Write a file through a unique temporary sibling and rename, so a reader never sees half of it."""
     from drivetrain.report import write_atomic
 
-    write_atomic(path, lambda tmp: tmp.write_text(text, encoding="utf-8"), field)
+    def write(tmp: Path) -> None:
+        tmp.write_text(text, encoding="utf-8")
+
+    write_atomic(path, write, field)
 
 
 PLOT_SUFFIXES = (".png", ".svg", ".pdf")

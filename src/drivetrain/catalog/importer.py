@@ -28,11 +28,10 @@ from typing import TYPE_CHECKING, Any
 from drivetrain.catalog import db
 from drivetrain.catalog.records import (
     HEADER_LINE,
-    MAX_IMPORT_ROWS,
     Parsed,
     Row,
-    infer_table,
     escape_cell,
+    infer_table,
     parse_quantity,
     parse_rows,
     read_text,

@@ -120,18 +120,18 @@ def _remove_stale(path: Path) -> None:
     import re
     import time
 
-    pattern = re.compile(rf"\.{re.escape(path.name)}\.(?:(\d+)\.)?[A-Za-z0-9_]+\.tmp")
-    now = time.time()
     import glob
 
+    pattern = re.compile(rf"\.{re.escape(path.name)}\.(?:(\d+)\.)?[A-Za-z0-9_]+\.tmp")
+    now = time.time()
     for sibling in path.parent.glob(f".{glob.escape(path.name)}.*.tmp"):
         m = pattern.fullmatch(sibling.name)
         if m is None:
             continue
         with contextlib.suppress(OSError):
-            if m.group(1) is not None and int(m.group(1)) != os.getpid() and not _alive(int(m.group(1))):
-                sibling.unlink()
-            elif now - sibling.stat().st_mtime > STALE_TEMP_AGE_S:
+            pid = int(m.group(1)) if m.group(1) is not None else None
+            writer_gone = pid is not None and pid != os.getpid() and not _alive(pid)
+            if writer_gone or now - sibling.stat().st_mtime > STALE_TEMP_AGE_S:
                 sibling.unlink()
 
 
