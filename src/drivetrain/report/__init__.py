@@ -117,10 +117,9 @@ def _atomic_target(path: Path, field: str = "--report") -> Iterator[Path]:
 
 def _remove_stale(path: Path) -> None:
     """Remove temporary siblings of ``path`` whose writer process no longer runs."""
+    import glob
     import re
     import time
-
-    import glob
 
     pattern = re.compile(rf"\.{re.escape(path.name)}\.(?:(\d+)\.)?[A-Za-z0-9_]+\.tmp")
     now = time.time()
