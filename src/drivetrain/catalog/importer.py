@@ -43,6 +43,8 @@ if TYPE_CHECKING:
     import sqlite3
 
 FORMATS = ("csv", "json")
+MAX_IMPORT_ROWS = 5_000
+"""Rows and curve points one import file may hold (the shipped catalog has about 1,600 rows)."""
 MAX_USER_ROWS = 10_000
 """Rows and curve points the user catalog holds at most: selection stays well under a second."""
 MAX_IMPORT_BYTES = 20_000_000
@@ -80,6 +82,10 @@ def import_file(
     filename = os.fspath(path)
     text = _read(filename)
     raw = read_text(text, filename)
+    given = len(raw.rows) + sum(len(r.curve) for r in raw.rows)
+    if given > MAX_IMPORT_ROWS:
+        raise InputError(filename, f"has {given} rows and curve points; an import takes at most {MAX_IMPORT_ROWS} "
+                         "(split the file)", has_value=False)
     spec = _table(kind, raw.table, raw.headers, filename)
     parsed = parse_rows(raw, spec)
     _default_source(parsed.rows, Path(filename).name)

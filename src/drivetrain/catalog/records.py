@@ -68,8 +68,6 @@ _SUFFIX_UNITS: tuple[tuple[str, str], ...] = (
     ("_N", "N"),
     ("_m", "m"),
 )
-MAX_IMPORT_ROWS = 5_000
-"""Rows (with curve points) one import file may hold; the shipped catalog has about 1,600 rows."""
 MAX_ID_CHARS = 100
 """Longest id [characters]: vendor order codes are under 40."""
 MAX_TEXT_CHARS = 2_000
@@ -340,9 +338,6 @@ def read_csv(text: str, filename: str) -> RawFile:
                     )
                 )
                 continue
-            if len(rows) >= MAX_IMPORT_ROWS:
-                errors.append(_too_many(filename, start))
-                break
             rows.append(RawRow(start, dict(zip(headers, map(unescape_cell, cells), strict=True))))
     except csv.Error as exc:
         errors.append(InputError(where(filename, reader.line_num, "-"), f"is not valid CSV ({exc})", has_value=False))
@@ -443,13 +438,6 @@ def _valid_unicode(text: str) -> bool:
     return True
 
 
-def _too_many(filename: str, line: int | None, count: int | None = None) -> InputError:
-    got = f" ({count})" if count is not None else ""
-    return InputError(where(filename, line, "-") if line is not None else filename,
-                      f"has more than {MAX_IMPORT_ROWS} rows and curve points{got}; split it into several files",
-                      has_value=False)
-
-
 def read_json(text: str, filename: str) -> RawFile:
     """Read JSON: a list of row objects, or ``{"table": ..., "rows": [...]}`` as export writes it."""
     depth = _json_depth(text)
@@ -478,9 +466,6 @@ def read_json(text: str, filename: str) -> RawFile:
         data = data.get("rows")
     if not isinstance(data, list) or not all(isinstance(r, dict) for r in data):
         raise InputError(filename, 'must hold a list of row objects, or {"table": ..., "rows": [...]}', has_value=False)
-    points_given = len(data) + sum(len(r["curve"]) for r in data if isinstance(r.get("curve"), list))
-    if points_given > MAX_IMPORT_ROWS:
-        raise _too_many(filename, None, points_given)
     headers: dict[str, int] = {}
     rows: list[RawRow] = []
     errors: list[InputError] = []
