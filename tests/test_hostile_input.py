@@ -20,7 +20,7 @@ import yaml
 from drivetrain.axis.model import load_axis, parse_axis, parse_yaml
 from drivetrain.cli import main
 from drivetrain.errors import InputError, InputErrors, format_value
-from drivetrain.units import check_grammar, parse
+from drivetrain.units import parse
 
 ROOT = Path(__file__).resolve().parents[1]
 AXIS = ROOT / "tests" / "axes" / "yaskawa_es_30w.yaml"  # a given motor: sizing is quick
@@ -98,6 +98,8 @@ def test_grammar_refuses_before_pint_sees_the_text(monkeypatch: pytest.MonkeyPat
 
     def boom(*_: Any, **__: Any) -> None:
         raise AssertionError("pint must not parse this")
+
+    from drivetrain.units import check_grammar
 
     monkeypatch.setattr(pint.UnitRegistry, "Quantity", property(boom))
     with pytest.raises(InputError):

@@ -6,6 +6,7 @@ See docs/axis-file.md for every key, with one example per mechanism. Bad input r
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -272,52 +273,81 @@ def read_yaml(path: str | Path) -> Any:
 
 
 def parse_yaml(text: str, source: str = "<text>") -> Any:
-    """Parse YAML text with the safe loader and the same limits as files."""
+    """Parse YAML text with the safe loader and the same limits as files (one pass over the text)."""
     import yaml
 
     if len(text.encode("utf-8", "replace")) > MAX_FILE_BYTES:
         raise InputError("file", f"is too large (an axis file is at most {MAX_FILE_BYTES} bytes)", _src(source))
     try:
-        _check_depth(text, source)
-        loader = yaml.SafeLoader(text)
+        loader = _loader_class()(text)
+    except yaml.YAMLError as exc:  # the reader refuses NUL and other special characters at once
+        raise InputError("file", f"is not valid YAML: {str(exc).splitlines()[0]}", _src(source)) from None
+    try:
         try:
             node = loader.get_single_node()
-        finally:
-            loader.dispose()
-    except RecursionError:
-        raise InputError("file", f"is nested too deeply (over {MAX_DEPTH} levels)", _src(source)) from None
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
-        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        raise InputError("file", f"is not valid YAML{where}: {problem}", _src(source)) from None
-    if node is None:
-        raise InputError("file", "is empty", _src(source))
-    _check_graph(node, source)
-    try:
-        data = yaml.SafeLoader(text).get_single_data()
-    except yaml.YAMLError as exc:
-        raise InputError("file", f"is not valid YAML: {exc}", _src(source)) from None
-    except (ValueError, OverflowError, RecursionError) as exc:  # e.g. an integer past Python's digit limit
-        raise InputError("file", f"holds a value that cannot be read ({exc})", _src(source)) from None
+        except RecursionError:
+            raise InputError("file", f"is nested too deeply (over {MAX_DEPTH} levels)", _src(source)) from None
+        except yaml.YAMLError as exc:
+            mark = getattr(exc, "problem_mark", None)
+            where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
+            problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+            raise InputError("file", f"is not valid YAML{where}: {problem}", _src(source)) from None
+        if node is None:
+            raise InputError("file", "is empty", _src(source))
+        if loader.too_deep is not None:
+            raise InputError("file", f"is nested too deeply (over {MAX_DEPTH} levels) (line {loader.too_deep})",
+                             _src(source))
+        _check_graph(node, source)
+        try:
+            data = loader.construct_document(node)
+        except yaml.YAMLError as exc:
+            raise InputError("file", f"is not valid YAML: {exc}", _src(source)) from None
+        except (ValueError, OverflowError, RecursionError) as exc:  # e.g. an integer past Python's digit limit
+            raise InputError("file", f"holds a value that cannot be read ({exc})", _src(source)) from None
+    finally:
+        loader.dispose()
     _check_text(data, "")
     return data
 
 
-def _check_depth(text: str, source: str) -> None:
-    """Refuse deep nesting from the event stream (the parser is iterative; the composer is not)."""
+@functools.cache
+def _loader_class() -> Any:
+    """``yaml.SafeLoader`` whose composer stops descending past ``MAX_DEPTH`` levels.
+
+    The scanner and parser are iterative; the composer recurses once per level, so a file nested
+    500 levels deep would end in RecursionError. Past the limit the rest of the nesting is
+    skipped as events (no recursion) and the depth is reported once the document is read.
+    """
     import yaml
 
-    depth = 0
-    for event in yaml.parse(text, Loader=yaml.SafeLoader):
-        if isinstance(event, yaml.CollectionStartEvent):
-            depth += 1
-            if depth > MAX_DEPTH:
-                mark = event.start_mark
-                where = f" (line {mark.line + 1})" if mark is not None else ""
-                raise InputError("file", f"is nested too deeply (over {MAX_DEPTH} levels){where}", _src(source))
-        elif isinstance(event, yaml.CollectionEndEvent):
-            depth -= 1
+    class Loader(yaml.SafeLoader):
+        too_deep: int | None = None
+        _depth = 0
+
+        def compose_node(self, parent: Any, index: Any) -> Any:
+            if self._depth >= MAX_DEPTH and self.check_event(yaml.CollectionStartEvent):
+                if self.too_deep is None:
+                    self.too_deep = self.peek_event().start_mark.line + 1
+                self._skip_collection()
+                return yaml.ScalarNode("tag:yaml.org,2002:null", "")
+            self._depth += 1
+            try:
+                return super().compose_node(parent, index)
+            finally:
+                self._depth -= 1
+
+        def _skip_collection(self) -> None:
+            level = 0
+            while True:
+                event = self.get_event()
+                if isinstance(event, yaml.CollectionStartEvent):
+                    level += 1
+                elif isinstance(event, yaml.CollectionEndEvent):
+                    level -= 1
+                    if level == 0:
+                        return
+
+    return Loader
 
 
 def _check_text(data: Any, path: str) -> None:
