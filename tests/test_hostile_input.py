@@ -190,6 +190,17 @@ def test_dynamics_values_are_checked_by_every_command(
     assert err.startswith(f"error: {field}:") and words in err
 
 
+@pytest.mark.parametrize(("step", "words"), [("1e-4 s", "must divide the loop's sample times"),
+                                             ("0.1 s", "too large")])
+def test_simulation_step_errors_name_the_key_of_the_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], step: str, words: str
+) -> None:
+    data = yaml.safe_load(TWO_INERTIAS.read_text(encoding="utf-8"))
+    data["dynamics"]["step"] = step
+    code, err = run_cli(["simulate", str(write_axis(tmp_path, data))], capsys)
+    assert code == 2 and err.startswith("error: dynamics.step:") and words in err
+
+
 def test_unstable_tuned_loop_names_what_the_user_can_change() -> None:
     from drivetrain.dynamics import two_mass_chain
     from drivetrain.dynamics.control import check_stable, tune

@@ -299,4 +299,15 @@ def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None =
         x = x + np.floor(t / cycle.period) * float(cycle.evaluate(np.array([cycle.period])).x[0])
     ratio = math.prod(s.ratio for s in dyn.stages)
     ref = Reference.from_load(t, x, kin.v, kin.a, ratio)
-    return simulate(chain, loop, ref, load_torque=load_torque, step=h)
+    try:
+        return simulate(chain, loop, ref, load_torque=load_torque, step=h)
+    except InputError as exc:
+        # The step is the user's dynamics.step (or the automatic one): name the key of the file.
+        if "step" in block and step is None and exc.field == "simulation.step":
+            raise InputError("dynamics.step", exc.rule, block["step"]) from None
+        if "step" in block and step is None and exc.field.endswith("_sample_time"):
+            times = ", ".join(f"{t * 1e6:g} us" for t in (loop.current_sample_time, loop.velocity_sample_time,
+                                                          loop.position_sample_time))
+            raise InputError("dynamics.step", f"must divide the loop's sample times ({times})",
+                             block["step"]) from None
+        raise
