@@ -151,7 +151,7 @@ def test_lone_surrogate_in_a_name_and_empty_key(tmp_path: Path, capsys: pytest.C
     code, err = run_cli(["size", str(write_axis(tmp_path, text))], capsys)
     assert code == 2 and "axis: is not valid Unicode" in err and "\\ud800" in err
     with pytest.raises(InputError) as info:
-        parse_yaml(AXIS.read_text(encoding="utf-8") + "'': 1\n")
+        parse_axis(parse_yaml(AXIS.read_text(encoding="utf-8") + "'': 1\n"))
     assert info.value.field == "''" and "unknown key" in info.value.rule
 
 

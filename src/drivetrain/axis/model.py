@@ -199,6 +199,7 @@ def parse_axis(data: Any) -> Axis:
     if not isinstance(data, dict):
         raise InputError("", "an axis file must be a mapping of keys (axis, mechanism, transmission, profile, ...)",
                          type(data).__name__)
+    _check_text(data, "")
     try:
         spec = AxisSpec.model_validate(data)
     except ValidationError as exc:
@@ -306,7 +307,6 @@ def parse_yaml(text: str, source: str = "<text>") -> Any:
             raise InputError("file", f"holds a value that cannot be read ({exc})", _src(source)) from None
     finally:
         loader.dispose()
-    _check_text(data, "")
     return data
 
 
