@@ -73,23 +73,53 @@ def _optional_parser(sub: Any, module: str) -> None:
     mod.add_parser(sub)
 
 
-def _write_atomic(path: str, text: str) -> None:
-    """Write a file through a temporary sibling and rename, so a reader never sees half of it."""
-    target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = target.with_name(f".{target.name}.tmp")
-    tmp.write_text(text, encoding="utf-8")
-    tmp.replace(target)
+def _write_atomic(path: str, text: str, field: str = "--csv") -> None:
+    """Write a file through a unique temporary sibling and rename, so a reader never sees half of it."""
+    from drivetrain.report import write_atomic
+
+    def write(tmp: Path) -> None:
+        tmp.write_text(text, encoding="utf-8")
+
+    write_atomic(path, write, field)
+
+
+PLOT_SUFFIXES = (".png", ".svg", ".pdf")
+"""Figure formats ``simulate --plot`` writes, chosen by the file's suffix."""
+
+
+def _check_outputs(args: argparse.Namespace) -> None:
+    """Refuse an output path that cannot be written before the work that fills it."""
+    from drivetrain.report import REPORT_SUFFIXES, check_target
+
+    for name in ("csv", "report", "plot"):
+        path = getattr(args, name, None)
+        if path:
+            check_target(path, f"--{name}")
+    report = getattr(args, "report", None)
+    if report and Path(report).suffix.lower() not in REPORT_SUFFIXES:
+        from drivetrain.errors import InputError
+
+        raise InputError("--report", "must end in .html or .pdf", report)
+    plot = getattr(args, "plot", None)
+    if plot and Path(plot).suffix.lower() not in PLOT_SUFFIXES:
+        from drivetrain.errors import InputError
+
+        raise InputError("--plot", f"must end in {', '.join(PLOT_SUFFIXES)}", plot)
 
 
 def _cmd_size(args: argparse.Namespace) -> int:
+    from drivetrain.errors import InputError
     from drivetrain.sizing.result import size
 
     if args.points < 3 or args.points > 100_000:
-        from drivetrain.errors import InputError
-
         raise InputError("--points", "must be between 3 and 100000", args.points)
-    result = size(args.axis, points_per_phase=args.points)
+    _check_outputs(args)
+    try:
+        result = size(args.axis, points_per_phase=args.points)
+    except InputError as exc:
+        if exc.field == "points_per_phase":
+            raise InputError("--points", exc.rule, args.points) from None
+        raise
     explanation = result.explain(args.explain) if args.explain else ""
     if args.csv:
         _write_csv(args.csv, result.series())
@@ -176,6 +206,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from drivetrain.axis.model import load_axis
     from drivetrain.dynamics.axis_model import simulate_axis
 
+    _check_outputs(args)
     axis = load_axis(args.axis)
     res = simulate_axis(axis, cycles=args.cycles, velocity_bandwidth_hz=args.bandwidth)
     out = {"axis": axis.name, **res.to_dict()}
@@ -184,14 +215,13 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
         buf = io.StringIO()
         res.to_pandas().to_csv(buf)
-        _write_atomic(args.csv, buf.getvalue())
+        _write_atomic(args.csv, buf.getvalue(), "--csv")
     if args.plot:
+        from drivetrain.report import write_atomic
+
         fig = res.plot()
-        target = Path(args.plot)
-        target.parent.mkdir(parents=True, exist_ok=True)
-        tmp = target.with_name(f".{target.stem}.tmp{target.suffix}")
-        fig.savefig(tmp, dpi=120)
-        tmp.replace(target)
+        fmt = Path(args.plot).suffix.lower().lstrip(".")
+        write_atomic(args.plot, lambda tmp: fig.savefig(tmp, dpi=120, format=fmt), "--plot")
     if args.json:
         print(json.dumps(_jsonable(out), indent=2))
         return 0
