@@ -123,6 +123,9 @@ class MotorTable(_Table):
     rotor_inertia_brake: FloatArray  # [kg m^2]
     mass: FloatArray  # [kg]
     flange: FloatArray  # [m]
+    shaft_diameter: FloatArray  # [m] output shaft (NaN where unknown)
+    pilot_diameter: FloatArray  # [m] centring spigot of the flange
+    bolt_circle: FloatArray  # [m] flange bolt circle
     voltage: FloatArray  # [V] supply class (AC servo) or nominal terminal voltage (small DC)
     torque_constant: FloatArray  # [N m/A]
     winding_resistance: FloatArray  # [ohm]
@@ -160,17 +163,22 @@ class GearboxTable(_Table):
     ratio: FloatArray  # [-]
     stages: FloatArray  # [-] (NaN where unknown)
     rated_output_torque: FloatArray  # [N m]
-    max_output_torque: FloatArray  # [N m] peak/acceleration rating (empty for the shipped G+ rows)
-    emergency_stop_torque: FloatArray  # [N m]
+    max_output_torque: FloatArray  # [N m] T2B, max acceleration torque in cyclic operation
+    emergency_stop_torque: FloatArray  # [N m] T2NOT, allowed only for rare emergency stops
     efficiency: FloatArray  # [-]
-    max_input_speed: FloatArray  # [rad/s]
-    rated_input_speed: FloatArray  # [rad/s]
+    max_input_speed: FloatArray  # [rad/s] n1max, short-time limit
+    rated_input_speed: FloatArray  # [rad/s] n1N, thermal (mean) input speed limit
     inertia_input: FloatArray  # [kg m^2] at the input shaft
     backlash: FloatArray  # [rad]
     torsional_stiffness: FloatArray  # [N m/rad]
-    max_radial_load: FloatArray  # [N]
-    max_axial_load: FloatArray  # [N]
+    max_radial_load: FloatArray  # [N] F2r
+    max_axial_load: FloatArray  # [N] F2a
     mass: FloatArray  # [kg]
+    input_bore_max: FloatArray  # [m] largest motor shaft the input takes (clamping hub)
+    input_bore_min: FloatArray  # [m] smallest motor shaft (with the vendor's bushing); NaN: not printed
+    input_flange: FloatArray  # [m] motor flange (square) the input adapter is made for; NaN: not printed
+    input_pilot: FloatArray  # [m] motor pilot (centring) diameter of the input; NaN: not printed
+    verified: BoolArray  # True: every number of the row traced to a vendor document
 
 
 @dataclass(frozen=True, eq=False)

@@ -8,11 +8,14 @@ forms over arrays (motor_fit.py).
 
 Checks per candidate (each with required, available, margin, ok): peak torque against the
 intermittent envelope at the speed where it occurs, RMS torque against the continuous torque
-at the mean speed, max speed against the motor and the gearbox's input speed, inertia ratio,
-and for a gearbox: its rated output torque against the cycle's speed-weighted cubic-mean
-output torque (Harmonic Drive / strain-wave selection practice), and the torque that passes it
-when the motor gives its peak torque, (1 - k)(T_M - T_L) + T_L with k = J_M / (J_M + J_LR)
-(lecture, Dynamic Loading and Gearbox Sizing), against its emergency-stop or max torque.
+at the mean speed, max speed against the motor's, inertia ratio, and for a gearbox: whether
+the motor can be assembled onto it (``checks.mechanical_fit``) and every rating as vendors
+rate it (``checks.gearbox_ratings``: T2B, T2N, T2NOT, n1max, n1N).
+
+A check whose rating or dimension the catalog lacks is *unknown* (margin NaN). Unknown checks
+do not reject a candidate by default (``motor.select.unknown: flag``): it passes with status
+``unknown`` and the names of those checks, and the answer says so, as it does for an envelope
+derived from ratings; ``unknown: fail`` rejects it instead (docs/checks.md).
 """
 
 from __future__ import annotations
@@ -28,6 +31,7 @@ from numpy.typing import NDArray
 from drivetrain.duty.cycle import cubic_mean
 from drivetrain.errors import InputError
 from drivetrain.physics.stage import Stage
+from drivetrain.sizing.checks import shock_factor
 from drivetrain.sizing.envelope import continuous_torque, intermittent_torque, motor_envelopes
 from drivetrain.sizing.motor_fit import Demand, demand
 from drivetrain.units import to_rpm
@@ -40,7 +44,13 @@ if TYPE_CHECKING:
 Array = NDArray[np.float64]
 
 CHECK_UNITS = {"peak_torque": "N*m", "rms_torque": "N*m", "max_speed": "rpm", "inertia_ratio": "-",
-               "gearbox_rated_torque": "N*m", "gearbox_peak_torque": "N*m"}
+               "mechanical_fit": "mm", "gearbox_peak_torque": "N*m", "gearbox_rated_torque": "N*m",
+               "gearbox_emergency_stop_torque": "N*m", "gearbox_max_input_speed": "rpm",
+               "gearbox_mean_input_speed": "rpm"}
+"""Every check of a candidate with its unit, in the order of the compiled pass's arrays (kernel.py)."""
+
+MOTOR_CHECKS = ("peak_torque", "rms_torque", "max_speed", "inertia_ratio")
+"""The checks a direct-drive candidate has; the others belong to a gearbox."""
 
 
 @dataclass(frozen=True)
@@ -66,18 +76,27 @@ class Candidates:
 
     motor: NDArray[np.int32]  # index into the motor table
     slot: NDArray[np.int32]  # index into slot_row / slot_group
-    worst_margin: Array  # smallest margin [-], NaN where a margin is NaN
-    failed: NDArray[np.uint8]  # bit c set where check c (CHECK_UNITS order) does not pass
+    worst_margin: Array  # smallest known margin [-], NaN where no margin is known
+    failed: NDArray[np.uint16]  # bit c set where check c (CHECK_UNITS order) fails (margin < 0)
+    unknown: NDArray[np.uint16]  # bit c set where check c cannot be judged (margin NaN)
     slot_row: NDArray[np.int64]  # gearbox row of each slot, -1 for direct drive
     slot_group: NDArray[np.int64]  # (ratio, efficiency) group of each slot
     group_ratio: Array
     approx_motor: NDArray[np.bool_]  # the motor's envelope is derived from its ratings
-    model: tuple[Any, ...]  # the kernel's arrays (_select_kernel._one)
+    model: tuple[Any, ...]  # the kernel's arrays (kernel.check)
+    strict: bool = False  # an unknown check rejects the candidate (motor.select.unknown: fail)
 
     @cached_property
     def ok(self) -> NDArray[np.bool_]:
-        """True where every check passes."""
+        """True where no check fails (and, when strict, none is unknown)."""
+        if self.strict:
+            return (self.failed == 0) & (self.unknown == 0)
         return self.failed == 0
+
+    @cached_property
+    def rejected(self) -> NDArray[np.uint8]:
+        """1 where the candidate does not pass (the complement of ``ok``, for the compiled ranking)."""
+        return (~self.ok).astype(np.uint8)
 
     def gearbox(self, ks: NDArray[np.intp] | int) -> Any:
         """Gearbox row of the candidates ``ks``, -1 for direct drive."""
@@ -97,6 +116,10 @@ class Candidates:
         """How many candidates fail each check."""
         return {n: int(np.count_nonzero(self.failed & (1 << c))) for c, n in enumerate(CHECK_UNITS)}
 
+    def unknowns(self) -> dict[str, int]:
+        """How many candidates cannot be judged on each check (a rating or dimension unknown)."""
+        return {n: int(np.count_nonzero(self.unknown & (1 << c))) for c, n in enumerate(CHECK_UNITS)}
+
     def details(self, ks: NDArray[np.intp] | list[int]) -> Details:
         """Required, available and margin of every check of the candidates ``ks``."""
         from drivetrain.sizing.kernel import D_INERTIA, D_PEAK, D_RMS, N_CHECKS, N_DETAIL, check
@@ -106,8 +129,8 @@ class Candidates:
         pick = np.stack([self.motor[ks], self.slot_group[slots], slots]).astype(np.int64)
         out = np.empty((N_DETAIL, len(ks)))
         none = np.empty(0, dtype=np.int32)
-        check(self.model, np.zeros(1, dtype=np.int64), self.slot_row, pick, none, none, np.empty(0),
-              np.empty(0, dtype=np.uint8), out)
+        bits = np.empty(0, dtype=np.uint16)
+        check(self.model, np.zeros(1, dtype=np.int64), self.slot_row, pick, none, none, np.empty(0), bits, bits, out)
         names = list(CHECK_UNITS)
         approx = self.approx_motor[pick[0]]
         exact = np.zeros(len(ks), dtype=bool)
@@ -154,7 +177,7 @@ def _padded(arrays: list[Array], shape: tuple[int, ...]) -> Array:
 
 
 def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable | None, margins: Margins,
-             allow_direct: bool = True, max_inertia_ratio: float | None = None) -> Candidates:
+             allow_direct: bool = True, max_inertia_ratio: float | None = None, strict: bool = False) -> Candidates:
     """Check every motor against every gearbox row (and direct drive) in one compiled pass.
 
     The per-sample work runs once per distinct gearbox efficiency (its losses at ratio 1, then
@@ -224,32 +247,39 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     elif len(g_of) and curves is not None:
         env_full = motor_envelopes(rated[m_of], peak[m_of], w_n[m_of], w_max[m_of], hull_speed[g_of], stall[m_of],
                                    [curves[m] for m in m_of])[1].torque
-    # Gearbox rows, gaps filled as the checks read them.
+    # Gearbox rows as the checks read them: NaN where a rating or dimension is unknown.
     if gb is not None and len(gb):
         gb_j = np.nan_to_num(gb.inertia_input, nan=0.0)
-        gb_speed = np.where(np.isnan(gb.max_input_speed), math.inf, gb.max_input_speed)
-        gb_speed = np.where(np.isinf(gb_speed), np.where(np.isnan(gb.rated_input_speed), math.inf,
-                                                         gb.rated_input_speed), gb_speed)
-        gb_rated = np.where(np.isnan(gb.rated_output_torque), math.inf, gb.rated_output_torque)
-        estop = np.where(np.isnan(gb.emergency_stop_torque), math.inf, gb.emergency_stop_torque)
-        gb_cap = np.where(np.isnan(gb.max_output_torque), estop, gb.max_output_torque)
+        gb_cols = [gb.max_input_speed, gb.rated_input_speed, gb.rated_output_torque, gb.max_output_torque,
+                   gb.emergency_stop_torque] + [_column(gb, c) for c in ("input_bore_max", "input_bore_min",
+                                                                          "input_flange", "input_pilot")]
     else:
-        gb_j = gb_speed = gb_rated = gb_cap = np.zeros(1)
+        gb_j = np.zeros(1)
+        gb_cols = [np.zeros(1)] * 9
+    out_peak = float(np.max(np.abs(duty.torque))) if duty.torque.size else 0.0
+    shock = shock_factor(duty.period, margins.gearbox_shock_factor)
     par = np.array([duty.period, margins.torque, margins.rms_torque or margins.torque, margins.speed, limit,
-                    out_cubic, run_t])
+                    out_cubic, run_t, out_peak, shock])
     f64 = np.ascontiguousarray
-    model = (f64(motors.rotor_inertia, dtype=float), f64(peak, dtype=float), f64(w_max, dtype=float), env_top,
-             cont_mean, full_row, f64(env_full, dtype=float), ratio, eff_g, hull_speed, hull_t, hull_a, all_t, all_a,
-             sums, g_speed, g_j_load, f64(gb_j, dtype=float), f64(gb_speed, dtype=float), f64(gb_rated, dtype=float),
-             f64(gb_cap, dtype=float), par)
+    model = (f64(motors.rotor_inertia, dtype=float), f64(peak, dtype=float), f64(w_max, dtype=float),
+             *(f64(_column(motors, c), dtype=float) for c in ("shaft_diameter", "flange", "pilot_diameter")),
+             env_top, cont_mean, full_row, f64(env_full, dtype=float), ratio, eff_g, hull_speed, hull_t, hull_a, all_t,
+             all_a, sums, g_speed, g_j_load, f64(gb_j, dtype=float), *(f64(c, dtype=float) for c in gb_cols), par)
     n = n_m * len(rows)
     motor_idx, slot = np.empty(n, dtype=np.int32), np.empty(n, dtype=np.int32)
-    worst, failed = np.empty(n), np.empty(n, dtype=np.uint8)
-    check(model, row_start, rows, np.empty((3, 0), dtype=np.int64), motor_idx, slot, worst, failed, np.empty((0, 0)))
+    worst, failed, unknown = np.empty(n), np.empty(n, dtype=np.uint16), np.empty(n, dtype=np.uint16)
+    check(model, row_start, rows, np.empty((3, 0), dtype=np.int64), motor_idx, slot, worst, failed, unknown,
+          np.empty((0, 0)))
     slot_group = np.repeat(np.arange(n_g), np.diff(row_start))
-    return Candidates(motor=motor_idx, slot=slot, worst_margin=worst, failed=failed, slot_row=rows,
+    return Candidates(motor=motor_idx, slot=slot, worst_margin=worst, failed=failed, unknown=unknown, slot_row=rows,
                       slot_group=slot_group, group_ratio=ratio, approx_motor=np.asarray(approx_motor, dtype=bool),
-                      model=model)
+                      model=model, strict=strict)
+
+
+def _column(table: Any, name: str) -> Array:
+    """A numeric column of a catalog table, all NaN (unknown) where the table has no such column."""
+    value = getattr(table, name, None)
+    return np.full(len(table), np.nan) if value is None else np.asarray(value, dtype=float)
 
 
 def _size_key(motors: MotorTable) -> Array:
@@ -309,8 +339,7 @@ def _closest_failing(c: Candidates, n: int) -> NDArray[np.intp]:
     margins last (as a stable sort of every failing candidate, without sorting them all)."""
     from drivetrain.sizing.kernel import closest_failing
 
-    return np.asarray(closest_failing(np.asarray(c.worst_margin, dtype=float),
-                                      np.asarray(c.failed, dtype=np.uint8), n), dtype=np.intp)
+    return np.asarray(closest_failing(np.asarray(c.worst_margin, dtype=float), c.rejected, n), dtype=np.intp)
 
 
 def pareto_front(size: Array, margin: Array, ratio: Array) -> NDArray[np.intp]:
@@ -326,8 +355,19 @@ def pareto_front(size: Array, margin: Array, ratio: Array) -> NDArray[np.intp]:
     return np.flatnonzero(keep)
 
 
-def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins) -> dict[str, Any]:
-    """Evaluate the catalog against the duty cycle; rank, explain and summarise."""
+def best_per_motor(c: Candidates, ranked: NDArray[np.intp]) -> NDArray[np.intp]:
+    """The first candidate of each motor in ``ranked`` (its best configuration), in ranked order."""
+    _, first = np.unique(c.motor[ranked], return_index=True)
+    return ranked[np.sort(first)]
+
+
+def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
+           all_pairs: bool = False) -> dict[str, Any]:
+    """Evaluate the catalog against the duty cycle; rank, explain and summarise.
+
+    The ranked list holds the best configuration of each motor (its best gearbox), so the top
+    ``spec.top`` are that many different motors; ``all_pairs`` lists every passing pair instead.
+    """
     from drivetrain import catalog
 
     kind = None if spec.kind == "any" else spec.kind
@@ -347,22 +387,26 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins) -> d
         except InputError as exc:
             raise exc.at("motor.select.gearbox_series") from None
     c = evaluate(axis, duty, motors, gb, margins, allow_direct=spec.gearbox != "only" or gb is None,
-                 max_inertia_ratio=spec.max_inertia_ratio)
-    ok = c.ok
-    passing = np.flatnonzero(ok)
+                 max_inertia_ratio=spec.max_inertia_ratio, strict=spec.unknown == "fail")
+    passing = np.flatnonzero(c.ok)
     passing = passing[np.argsort(_objective(c, passing, motors, gb, spec.objective, duty), kind="stable")]
-    n_fail = max(spec.top - min(len(passing), spec.top), 3)
-    failing = _closest_failing(c, n_fail)
+    listed = passing if all_pairs else best_per_motor(c, passing)
+    shown_ok = listed if all_pairs else listed[: spec.top]
+    n_fail = max(spec.top - min(len(shown_ok), spec.top), 3)
+    failing = _closest_failing(c, n_fail * 8)
+    failing = failing if all_pairs else best_per_motor(c, failing)
 
     def row(k: int, rank: int | None) -> dict[str, Any]:
         return candidate_dict(c, k, motors, gb, rank)
 
-    shown = [row(int(k), r + 1) for r, k in enumerate(passing[: spec.top])]
+    shown = [row(int(k), r + 1) for r, k in enumerate(shown_ok)]
     shown += [row(int(k), None) for k in failing[: max(spec.top - len(shown), 3)]]
     summary: dict[str, Any] = {
         "objective": spec.objective, "evaluated": len(c.motor), "motors": len(motors),
         "gearbox_rows": 0 if gb is None else len(gb), "passing": len(passing),
-        "failures_by_check": c.failures(),
+        "passing_motors": int(len(np.unique(c.motor[passing]))),
+        "unknown_policy": spec.unknown, "failures_by_check": c.failures(), "unknown_by_check": c.unknowns(),
+        "cycles_per_hour": 3600.0 / duty.period,
     }
     if len(passing):
         best = int(passing[0])
@@ -373,8 +417,12 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins) -> d
         top = passing[:2000]
         front = pareto_front(_size_key(motors)[c.motor[top]], c.worst_margin[top], c.details(top).inertia_ratio)
         summary["pareto_front"] = [_label(c, int(top[k]), motors, gb) for k in front[:50]]
+        flagged = int(np.count_nonzero(c.unknown[passing]))
+        if flagged:
+            summary["unverified"] = (f"{flagged} of {len(passing)} passing configurations have checks the catalog "
+                                     "cannot judge (status unknown): confirm them with the vendor")
     else:
-        summary["advice"] = advice(c, margins, spec)
+        summary["advice"] = advice(c, margins, spec, motors, gb)
     summary["_candidates"] = c
     summary["_tables"] = (motors, gb)
     return {"candidates": shown, "selection": summary}
@@ -385,35 +433,119 @@ def _label(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None) -
     return str(motors.ids[c.motor[k]]) + ("" if g < 0 or gb is None else f" + {gb.ids[g]}")
 
 
+_RATING_NAMES = {"gearbox_peak_torque": "T2B (max acceleration torque)", "gearbox_rated_torque": "T2N (rated torque)",
+                 "gearbox_emergency_stop_torque": "T2NOT (emergency-stop torque)",
+                 "gearbox_max_input_speed": "n1max (max input speed)",
+                 "gearbox_mean_input_speed": "n1N (nominal input speed)"}
+
+
+def _mm(x: float) -> str:
+    return f"{x * 1e3:.4g} mm"
+
+
+def _plain_mm(x: float) -> float | None:
+    return None if math.isnan(float(x)) else float(x) * 1e3
+
+
+def _fit_reason(motors: MotorTable, m: int, gb: GearboxTable, g: int) -> tuple[str, str]:
+    """Why motor m and gearbox row g cannot be assembled (first), and what is unknown (second)."""
+    from drivetrain.sizing.kernel import FIT_TOLERANCE
+
+    shaft, flange, pilot = (float(_column(motors, c)[m]) for c in ("shaft_diameter", "flange", "pilot_diameter"))
+    bmax, bmin, gfl, gpi = (float(_column(gb, c)[g]) for c in ("input_bore_max", "input_bore_min", "input_flange",
+                                                                 "input_pilot"))
+    bad, gaps = [], []
+    if math.isnan(shaft):
+        gaps.append("the motor's shaft diameter")
+    if math.isnan(bmax):
+        gaps.append("the gearbox's input bore")
+    if not math.isnan(shaft) and not math.isnan(bmax) and shaft > bmax:
+        bad.append(f"motor shaft {_mm(shaft)} > gearbox input bore {_mm(bmax)}")
+    if not math.isnan(shaft) and not math.isnan(bmin) and shaft < bmin:
+        bad.append(f"motor shaft {_mm(shaft)} < smallest bore with bushing {_mm(bmin)}")
+    for what, mine, theirs in (("flange", flange, gfl), ("pilot", pilot, gpi)):
+        if math.isnan(theirs):
+            continue
+        if math.isnan(mine):
+            gaps.append(f"the motor's {what} (the adapter takes {_mm(theirs)})")
+        elif abs(mine - theirs) > FIT_TOLERANCE:
+            bad.append(f"motor {what} {_mm(mine)} ≠ gearbox adapter {what} {_mm(theirs)}")
+    return "; ".join(bad), ("the catalog lacks " + " and ".join(gaps) if gaps else "")
+
+
+def _unknown_note(name: str, c: Candidates, fit_gap: str) -> str:
+    """Why a check cannot be judged."""
+    par = c.model[-1]
+    if name == "peak_torque":
+        return "not judged: the cycle's speed is beyond the motor's max speed (see max_speed)"
+    if name == "mechanical_fit":
+        return fit_gap or "the catalog lacks a dimension it needs"
+    if name == "gearbox_peak_torque" and math.isnan(float(par[8])):
+        return (f"{3600.0 / float(par[0]):.0f} cycles/h exceed the 1000/h that T2B holds for: set "
+                "motor.margins.gearbox_shock_factor from the vendor's chart")
+    if name in _RATING_NAMES:
+        return f"the catalog lacks the gearbox's {_RATING_NAMES[name]}"
+    return "the catalog lacks a rating it needs"
+
+
+def _reason(ch: dict[str, Any], fit_bad: str) -> str:
+    """One failing check as a sentence."""
+    n, unit = ch["name"], ch["unit"]
+    pct = f"{ch['margin'] * 100:.1f} %"
+    if n == "mechanical_fit":
+        return f"mechanical_fit: {fit_bad} ({pct})"
+    if n == "max_speed":
+        return (f"max_speed: the cycle needs {ch['required']:.0f} rpm at the motor (margin included), the motor "
+                f"reaches {ch['available']:.0f} rpm ({pct})")
+    avail = "n/a" if ch["available"] is None else f"{ch['available']:.4g} {unit}"
+    return f"{n}: required {ch['required']:.4g} {unit} > available {avail} ({pct})"
+
+
 def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None,
                    rank: int | None) -> dict[str, Any]:
-    """One candidate as in design.md: motor, gearbox, ratio, inertia ratio, ok, checks, why it failed."""
+    """One candidate as in design.md: motor, gearbox, ratio, inertia ratio, status, checks, why it failed.
+
+    ``status`` is ``ok`` (every check passes), ``unknown`` (none fails, some cannot be judged:
+    ``unknown`` names them) or ``fails``; ``failures`` holds one sentence per failing check, a
+    motor too slow for the cycle first; ``failed`` is the first of them.
+    """
     m, g = int(c.motor[k]), int(c.gearbox(k))
     d = c.details([k])
-    checks = []
+    geared = g >= 0 and gb is not None
+    fit_bad, fit_gap = _fit_reason(motors, m, gb, g) if geared and gb is not None else ("", "")
+    checks: dict[str, dict[str, Any]] = {}
     for n in CHECK_UNITS:
-        req, avail, mar = float(d.required[n][0]), float(d.available[n][0]), float(d.margin[n][0])
-        if n.startswith("gearbox") and g < 0:
+        if n not in MOTOR_CHECKS and not geared:
             continue
-        checks.append({"name": n, "required": req, "available": avail if math.isfinite(avail) else None,
-                       "unit": CHECK_UNITS[n], "margin": mar if math.isfinite(mar) else None, "ok": mar >= 0.0,
-                       "approximate": bool(d.approximate[n][0])})
-    bad = [(float(d.margin[n][0]), n) for n in CHECK_UNITS if not d.margin[n][0] >= 0.0]
-    failed = ""
-    if bad:
-        # the worst known shortfall; a NaN margin (a rating the catalog lacks) only when no other fails
-        mar, n = min(bad, key=lambda b: (math.isnan(b[0]), b[0], b[1]))
-        failed = (f"{n}: required {d.required[n][0]:.4g} {CHECK_UNITS[n]} > available "
-                  f"{d.available[n][0]:.4g} {CHECK_UNITS[n]} ({mar * 100:.1f} %)" if not math.isnan(mar) else
-                  f"{n}: cannot be checked, the catalog lacks a rating it needs (available "
-                  f"{d.available[n][0]:.4g} {CHECK_UNITS[n]})")
+        req, avail, mar = float(d.required[n][0]), float(d.available[n][0]), float(d.margin[n][0])
+        status = "unknown" if math.isnan(mar) else ("pass" if mar >= 0.0 else "fail")
+        slow = n == "peak_torque" and status == "unknown" and float(d.margin["max_speed"][0]) < 0.0
+        status = "not_judged" if slow else status
+        checks[n] = {"name": n, "required": req, "available": avail if math.isfinite(avail) else None,
+                     "unit": CHECK_UNITS[n], "margin": mar if math.isfinite(mar) else None,
+                     "ok": status == "pass" or (status == "unknown" and not c.strict), "status": status,
+                     "approximate": bool(d.approximate[n][0])}
+        if status in ("unknown", "not_judged"):
+            checks[n]["note"] = _unknown_note(n, c, fit_gap)
+    failing = sorted((ch for ch in checks.values() if ch["status"] == "fail"),
+                     key=lambda ch: (ch["name"] != "max_speed", ch["margin"], ch["name"]))
+    failures = [_reason(ch, fit_bad) for ch in failing]
+    unknown = [n for n, ch in checks.items() if ch["status"] == "unknown"]
+    if c.strict:
+        failures += [f"{n}: cannot be judged, {checks[n]['note']}" for n in unknown]
+    ok = not failures
     return {
-        "rank": rank, "motor": str(motors.ids[m]), "vendor": str(motors.vendor[m]),
-        "gearbox": None if g < 0 or gb is None else str(gb.ids[g]), "ratio": float(c.ratio(k)),
+        "rank": rank, "motor": str(motors.ids[m]), "vendor": str(motors.vendor[m]), "series": str(motors.series[m]),
+        "rated_power_W": float(motors.rated_power[m]), "flange_mm": _plain_mm(motors.flange[m]),
+        "shaft_diameter_mm": _plain_mm(_column(motors, "shaft_diameter")[m]),
+        "gearbox": str(gb.ids[g]) if geared and gb is not None else None,
+        "gearbox_vendor": str(gb.vendor[g]) if geared and gb is not None else None, "ratio": float(c.ratio(k)),
         "inertia_ratio": float(d.inertia_ratio[0]), "rms_torque_Nm": float(d.rms_torque[0]),
-        "peak_torque_Nm": float(d.peak_torque[0]), "rated_power_W": float(motors.rated_power[m]),
-        "ok": not bad, "failed": failed, "approximate_envelope": bool(~motors.has_curve[m]),
-        "rated_torque_derived": bool(motors.approx_rated[m]), "checks": checks,
+        "peak_torque_Nm": float(d.peak_torque[0]),
+        "ok": ok, "status": "fails" if not ok else ("unknown" if unknown else "ok"), "unknown": unknown,
+        "failed": failures[0] if failures else "", "failures": failures,
+        "approximate_envelope": bool(~motors.has_curve[m]), "rated_torque_derived": bool(motors.approx_rated[m]),
+        "checks": list(checks.values()),
     }
 
 
@@ -480,26 +612,63 @@ def optimal_ratio(axis: Axis, duty: DutyCycle, motors: MotorTable, m: int,
             "max_ratio_for_speed": top, "nearest_catalog_ratio": nearest}
 
 
-def advice(c: Candidates, margins: Margins, spec: SelectSpec) -> str:
-    """What to relax when nothing passes: the check that blocks most and the best candidate's shortfall."""
-    d = c.details([_closest(c, np.arange(len(c.motor)))])
+def advice(c: Candidates, margins: Margins, spec: SelectSpec, motors: MotorTable | None = None,
+           gb: GearboxTable | None = None) -> str:
+    """What to relax when nothing passes, one line per blocking check of the closest candidate.
+
+    A suggestion is made only where it would change something: no "allow a gearbox" when
+    gearboxes are already allowed, no "lower the margins" at a margin of 1, no "widen the filters"
+    without filters.
+    """
+    k = _closest(c, np.arange(len(c.motor)))
+    d = c.details([k])
     blocking = [(float(d.margin[n][0]), n) for n in CHECK_UNITS if d.margin[n][0] < 0]
-    parts = [f"no candidate passes all checks ({len(c.motor)} evaluated)."]
-    for mar, n in sorted(blocking):
-        need = d.required[n][0]
-        have = d.available[n][0]
+    blocking.sort(key=lambda b: (b[1] != "max_speed", b[0], b[1]))
+    lines = [f"no candidate passes all checks ({len(c.motor)} evaluated)"]
+    filters = [f"{f}={getattr(spec, f)}" for f in ("vendor", "voltage", "flange", "gearbox_series")
+               if getattr(spec, f)]
+    no_gearbox = spec.gearbox == "none"
+    for mar, n in blocking:
+        need, have = d.required[n][0], d.available[n][0]
+        fixes: list[str] = []
         if n == "inertia_ratio":
-            parts.append(f"the closest candidate needs an inertia ratio of {need:.3g} (limit {have:.3g}): raise "
-                         "motor.margins.inertia_ratio or allow a gearbox (motor.select.gearbox: auto)")
+            head = f"the closest candidate needs an inertia ratio of {need:.3g} (limit {have:.3g})"
+            if margins.inertia_ratio < 1000:
+                fixes.append("raise motor.margins.inertia_ratio if the drive's tuning allows")
+            if no_gearbox:
+                fixes.append("allow a gearbox (motor.select.gearbox: auto)")
+            else:
+                fixes.append("a motor with more rotor inertia")
         elif n == "max_speed":
-            parts.append(f"it needs {need:.0f} rpm but reaches {have:.0f} rpm: a smaller ratio or a faster motor")
+            head = f"it needs {need:.0f} rpm but reaches {have:.0f} rpm"
+            fixes.append("a faster motor" + ("" if no_gearbox else " or a smaller ratio"))
+            if margins.speed > 1.0:
+                fixes.append(f"motor.margins.speed is {margins.speed:g}")
+        elif n == "mechanical_fit":
+            head = f"the closest gearbox cannot take the motor (shaft {need:.4g} mm, input bore {have:.4g} mm)"
+            fixes.append("a gearbox series with a larger input bore (motor.select.gearbox_series) or a motor with a "
+                         "smaller shaft")
+        elif n.startswith("gearbox_"):
+            head = f"{n} short by {-mar * 100:.0f} % ({need:.4g} vs {have:.4g} {CHECK_UNITS[n]})"
+            fixes.append("a larger gearbox frame" + (" (widen motor.select.gearbox_series)" if spec.gearbox_series
+                                                      else ""))
         else:
-            parts.append(f"{n} short by {-mar * 100:.0f} % ({need:.4g} vs {have:.4g} {CHECK_UNITS[n]}): lengthen "
-                         "the acceleration times, lower margins, or widen the vendor/voltage filters")
-    if spec.vendor or spec.voltage or spec.flange:
-        parts.append("filters in use: " + ", ".join(f"{k}={getattr(spec, k)}" for k in ("vendor", "voltage", "flange")
-                                                    if getattr(spec, k)))
-    return " ".join(parts)
+            head = f"{n} short by {-mar * 100:.0f} % ({need:.4g} vs {have:.4g} {CHECK_UNITS[n]})"
+            fixes.append("lengthen the acceleration times")
+            if (margins.torque > 1.0 if n == "peak_torque" else (margins.rms_torque or margins.torque) > 1.0):
+                fixes.append(f"lower motor.margins.{'torque' if n == 'peak_torque' else 'rms_torque'} if the "
+                             "application allows")
+            if no_gearbox:
+                fixes.append("allow a gearbox (motor.select.gearbox: auto)")
+            if filters:
+                fixes.append("widen the filters")
+        lines.append(f"{head}: {', or '.join(fixes)}" if fixes else head)
+    if c.strict and not blocking:
+        lines.append("the closest candidates fail only on checks the catalog cannot judge: motor.select.unknown: "
+                     "flag accepts them, flagged")
+    if filters:
+        lines.append("filters in use: " + ", ".join(filters))
+    return "\n".join(lines)
 
 
 def explain(result_selection: dict[str, Any], model: str) -> str:
@@ -515,18 +684,29 @@ def explain(result_selection: dict[str, Any], model: str) -> str:
         else:
             raise InputError("--explain", "is not among the evaluated motors (check the filters)", model)
     rows = c.of_motors(hits)
-    d = candidate_dict(c, _closest(c, rows), motors, gb, None)
-    n_ok = int(np.sum(c.ok[rows]))
+    ok_rows = rows[c.ok[rows]]
+    d = candidate_dict(c, _closest(c, ok_rows if len(ok_rows) else rows), motors, gb, None)
+    n_ok = len(ok_rows)
     lines = [f"{model}: {n_ok} of {len(rows)} configurations pass; best configuration: "
              f"{d['gearbox'] or 'direct drive'} (ratio {d['ratio']:.4g}, inertia ratio {d['inertia_ratio']:.3g})"]
+    mark = {"pass": "ok  ", "fail": "FAIL", "unknown": "??  ", "not_judged": "--  "}
     for ch in d["checks"]:
         mar = "n/a" if ch["margin"] is None else f"{ch['margin'] * 100:+.1f} %"
         avail = "n/a" if ch["available"] is None else f"{ch['available']:.4g}"
-        lines.append(f"  {'ok  ' if ch['ok'] else 'FAIL'} {ch['name']}: required {ch['required']:.4g}, available "
-                     f"{avail} {ch['unit']} ({mar})")
-    if d["failed"]:
-        lines.append(f"  rejected because {d['failed']}")
+        note = f": {ch['note']}" if ch.get("note") else ""
+        lines.append(f"  {mark[ch['status']]} {ch['name']}: required {ch['required']:.4g}, available "
+                     f"{avail} {ch['unit']} ({mar}){note}")
+    if d["failures"]:
+        lines.append("  rejected because:")
+        lines += [f"    {f}" for f in d["failures"]]
+    elif d["unknown"]:
+        lines.append(f"  passes with checks the catalog cannot judge: {', '.join(d['unknown'])}")
+    per_check = {n: int(np.count_nonzero(c.failed[rows] & (1 << b))) for b, n in enumerate(CHECK_UNITS)}
+    counts = ", ".join(f"{n} {v}" for n, v in per_check.items() if v)
+    if counts:
+        lines.append(f"  its {len(rows)} configurations fail: {counts} (one may fail several)")
     return "\n".join(lines)
 
 
-__all__ = ["Candidates", "Details", "candidate_cycle", "evaluate", "explain", "optimal_ratio", "select", "to_rpm"]
+__all__ = ["CHECK_UNITS", "MOTOR_CHECKS", "Candidates", "Details", "best_per_motor", "candidate_cycle", "evaluate",
+           "explain", "optimal_ratio", "select", "to_rpm"]
