@@ -49,6 +49,8 @@ CHECK_UNITS = {"peak_torque": "N*m", "rms_torque": "N*m", "max_speed": "rpm", "i
                "gearbox_mean_input_speed": "rpm"}
 """Every check of a candidate with its unit, in the order of the compiled pass's arrays (kernel.py)."""
 
+FIT_BIT = 1 << list(CHECK_UNITS).index("mechanical_fit")
+
 MOTOR_CHECKS = ("peak_torque", "rms_torque", "max_speed", "inertia_ratio")
 """The checks a direct-drive candidate has; the others belong to a gearbox."""
 
@@ -390,6 +392,8 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
                  max_inertia_ratio=spec.max_inertia_ratio, strict=spec.unknown == "fail")
     passing = np.flatnonzero(c.ok)
     passing = passing[np.argsort(_objective(c, passing, motors, gb, spec.objective, duty), kind="stable")]
+    # a pair not known to assemble (a dimension missing) ranks after every pair known to
+    passing = passing[np.argsort((c.unknown[passing] & FIT_BIT) != 0, kind="stable")]
     listed = passing if all_pairs else best_per_motor(c, passing)
     shown_ok = listed if all_pairs else listed[: spec.top]
     n_fail = max(spec.top - min(len(shown_ok), spec.top), 3)
@@ -444,7 +448,7 @@ def _mm(x: float) -> str:
 
 
 def _plain_mm(x: float) -> float | None:
-    return None if math.isnan(float(x)) else float(x) * 1e3
+    return None if math.isnan(float(x)) else round(float(x) * 1e3, 6)
 
 
 def _fit_reason(motors: MotorTable, m: int, gb: GearboxTable, g: int) -> tuple[str, str]:
@@ -488,10 +492,18 @@ def _unknown_note(name: str, c: Candidates, fit_gap: str) -> str:
     return "the catalog lacks a rating it needs"
 
 
+def percent(margin: float | None) -> str:
+    """A margin as a signed percentage that never shows a failing margin as "-0.0 %"."""
+    if margin is None:
+        return "n/a"
+    p = margin * 100.0
+    return f"{p:+.2g} %" if p != 0.0 and abs(p) < 0.1 else f"{p:+.1f} %"
+
+
 def _reason(ch: dict[str, Any], fit_bad: str) -> str:
     """One failing check as a sentence."""
     n, unit = ch["name"], ch["unit"]
-    pct = f"{ch['margin'] * 100:.1f} %"
+    pct = percent(ch["margin"])
     if n == "mechanical_fit":
         return f"mechanical_fit: {fit_bad} ({pct})"
     if n == "max_speed":
@@ -691,7 +703,7 @@ def explain(result_selection: dict[str, Any], model: str) -> str:
              f"{d['gearbox'] or 'direct drive'} (ratio {d['ratio']:.4g}, inertia ratio {d['inertia_ratio']:.3g})"]
     mark = {"pass": "ok  ", "fail": "FAIL", "unknown": "??  ", "not_judged": "--  "}
     for ch in d["checks"]:
-        mar = "n/a" if ch["margin"] is None else f"{ch['margin'] * 100:+.1f} %"
+        mar = percent(ch["margin"])
         avail = "n/a" if ch["available"] is None else f"{ch['available']:.4g}"
         note = f": {ch['note']}" if ch.get("note") else ""
         lines.append(f"  {mark[ch['status']]} {ch['name']}: required {ch['required']:.4g}, available "
