@@ -357,10 +357,10 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64,
         result.candidates = chosen["candidates"]
         result.selection = chosen["selection"]
         gear = gearbox_rating_checks(axis, duty, _selected_motor(result.selection), strict)
-        if gear is not None:
+        own = [st.name for st in axis.transmission if st.kind == "gearbox"]
+        if own and not result.selection.get("gearbox_rows"):
             # the motors go direct onto the axis's own gearbox: say so, not "direct drive, ratio 1"
-            names = ", ".join(dict.fromkeys(str(c["stage"]) for c in gear["checks"]))
-            result.selection["transmission_gearbox"] = names
+            result.selection["transmission_gearbox"] = ", ".join(own)
     else:
         gear = gearbox_rating_checks(axis, duty, None)
     if gear is not None:

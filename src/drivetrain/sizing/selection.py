@@ -509,8 +509,9 @@ def _reason(ch: dict[str, Any], fit_bad: str) -> str:
     if n == "max_speed":
         return (f"max_speed: the cycle needs {ch['required']:.0f} rpm at the motor (margin included), the motor "
                 f"reaches {ch['available']:.0f} rpm ({pct})")
-    avail = "n/a" if ch["available"] is None else f"{ch['available']:.4g} {unit}"
-    return f"{n}: required {ch['required']:.4g} {unit} > available {avail} ({pct})"
+    u = "" if unit == "-" else f" {unit}"
+    avail = "n/a" if ch["available"] is None else f"{ch['available']:.4g}{u}"
+    return f"{n}: required {ch['required']:.4g}{u} > available {avail} ({pct})"
 
 
 def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None,
