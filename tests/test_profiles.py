@@ -11,8 +11,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from drivetrain.motion import profiles
 from drivetrain.errors import InputError
+from drivetrain.motion import profiles
 from drivetrain.motion.profiles import (
     Cycle,
     Samples,

@@ -29,8 +29,8 @@ Per candidate k (motor m, group g of ratio i and efficiency eta, gearbox row r o
 
 A margin is NaN where a rating or dimension it needs is unknown; the candidate's ``unknown``
 bits say which. Envelopes are not computed here: the caller passes them, computed by
-``envelope.py`` at the speeds this loop needs (the top bin and mean speed of every group for
-every motor; every bin for the motors fast enough to reach the top bin).
+``envelope.py`` at the speeds this loop needs (the mean speed of every group for every motor;
+every bin for the motors fast enough to reach the top bin).
 """
 
 from __future__ import annotations
@@ -75,11 +75,10 @@ def check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np
     and margin of every check, its RMS and peak torque and inertia ratio.
 
     ``model`` (see ``selection.evaluate``). Motors (M): rotor inertia [kg m^2], peak torque [N m],
-    max speed [rad/s], shaft, flange and pilot diameter [m]. Envelopes [N m]: ``env_top`` (M, G)
-    intermittent at each group's top bin speed, ``cont_mean`` (M, G) continuous at its mean
-    speed, ``env_full[full_row[g, m]]`` (B,) intermittent at every bin of group g where the motor
-    reaches the top bin (row -1 where it does not). Groups (G): ratio, efficiency, the demand
-    behind the ratio: ``hull_speed`` (G, B) bin upper edges [rad/s], ``hull_t``/``hull_a`` (G, B,
+    max speed [rad/s], shaft, flange and pilot diameter [m]. Envelopes [N m]: ``cont_mean`` (M,
+    G) continuous at each group's mean speed, ``env_full[full_row[g, m]]`` (B,) intermittent at
+    every bin of group g where the motor reaches the top bin (row -1 where it does not). Groups
+    (G): ratio, efficiency, the demand behind the ratio: ``hull_speed`` (G, B) bin upper edges [rad/s], ``hull_t``/``hull_a`` (G, B,
     V) hull vertices per bin [N m, rad/s^2], ``all_t``/``all_a`` (G, V2) hull of the whole cycle,
     ``sums`` (G, 3) S_TT, S_Ta, S_aa, ``g_speed`` (G, 2) max and mean |omega| [rad/s], reflected
     load inertia [kg m^2]. ``rows[row_start[g]:row_start[g + 1]]`` are the gearbox rows (-1
@@ -94,7 +93,7 @@ def check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np
     pair of one row. One code path serves both modes, and no helper is called (a call would count
     references to every array it is passed).
     """
-    (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, env_top, cont_mean, full_row, env_full, g_ratio, g_eff,
+    (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, cont_mean, full_row, env_full, g_ratio, g_eff,
      hull_speed, hull_t, hull_a, all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_nmax, gb_nmean, gb_t2n, gb_t2b,
      gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, par) = model
     period, tm, rm, sm, limit, out_cubic, run_t = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
@@ -252,7 +251,8 @@ def check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np
                 a = N_CHECKS
                 detail[a + PEAK, k], detail[a + RMS, k], detail[a + SPEED, k] = av_p[q], cont, w_m * _RPM
                 detail[a + INERTIA, k], detail[a + FIT, k] = limit, r_bmax[q] * _MM
-                detail[a + GB_PEAK, k], detail[a + GB_RATED, k], detail[a + GB_ESTOP, k] = r_t2b[q], r_t2n[q], r_t2not[q]
+                detail[a + GB_PEAK, k], detail[a + GB_RATED, k] = r_t2b[q], r_t2n[q]
+                detail[a + GB_ESTOP, k] = r_t2not[q]
                 detail[a + GB_SPEED, k], detail[a + GB_MEAN_SPEED, k] = r_speed[q] * _RPM, r_mean[q] * _RPM
                 for c in range(N_CHECKS):
                     detail[2 * N_CHECKS + c, k] = mar[c]

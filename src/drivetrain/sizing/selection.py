@@ -21,8 +21,6 @@ derived from ratings; ``unknown: fail`` rejects it instead (docs/checks.md).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -31,9 +29,11 @@ from numpy.typing import NDArray
 from drivetrain.duty.cycle import cubic_mean
 from drivetrain.errors import InputError
 from drivetrain.physics.stage import Stage
+from drivetrain.sizing.candidates import CHECK_UNITS, FIT_BIT, MOTOR_CHECKS, Candidates, Details, closest, column
 from drivetrain.sizing.checks import shock_factor
 from drivetrain.sizing.envelope import continuous_torque, intermittent_torque, motor_envelopes
 from drivetrain.sizing.motor_fit import Demand, demand
+from drivetrain.sizing.reasons import advice, candidate_dict, explain
 from drivetrain.units import to_rpm
 
 if TYPE_CHECKING:
@@ -42,106 +42,6 @@ if TYPE_CHECKING:
     from drivetrain.duty.cycle import DutyCycle
 
 Array = NDArray[np.float64]
-
-CHECK_UNITS = {"peak_torque": "N*m", "rms_torque": "N*m", "max_speed": "rpm", "inertia_ratio": "-",
-               "mechanical_fit": "mm", "gearbox_peak_torque": "N*m", "gearbox_rated_torque": "N*m",
-               "gearbox_emergency_stop_torque": "N*m", "gearbox_max_input_speed": "rpm",
-               "gearbox_mean_input_speed": "rpm"}
-"""Every check of a candidate with its unit, in the order of the compiled pass's arrays (kernel.py)."""
-
-FIT_BIT = 1 << list(CHECK_UNITS).index("mechanical_fit")
-
-MOTOR_CHECKS = ("peak_torque", "rms_torque", "max_speed", "inertia_ratio")
-"""The checks a direct-drive candidate has; the others belong to a gearbox."""
-
-
-@dataclass(frozen=True)
-class Details:
-    """Every check of some candidates (index j over the candidates asked for)."""
-
-    required: dict[str, Array]
-    available: dict[str, Array]
-    margin: dict[str, Array]
-    approximate: dict[str, NDArray[np.bool_]]
-    rms_torque: Array  # RMS motor torque, rotor included [N m]
-    peak_torque: Array  # peak motor torque over the cycle [N m]
-    inertia_ratio: Array
-
-
-@dataclass(frozen=True)
-class Candidates:
-    """Every evaluated candidate (index k), compact: who it is, its worst margin, which checks fail.
-
-    The full checks of any candidates are recomputed on demand by :meth:`details` (the same
-    compiled arithmetic), so a selection over 10^5-10^6 candidates keeps 17 bytes of each.
-    """
-
-    motor: NDArray[np.int32]  # index into the motor table
-    slot: NDArray[np.int32]  # index into slot_row / slot_group
-    worst_margin: Array  # smallest known margin [-], NaN where no margin is known
-    failed: NDArray[np.uint16]  # bit c set where check c (CHECK_UNITS order) fails (margin < 0)
-    unknown: NDArray[np.uint16]  # bit c set where check c cannot be judged (margin NaN)
-    slot_row: NDArray[np.int64]  # gearbox row of each slot, -1 for direct drive
-    slot_group: NDArray[np.int64]  # (ratio, efficiency) group of each slot
-    group_ratio: Array
-    approx_motor: NDArray[np.bool_]  # the motor's envelope is derived from its ratings
-    model: tuple[Any, ...]  # the kernel's arrays (kernel.check)
-    strict: bool = False  # an unknown check rejects the candidate (motor.select.unknown: fail)
-
-    @cached_property
-    def ok(self) -> NDArray[np.bool_]:
-        """True where no check fails (and, when strict, none is unknown)."""
-        if self.strict:
-            return (self.failed == 0) & (self.unknown == 0)
-        return self.failed == 0
-
-    @cached_property
-    def rejected(self) -> NDArray[np.uint8]:
-        """1 where the candidate does not pass (the complement of ``ok``, for the compiled ranking)."""
-        return (~self.ok).astype(np.uint8)
-
-    def gearbox(self, ks: NDArray[np.intp] | int) -> Any:
-        """Gearbox row of the candidates ``ks``, -1 for direct drive."""
-        return self.slot_row[self.slot[ks]]
-
-    def ratio(self, ks: NDArray[np.intp] | int) -> Any:
-        """Gear ratio of the candidates ``ks`` [-]."""
-        return self.group_ratio[self.slot_group[self.slot[ks]]]
-
-    def of_motors(self, motors: NDArray[np.intp]) -> NDArray[np.intp]:
-        """The candidates of these motors (ascending)."""
-        hit = np.zeros(len(self.approx_motor), dtype=bool)
-        hit[motors] = True
-        return np.flatnonzero(hit[self.motor])
-
-    def failures(self) -> dict[str, int]:
-        """How many candidates fail each check."""
-        return {n: int(np.count_nonzero(self.failed & (1 << c))) for c, n in enumerate(CHECK_UNITS)}
-
-    def unknowns(self) -> dict[str, int]:
-        """How many candidates cannot be judged on each check (a rating or dimension unknown)."""
-        return {n: int(np.count_nonzero(self.unknown & (1 << c))) for c, n in enumerate(CHECK_UNITS)}
-
-    def details(self, ks: NDArray[np.intp] | list[int]) -> Details:
-        """Required, available and margin of every check of the candidates ``ks``."""
-        from drivetrain.sizing.kernel import D_INERTIA, D_PEAK, D_RMS, N_CHECKS, N_DETAIL, check
-
-        ks = np.asarray(ks, dtype=np.intp)
-        slots = self.slot[ks]
-        pick = np.stack([self.motor[ks], self.slot_group[slots], slots]).astype(np.int64)
-        out = np.empty((N_DETAIL, len(ks)))
-        none = np.empty(0, dtype=np.int32)
-        bits = np.empty(0, dtype=np.uint16)
-        check(self.model, np.zeros(1, dtype=np.int64), self.slot_row, pick, none, none, np.empty(0), bits, bits, out)
-        names = list(CHECK_UNITS)
-        approx = self.approx_motor[pick[0]]
-        exact = np.zeros(len(ks), dtype=bool)
-        return Details(required=dict(zip(names, out[:N_CHECKS], strict=True)),
-                       available=dict(zip(names, out[N_CHECKS:2 * N_CHECKS], strict=True)),
-                       margin=dict(zip(names, out[2 * N_CHECKS:3 * N_CHECKS], strict=True)),
-                       approximate={n: approx if n in ("peak_torque", "rms_torque") else exact for n in names},
-                       rms_torque=out[D_RMS], peak_torque=out[D_PEAK], inertia_ratio=out[D_INERTIA])
-
 
 def _gearbox_options(gb: GearboxTable | None, allow_direct: bool) -> tuple[Array, Array, NDArray[np.int64],
                                                                           NDArray[np.int64]]:
@@ -222,22 +122,22 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
                     axis=1)
     g_speed = np.stack([np.max(speed_g, axis=1), np.sum(w_g * speed_g, axis=1) / duty.period], axis=1)
     g_j_load = duty.load_inertia / ratio**2
-    # Envelopes: intermittent at each group's top bin, continuous at its mean speed (every motor),
-    # intermittent at every bin for the motors that reach the top bin.
+    # Envelopes: continuous at each group's mean speed (every motor), intermittent at every bin for
+    # the motors that reach the top bin (a slower motor is not judged on torque). With curves, the
+    # intermittent one at the top bin too, for the approximate flag as fit_motors sets it.
     n_m, n_g = len(motors), len(ratio)
     rated, peak, w_n, w_max, stall = (motors.rated_torque, motors.peak_torque, motors.rated_speed, motors.max_speed,
                                       motors.stall_torque)
     curves = tuple(motors.curves) if any(c is not None for c in motors.curves) else None
     if curves is None:
-        env_top = intermittent_torque(peak, rated, w_n, w_max, hull_speed[:, -1], stall).torque
         cont_mean = continuous_torque(rated, w_n, w_max, g_speed[:, 1], stall).torque
         approx_motor = ~motors.has_curve
     else:
         cont_env, peak_env = motor_envelopes(rated, peak, w_n, w_max, np.concatenate([hull_speed[:, -1],
                                                                                       g_speed[:, 1]]), stall, curves)
-        env_top, cont_mean = peak_env.torque[:, :n_g], cont_env.torque[:, n_g:]
+        cont_mean = cont_env.torque[:, n_g:]
         approx_motor = np.asarray(peak_env.approximate, dtype=bool) | np.asarray(cont_env.approximate, dtype=bool)
-    env_top, cont_mean = np.ascontiguousarray(env_top), np.ascontiguousarray(cont_mean)
+    cont_mean = np.ascontiguousarray(cont_mean)
     reaches = ~(w_max[None, :] < hull_speed[:, -1:])  # (G, M); an unknown max speed is judged at every bin
     g_of, m_of = np.nonzero(reaches)
     full_row = np.full((n_g, n_m), -1, dtype=np.int64)
@@ -253,7 +153,7 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     if gb is not None and len(gb):
         gb_j = np.nan_to_num(gb.inertia_input, nan=0.0)
         gb_cols = [gb.max_input_speed, gb.rated_input_speed, gb.rated_output_torque, gb.max_output_torque,
-                   gb.emergency_stop_torque] + [_column(gb, c) for c in ("input_bore_max", "input_bore_min",
+                   gb.emergency_stop_torque] + [column(gb, c) for c in ("input_bore_max", "input_bore_min",
                                                                           "input_flange", "input_pilot")]
     else:
         gb_j = np.zeros(1)
@@ -264,8 +164,8 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
                     out_cubic, run_t, out_peak, shock])
     f64 = np.ascontiguousarray
     model = (f64(motors.rotor_inertia, dtype=float), f64(peak, dtype=float), f64(w_max, dtype=float),
-             *(f64(_column(motors, c), dtype=float) for c in ("shaft_diameter", "flange", "pilot_diameter")),
-             env_top, cont_mean, full_row, f64(env_full, dtype=float), ratio, eff_g, hull_speed, hull_t, hull_a, all_t,
+             *(f64(column(motors, c), dtype=float) for c in ("shaft_diameter", "flange", "pilot_diameter")),
+             cont_mean, full_row, f64(env_full, dtype=float), ratio, eff_g, hull_speed, hull_t, hull_a, all_t,
              all_a, sums, g_speed, g_j_load, f64(gb_j, dtype=float), *(f64(c, dtype=float) for c in gb_cols), par)
     n = n_m * len(rows)
     motor_idx, slot = np.empty(n, dtype=np.int32), np.empty(n, dtype=np.int32)
@@ -276,12 +176,6 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     return Candidates(motor=motor_idx, slot=slot, worst_margin=worst, failed=failed, unknown=unknown, slot_row=rows,
                       slot_group=slot_group, group_ratio=ratio, approx_motor=np.asarray(approx_motor, dtype=bool),
                       model=model, strict=strict)
-
-
-def _column(table: Any, name: str) -> Array:
-    """A numeric column of a catalog table, all NaN (unknown) where the table has no such column."""
-    value = getattr(table, name, None)
-    return np.full(len(table), np.nan) if value is None else np.asarray(value, dtype=float)
 
 
 def _size_key(motors: MotorTable) -> Array:
@@ -328,12 +222,6 @@ def _energy(c: Candidates, ks: NDArray[np.intp], motors: MotorTable, gb: Gearbox
             p = cycle.motor_torque(j) * cycle.omega[None, :]
             out[s2] = np.sum(cycle.weights[None, :] * np.maximum(p, 0.0), axis=1)
     return out
-
-
-def _closest(c: Candidates, pool: NDArray[np.intp]) -> int:
-    """The candidate of ``pool`` with the largest worst margin (an unknown, NaN, margin counts as the lowest)."""
-    w = c.worst_margin[pool]
-    return int(pool[np.argmax(np.where(np.isnan(w), -np.inf, w))])
 
 
 def _closest_failing(c: Candidates, n: int) -> NDArray[np.intp]:
@@ -408,7 +296,7 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
     summary: dict[str, Any] = {
         "objective": spec.objective, "evaluated": len(c.motor), "motors": len(motors),
         "gearbox_rows": 0 if gb is None else len(gb), "passing": len(passing),
-        "passing_motors": int(len(np.unique(c.motor[passing]))),
+        "passing_motors": len(np.unique(c.motor[passing])),
         "unknown_policy": spec.unknown, "failures_by_check": c.failures(), "unknown_by_check": c.unknowns(),
         "cycles_per_hour": 3600.0 / duty.period,
     }
@@ -437,138 +325,13 @@ def _label(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None) -
     return str(motors.ids[c.motor[k]]) + ("" if g < 0 or gb is None else f" + {gb.ids[g]}")
 
 
-_RATING_NAMES = {"gearbox_peak_torque": "T2B (max acceleration torque)", "gearbox_rated_torque": "T2N (rated torque)",
-                 "gearbox_emergency_stop_torque": "T2NOT (emergency-stop torque)",
-                 "gearbox_max_input_speed": "n1max (max input speed)",
-                 "gearbox_mean_input_speed": "n1N (nominal input speed)"}
-
-
-def _mm(x: float) -> str:
-    return f"{x * 1e3:.4g} mm"
-
-
-def _plain_mm(x: float) -> float | None:
-    return None if math.isnan(float(x)) else round(float(x) * 1e3, 6)
-
-
-def _fit_reason(motors: MotorTable, m: int, gb: GearboxTable, g: int) -> tuple[str, str]:
-    """Why motor m and gearbox row g cannot be assembled (first), and what is unknown (second)."""
-    from drivetrain.sizing.kernel import FIT_TOLERANCE
-
-    shaft, flange, pilot = (float(_column(motors, c)[m]) for c in ("shaft_diameter", "flange", "pilot_diameter"))
-    bmax, bmin, gfl, gpi = (float(_column(gb, c)[g]) for c in ("input_bore_max", "input_bore_min", "input_flange",
-                                                                 "input_pilot"))
-    bad, gaps = [], []
-    if math.isnan(shaft):
-        gaps.append("the motor's shaft diameter")
-    if math.isnan(bmax):
-        gaps.append("the gearbox's input bore")
-    if not math.isnan(shaft) and not math.isnan(bmax) and shaft > bmax:
-        bad.append(f"motor shaft {_mm(shaft)} > gearbox input bore {_mm(bmax)}")
-    if not math.isnan(shaft) and not math.isnan(bmin) and shaft < bmin:
-        bad.append(f"motor shaft {_mm(shaft)} < smallest bore with bushing {_mm(bmin)}")
-    for what, mine, theirs in (("flange", flange, gfl), ("pilot", pilot, gpi)):
-        if math.isnan(theirs):
-            continue
-        if math.isnan(mine):
-            gaps.append(f"the motor's {what} (the adapter takes {_mm(theirs)})")
-        elif abs(mine - theirs) > FIT_TOLERANCE:
-            bad.append(f"motor {what} {_mm(mine)} ≠ gearbox adapter {what} {_mm(theirs)}")
-    return "; ".join(bad), ("the catalog lacks " + " and ".join(gaps) if gaps else "")
-
-
-def _unknown_note(name: str, c: Candidates, fit_gap: str) -> str:
-    """Why a check cannot be judged."""
-    par = c.model[-1]
-    if name == "peak_torque":
-        return "not judged: the cycle's speed is beyond the motor's max speed (see max_speed)"
-    if name == "mechanical_fit":
-        return fit_gap or "the catalog lacks a dimension it needs"
-    if name == "gearbox_peak_torque" and math.isnan(float(par[8])):
-        return (f"{3600.0 / float(par[0]):.0f} cycles/h exceed the 1000/h that T2B holds for: set "
-                "motor.margins.gearbox_shock_factor from the vendor's chart")
-    if name in _RATING_NAMES:
-        return f"the catalog lacks the gearbox's {_RATING_NAMES[name]}"
-    return "the catalog lacks a rating it needs"
-
-
-def percent(margin: float | None) -> str:
-    """A margin as a signed percentage that never shows a failing margin as "-0.0 %"."""
-    if margin is None:
-        return "n/a"
-    p = margin * 100.0
-    return f"{p:+.2g} %" if p != 0.0 and abs(p) < 0.1 else f"{p:+.1f} %"
-
-
-def _reason(ch: dict[str, Any], fit_bad: str) -> str:
-    """One failing check as a sentence."""
-    n, unit = ch["name"], ch["unit"]
-    pct = percent(ch["margin"])
-    if n == "mechanical_fit":
-        return f"mechanical_fit: {fit_bad} ({pct})"
-    if n == "max_speed":
-        return (f"max_speed: the cycle needs {ch['required']:.0f} rpm at the motor (margin included), the motor "
-                f"reaches {ch['available']:.0f} rpm ({pct})")
-    u = "" if unit == "-" else f" {unit}"
-    avail = "n/a" if ch["available"] is None else f"{ch['available']:.4g}{u}"
-    return f"{n}: required {ch['required']:.4g}{u} > available {avail} ({pct})"
-
-
-def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None,
-                   rank: int | None) -> dict[str, Any]:
-    """One candidate as in design.md: motor, gearbox, ratio, inertia ratio, status, checks, why it failed.
-
-    ``status`` is ``ok`` (every check passes), ``unknown`` (none fails, some cannot be judged:
-    ``unknown`` names them) or ``fails``; ``failures`` holds one sentence per failing check, a
-    motor too slow for the cycle first; ``failed`` is the first of them.
-    """
-    m, g = int(c.motor[k]), int(c.gearbox(k))
-    d = c.details([k])
-    geared = g >= 0 and gb is not None
-    fit_bad, fit_gap = _fit_reason(motors, m, gb, g) if geared and gb is not None else ("", "")
-    checks: dict[str, dict[str, Any]] = {}
-    for n in CHECK_UNITS:
-        if n not in MOTOR_CHECKS and not geared:
-            continue
-        req, avail, mar = float(d.required[n][0]), float(d.available[n][0]), float(d.margin[n][0])
-        status = "unknown" if math.isnan(mar) else ("pass" if mar >= 0.0 else "fail")
-        slow = n == "peak_torque" and status == "unknown" and float(d.margin["max_speed"][0]) < 0.0
-        status = "not_judged" if slow else status
-        checks[n] = {"name": n, "required": req, "available": avail if math.isfinite(avail) else None,
-                     "unit": CHECK_UNITS[n], "margin": mar if math.isfinite(mar) else None,
-                     "ok": status == "pass" or (status == "unknown" and not c.strict), "status": status,
-                     "approximate": bool(d.approximate[n][0])}
-        if status in ("unknown", "not_judged"):
-            checks[n]["note"] = _unknown_note(n, c, fit_gap)
-    failing = sorted((ch for ch in checks.values() if ch["status"] == "fail"),
-                     key=lambda ch: (ch["name"] != "max_speed", ch["margin"], ch["name"]))
-    failures = [_reason(ch, fit_bad) for ch in failing]
-    unknown = [n for n, ch in checks.items() if ch["status"] == "unknown"]
-    if c.strict:
-        failures += [f"{n}: cannot be judged, {checks[n]['note']}" for n in unknown]
-    ok = not failures
-    return {
-        "rank": rank, "motor": str(motors.ids[m]), "vendor": str(motors.vendor[m]), "series": str(motors.series[m]),
-        "rated_power_W": float(motors.rated_power[m]), "flange_mm": _plain_mm(motors.flange[m]),
-        "shaft_diameter_mm": _plain_mm(_column(motors, "shaft_diameter")[m]),
-        "gearbox": str(gb.ids[g]) if geared and gb is not None else None,
-        "gearbox_vendor": str(gb.vendor[g]) if geared and gb is not None else None, "ratio": float(c.ratio(k)),
-        "inertia_ratio": float(d.inertia_ratio[0]), "rms_torque_Nm": float(d.rms_torque[0]),
-        "peak_torque_Nm": float(d.peak_torque[0]),
-        "ok": ok, "status": "fails" if not ok else ("unknown" if unknown else "ok"), "unknown": unknown,
-        "failed": failures[0] if failures else "", "failures": failures,
-        "approximate_envelope": bool(~motors.has_curve[m]), "rated_torque_derived": bool(motors.approx_rated[m]),
-        "checks": list(checks.values()),
-    }
-
-
 def _next_smaller(c: Candidates, motors: MotorTable, gb: GearboxTable | None, best: int) -> dict[str, Any] | None:
     """The next smaller motor than the selected one, in its best configuration, and why it fails."""
     size = _size_key(motors)
     smaller = np.flatnonzero(size < size[c.motor[best]])  # every motor has candidates
     if not len(smaller):
         return None
-    k = _closest(c, c.of_motors(np.flatnonzero(size == np.max(size[smaller]))))
+    k = closest(c, c.of_motors(np.flatnonzero(size == np.max(size[smaller]))))
     return candidate_dict(c, k, motors, gb, None)
 
 
@@ -623,102 +386,6 @@ def optimal_ratio(axis: Axis, duty: DutyCycle, motors: MotorTable, m: int,
     return {"motor": str(motors.ids[m]), "inertia_match_ratio": math.sqrt(duty.load_inertia / j_m),
             "min_rms_ratio": best, "min_rms_torque_Nm": math.sqrt(max(mean_square, 0.0)),
             "max_ratio_for_speed": top, "nearest_catalog_ratio": nearest}
-
-
-def advice(c: Candidates, margins: Margins, spec: SelectSpec, motors: MotorTable | None = None,
-           gb: GearboxTable | None = None) -> str:
-    """What to relax when nothing passes, one line per blocking check of the closest candidate.
-
-    A suggestion is made only where it would change something: no "allow a gearbox" when
-    gearboxes are already allowed, no "lower the margins" at a margin of 1, no "widen the filters"
-    without filters.
-    """
-    k = _closest(c, np.arange(len(c.motor)))
-    d = c.details([k])
-    blocking = [(float(d.margin[n][0]), n) for n in CHECK_UNITS if d.margin[n][0] < 0]
-    blocking.sort(key=lambda b: (b[1] != "max_speed", b[0], b[1]))
-    lines = [f"no candidate passes all checks ({len(c.motor)} evaluated)"]
-    filters = [f"{f}={getattr(spec, f)}" for f in ("vendor", "voltage", "flange", "gearbox_series")
-               if getattr(spec, f)]
-    no_gearbox = spec.gearbox == "none"
-    for mar, n in blocking:
-        need, have = d.required[n][0], d.available[n][0]
-        fixes: list[str] = []
-        if n == "inertia_ratio":
-            head = f"the closest candidate needs an inertia ratio of {need:.3g} (limit {have:.3g})"
-            if margins.inertia_ratio < 1000:
-                fixes.append("raise motor.margins.inertia_ratio if the drive's tuning allows")
-            if no_gearbox:
-                fixes.append("allow a gearbox (motor.select.gearbox: auto)")
-            else:
-                fixes.append("a motor with more rotor inertia")
-        elif n == "max_speed":
-            head = f"it needs {need:.0f} rpm but reaches {have:.0f} rpm"
-            fixes.append("a faster motor" + ("" if no_gearbox else " or a smaller ratio"))
-            if margins.speed > 1.0:
-                fixes.append(f"motor.margins.speed is {margins.speed:g}")
-        elif n == "mechanical_fit":
-            head = f"the closest gearbox cannot take the motor (shaft {need:.4g} mm, input bore {have:.4g} mm)"
-            fixes.append("a gearbox series with a larger input bore (motor.select.gearbox_series) or a motor with a "
-                         "smaller shaft")
-        elif n.startswith("gearbox_"):
-            head = f"{n} short by {-mar * 100:.0f} % ({need:.4g} vs {have:.4g} {CHECK_UNITS[n]})"
-            fixes.append("a larger gearbox frame" + (" (widen motor.select.gearbox_series)" if spec.gearbox_series
-                                                      else ""))
-        else:
-            head = f"{n} short by {-mar * 100:.0f} % ({need:.4g} vs {have:.4g} {CHECK_UNITS[n]})"
-            fixes.append("lengthen the acceleration times")
-            if (margins.torque > 1.0 if n == "peak_torque" else (margins.rms_torque or margins.torque) > 1.0):
-                fixes.append(f"lower motor.margins.{'torque' if n == 'peak_torque' else 'rms_torque'} if the "
-                             "application allows")
-            if no_gearbox:
-                fixes.append("allow a gearbox (motor.select.gearbox: auto)")
-            if filters:
-                fixes.append("widen the filters")
-        lines.append(f"{head}: {', or '.join(fixes)}" if fixes else head)
-    if c.strict and not blocking:
-        lines.append("the closest candidates fail only on checks the catalog cannot judge: motor.select.unknown: "
-                     "flag accepts them, flagged")
-    if filters:
-        lines.append("filters in use: " + ", ".join(filters))
-    return "\n".join(lines)
-
-
-def explain(result_selection: dict[str, Any], model: str) -> str:
-    """Why a catalog motor was accepted or rejected, in its best configuration."""
-    c: Candidates = result_selection["_candidates"]
-    motors, gb = result_selection["_tables"]
-    ids = np.asarray(motors.ids)
-    hits = np.flatnonzero(ids == model)
-    if not len(hits):
-        lowered = {str(i).lower(): i for i in ids}
-        if model.lower() in lowered:
-            hits = np.flatnonzero(ids == lowered[model.lower()])
-        else:
-            raise InputError("--explain", "is not among the evaluated motors (check the filters)", model)
-    rows = c.of_motors(hits)
-    ok_rows = rows[c.ok[rows]]
-    d = candidate_dict(c, _closest(c, ok_rows if len(ok_rows) else rows), motors, gb, None)
-    n_ok = len(ok_rows)
-    lines = [f"{model}: {n_ok} of {len(rows)} configurations pass; best configuration: "
-             f"{d['gearbox'] or 'direct drive'} (ratio {d['ratio']:.4g}, inertia ratio {d['inertia_ratio']:.3g})"]
-    mark = {"pass": "ok  ", "fail": "FAIL", "unknown": "??  ", "not_judged": "--  "}
-    for ch in d["checks"]:
-        mar = percent(ch["margin"])
-        avail = "n/a" if ch["available"] is None else f"{ch['available']:.4g}"
-        note = f": {ch['note']}" if ch.get("note") else ""
-        lines.append(f"  {mark[ch['status']]} {ch['name']}: required {ch['required']:.4g}, available "
-                     f"{avail} {ch['unit']} ({mar}){note}")
-    if d["failures"]:
-        lines.append("  rejected because:")
-        lines += [f"    {f}" for f in d["failures"]]
-    elif d["unknown"]:
-        lines.append(f"  passes with checks the catalog cannot judge: {', '.join(d['unknown'])}")
-    per_check = {n: int(np.count_nonzero(c.failed[rows] & (1 << b))) for b, n in enumerate(CHECK_UNITS)}
-    counts = ", ".join(f"{n} {v}" for n, v in per_check.items() if v)
-    if counts:
-        lines.append(f"  its {len(rows)} configurations fail: {counts} (one may fail several)")
-    return "\n".join(lines)
 
 
 __all__ = ["CHECK_UNITS", "MOTOR_CHECKS", "Candidates", "Details", "best_per_motor", "candidate_cycle", "evaluate",
