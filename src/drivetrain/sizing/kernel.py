@@ -75,18 +75,18 @@ def check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np
     and margin of every check, its RMS and peak torque and inertia ratio.
 
     ``model`` (see ``selection.evaluate``). Motors (M): rotor inertia [kg m^2], peak torque [N m],
-    max speed [rad/s], shaft, flange and pilot diameter [m]. Envelopes [N m]: ``cont_mean`` (M,
-    G) continuous at each group's mean speed, ``env_full[full_row[g, m]]`` (B,) intermittent at
-    every bin of group g where the motor reaches the top bin (row -1 where it does not). Groups
-    (G): ratio, efficiency, the demand behind the ratio: ``hull_speed`` (G, B) bin upper edges [rad/s], ``hull_t``/``hull_a`` (G, B,
-    V) hull vertices per bin [N m, rad/s^2], ``all_t``/``all_a`` (G, V2) hull of the whole cycle,
-    ``sums`` (G, 3) S_TT, S_Ta, S_aa, ``g_speed`` (G, 2) max and mean |omega| [rad/s], reflected
-    load inertia [kg m^2]. ``rows[row_start[g]:row_start[g + 1]]`` are the gearbox rows (-1
-    direct) of group g. Gearbox rows (NaN where unknown): input inertia [kg m^2] (0 where
-    unknown), n1max and n1N [rad/s], T2N, T2B and T2NOT [N m], input bore max and min, flange and
-    pilot [m]. ``par``: period [s], torque, RMS and speed margins, inertia-ratio limit, cubic-mean
-    output torque [N m], running load torque [N m], peak output torque [N m], shock factor (NaN
-    where the cycle rate needs one that is not given).
+    max speed [rad/s], shaft, flange and pilot diameter [m]. Envelopes [N m]: ``cont_mean`` (M, G)
+    continuous at each group's mean speed, ``env_full[full_row[g, m]]`` (B,) intermittent at every
+    bin of group g where the motor reaches the top bin (row -1 where it does not). Groups (G):
+    ratio, efficiency, the demand behind the ratio: ``hull_speed`` (G, B) bin upper edges [rad/s],
+    ``hull_t``/``hull_a`` (G, B, V) hull vertices per bin [N m, rad/s^2], ``all_t``/``all_a`` (G,
+    V2) hull of the whole cycle, ``sums`` (G, 3) S_TT, S_Ta, S_aa, ``g_speed`` (G, 2) max and mean
+    |omega| [rad/s], reflected load inertia [kg m^2]. ``rows[row_start[g]:row_start[g + 1]]`` are
+    the gearbox rows (-1 direct) of group g. Gearbox rows (NaN where unknown): input inertia [kg
+    m^2] (0 where unknown), n1max and n1N [rad/s], T2N, T2B and T2NOT [N m], input bore max and min,
+    flange and pilot [m]. ``par``: period [s], torque, RMS and speed margins, inertia-ratio limit,
+    cubic-mean output torque [N m], running load torque [N m], peak output torque [N m], shock
+    factor (NaN where the cycle rate needs one that is not given).
 
     Work runs per (group, motor) pair over the pair's gearbox rows, each quantity in its own short
     loop over the rows (which the compiler turns into vector instructions); a listed candidate is a
