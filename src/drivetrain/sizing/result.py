@@ -243,7 +243,10 @@ def gearbox_rating_checks(axis: Axis, duty: DutyCycle, motor: MotorData | None,
     tm, sm = (margins.torque, margins.speed) if margins is not None else (1.0, 1.0)
     shock = shock_factor(duty.period, margins.gearbox_shock_factor if margins is not None else None)
     out: list[dict[str, Any]] = []
-    for k, (spec, st) in enumerate(zip(axis.spec.transmission, axis.transmission, strict=False)):
+    from drivetrain.axis.resolve import resolve_transmission
+
+    specs = resolve_transmission(axis.spec.transmission)  # a catalog row brings its ratings
+    for k, (spec, st) in enumerate(zip(specs, axis.transmission, strict=False)):
         if not isinstance(spec, GearboxSpec):
             continue
         ratings = (spec.rated_torque, spec.max_torque, spec.emergency_stop_torque, spec.max_input_speed,
