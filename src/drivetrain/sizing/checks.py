@@ -78,8 +78,8 @@ def mechanical_fit(shaft: Array, flange: Array, pilot: Array, bore_max: Array, b
     AG2400 (WITTENSTEIN TP+) data pages, "depending on the clamping hub diameter and selected
     adapter plate" (https://infosys.beckhoff.com/content/1033/ag2400_ba/8995369483.html).
 
-    >>> float(mechanical_fit(0.022, 0.13, 0.11, 0.014, np.nan, np.nan, np.nan))  # 22 mm shaft, 14 mm bore
-    -0.36363636363636365
+    >>> round(float(mechanical_fit(0.022, 0.13, 0.11, 0.014, np.nan, np.nan, np.nan)), 6)  # 22 mm into 14 mm
+    -0.363636
     >>> bool(np.isnan(mechanical_fit(0.014, np.nan, np.nan, np.nan, np.nan, np.nan, np.nan)))  # bore unknown
     True
     """
