@@ -319,7 +319,8 @@ def _motor_verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) 
             how = (f"direct and behind {sel['gearbox_rows']} catalog gearbox rows" if sel.get("gearbox_rows")
                    else (f"on the axis's {sel['transmission_gearbox']}" if sel.get("transmission_gearbox")
                          else "direct drive"))
-            scope = (f"{passing} of {evaluated} configurations pass every check ({sel.get('motors', '?')} motors, "
+            scope = (f"{passing} of {evaluated} configurations pass, no check failing "
+                     f"({sel.get('motors', '?')} motors, "
                      f"{how}); objective: {str(sel.get('objective', 'smallest')).replace('_', ' ')}.")
         if focus is not None and focus.passed:
             details = [d for d in (scope, _tightest(focus.checks, du)) if d]
