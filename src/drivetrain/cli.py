@@ -331,9 +331,7 @@ def _print_candidates(console: Any, result: Any) -> None:
     from rich.table import Table
 
     sel = result.selection or {}
-    per = "every passing pair" if any(c.get("rank") for c in result.candidates) and len(
-        {c["motor"] for c in result.candidates if c.get("rank")}) < len(
-        [c for c in result.candidates if c.get("rank")]) else "best configuration of each motor"
+    per = "every passing pair" if sel.get("listing") == "all_pairs" else "best configuration of each motor"
     t = Table(title=f"candidates: {sel.get('passing', '?')} of {sel.get('evaluated', '?')} configurations pass, "
                     f"{sel.get('passing_motors', '?')} motors (ranked by {sel.get('objective', '?')}; {per}; "
                     "rejected ones below with the reason)")

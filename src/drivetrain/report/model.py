@@ -336,8 +336,8 @@ def _motor_verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) 
             unjudged = [c for c in focus.checks if c.get("status") == "unknown"]
             if unjudged:
                 details += [f"Not judged, confirm with the vendor: {failure_sentence(c, du)}." for c in unjudged]
-                return Verdict("pass", f"Selected: {focus.label}, no check fails; {len(unjudged)} cannot be judged "
-                               "from the catalog", details)
+                return Verdict("pass", f"Selected: {focus.label}, no check fails ({len(unjudged)} not judged)",
+                               details)
             return Verdict("pass", f"Selected: {focus.label}, passes every check", details)
         details = [d for d in (scope,) if d]
         if focus is not None:

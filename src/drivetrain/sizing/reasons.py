@@ -217,8 +217,10 @@ def explain(result_selection: dict[str, Any], model: str) -> str:
     ok_rows = rows[c.ok[rows]]
     d = candidate_dict(c, closest(c, ok_rows if len(ok_rows) else rows), motors, gb, None)
     n_ok = len(ok_rows)
+    mounting = d["gearbox"] or (f"on the axis's {result_selection['transmission_gearbox']}"
+                                if result_selection.get("transmission_gearbox") else "direct drive")
     lines = [f"{model}: {n_ok} of {len(rows)} configurations pass; best configuration: "
-             f"{d['gearbox'] or 'direct drive'} (ratio {d['ratio']:.4g}, inertia ratio {d['inertia_ratio']:.3g})"]
+             f"{mounting} (catalog ratio {d['ratio']:.4g}, inertia ratio {d['inertia_ratio']:.3g})"]
     mark = {"pass": "ok  ", "fail": "FAIL", "unknown": "??  ", "not_judged": "--  "}
     for ch in d["checks"]:
         mar = percent(ch["margin"])

@@ -297,6 +297,7 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
         "objective": spec.objective, "evaluated": len(c.motor), "motors": len(motors),
         "gearbox_rows": 0 if gb is None else len(gb), "passing": len(passing),
         "passing_motors": len(np.unique(c.motor[passing])),
+        "listing": "all_pairs" if all_pairs else "best_per_motor",
         "unknown_policy": spec.unknown, "failures_by_check": c.failures(), "unknown_by_check": c.unknowns(),
         "cycles_per_hour": 3600.0 / duty.period,
     }
