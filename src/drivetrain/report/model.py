@@ -401,13 +401,16 @@ def _checks_table(result: SizingResult, du: DisplayUnits, focus: Focus | None) -
     for c in [*(focus.checks if focus is not None else []), *own]:
         ok = bool(c["ok"])
         avail = c.get("available")
+        status = c.get("status")
+        unjudged = status in ("unknown", "not_judged")
+        verdict = {"unknown": "UNKNOWN", "not_judged": "NOT JUDGED"}.get(str(status), "PASS" if ok else "FAIL")
         rows.append([
             Cell(CHECK_NAMES.get(c["name"], c["name"].replace("_", " "))),
             Cell(_rule(c, factors), "muted"),
             Cell(check_value(c["required"], c["unit"], du)),
-            Cell(check_value(avail, c["unit"], du) if avail is not None else "no limit"),
-            Cell(fmt_percent(c.get("margin")), "pass" if ok else "fail"),
-            Cell("PASS" if ok else "FAIL", "pass" if ok else "fail"),
+            Cell(check_value(avail, c["unit"], du) if avail is not None else ("not given" if unjudged else "no limit")),
+            Cell(fmt_percent(c.get("margin")), "muted" if unjudged else ("pass" if ok else "fail")),
+            Cell(verdict, "muted" if unjudged else ("pass" if ok else "fail")),
         ])
     note = "Required values include the margin factors of the axis file; margin = available / required − 1. "
     if focus is not None and any(c.get("approximate") for c in focus.checks):
