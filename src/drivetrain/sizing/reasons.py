@@ -215,7 +215,13 @@ def explain(result_selection: dict[str, Any], model: str) -> str:
             raise InputError("--explain", "is not among the evaluated motors (check the filters)", model)
     rows = c.of_motors(hits)
     ok_rows = rows[c.ok[rows]]
-    d = candidate_dict(c, closest(c, ok_rows if len(ok_rows) else rows), motors, gb, None)
+    ranked = result_selection.get("_ranked")
+    if len(ok_rows) and ranked is not None:  # a passing motor: its configuration the ranking put first
+        mine = ranked[np.isin(c.motor[ranked], hits)]
+        best = int(mine[0])
+    else:
+        best = closest(c, rows)
+    d = candidate_dict(c, best, motors, gb, None)
     n_ok = len(ok_rows)
     mounting = d["gearbox"] or (f"on the axis's {result_selection['transmission_gearbox']}"
                                 if result_selection.get("transmission_gearbox") else "direct drive")

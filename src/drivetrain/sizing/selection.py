@@ -317,6 +317,7 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
     else:
         summary["advice"] = advice(c, margins, spec, motors, gb)
     summary["_candidates"] = c
+    summary["_ranked"] = passing
     summary["_tables"] = (motors, gb)
     return {"candidates": shown, "selection": summary}
 
