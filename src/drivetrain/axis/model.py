@@ -64,12 +64,19 @@ MAX_DIGITS = 400
 
 
 class Margins(Spec):
-    """Safety factors and limits the user sets: required x factor must not exceed the available."""
+    """Safety factors and limits: required x factor must not exceed the available.
 
-    torque: float = Field(default=1.0, ge=1.0, le=10.0)
+    Defaults as servo sizing guides use them (docs/checks.md, "Default margins"): torque and RMS
+    torque x 1.2, speed x 1.1, inertia ratio 5 (lecture: below 5:1). ``gearbox_shock_factor`` is
+    the vendor's fs on T2B above 1000 cycles/h, read from the vendor's chart; unset, T2B is then
+    unknown.
+    """
+
+    torque: float = Field(default=1.2, ge=1.0, le=10.0)
     rms_torque: float | None = Field(default=None, ge=1.0, le=10.0)
-    speed: float = Field(default=1.0, ge=1.0, le=10.0)
+    speed: float = Field(default=1.1, ge=1.0, le=10.0)
     inertia_ratio: float = Field(default=5.0, gt=0.0, le=1000.0)
+    gearbox_shock_factor: float | None = Field(default=None, ge=1.0, le=10.0)
 
 
 class SelectSpec(Spec):
@@ -77,7 +84,8 @@ class SelectSpec(Spec):
 
     ``gearbox``: ``auto`` tries every catalog gearbox ratio and direct drive, unless the axis's
     transmission already has a gearbox (then motors go direct onto it); ``none`` direct drive
-    only; ``only`` catalog gearboxes only.
+    only; ``only`` catalog gearboxes only. ``unknown``: a check the catalog cannot judge (a
+    rating or dimension missing) passes flagged (``flag``) or rejects the candidate (``fail``).
     """
 
     catalog: Literal["builtin", "user", "all"] = "all"
@@ -90,6 +98,7 @@ class SelectSpec(Spec):
     max_inertia_ratio: float | None = Field(default=None, gt=0.0)
     objective: Literal["smallest", "rms_utilisation", "inertia_match", "energy"] = "smallest"
     top: int = Field(default=10, ge=1, le=1000)
+    unknown: Literal["flag", "fail"] = "flag"
 
 
 class MotorSpec(MotorElectricalSpec):
