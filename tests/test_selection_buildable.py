@@ -85,7 +85,14 @@ def test_no_passing_pair_is_known_not_to_assemble(sized: dict[str, SizingResult]
     assert not np.any(ok & known & (shaft > bore))
     fit_bit = 1 << 4
     assert np.all((c.unknown[geared][~known] & fit_bit) != 0)
-    assert sel["failures_by_check"]["mechanical_fit"] == int(np.count_nonzero(known & (shaft > bore)))
+    # Every known misfit is counted: shaft above the bore, below the bushing range, or a flange/pilot mismatch.
+    from drivetrain.sizing.checks import mechanical_fit
+
+    m, r = c.motor[geared], rows[geared]
+    margin = mechanical_fit(shaft, motors.flange[m], motors.pilot_diameter[m], bore, gb.input_bore_min[r],
+                            gb.input_flange[r], gb.input_pilot[r])
+    assert np.count_nonzero(margin < 0) >= np.count_nonzero(known & (shaft > bore))
+    assert sel["failures_by_check"]["mechanical_fit"] == int(np.count_nonzero(margin < 0))
 
 
 @pytest.mark.parametrize("name", ["z", "gantry", "table"])
