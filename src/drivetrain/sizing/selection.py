@@ -88,14 +88,14 @@ def lossy_torque(axis: Axis, duty: DutyCycle, efficiency: float) -> Array:
 
 def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable | None, margins: Margins,
              allow_direct: bool = True, max_inertia_ratio: float | None = None, strict: bool = False,
-             demands: Mapping[float, Demand] | None = None) -> Candidates:
+             given_demands: Mapping[float, Demand] | None = None) -> Candidates:
     """Check every motor against every gearbox row (and direct drive) in one compiled pass.
 
     The per-sample work runs once per distinct gearbox efficiency (its losses at ratio 1, then
     scaled to each ratio, motor_fit.scaled); envelopes are computed by envelope.py at the speeds
     the checks need; _select_kernel.check does the per-candidate arithmetic.
 
-    ``demands``: ``motor_fit.demand`` of ``lossy_torque`` for some efficiencies, where the caller
+    ``given_demands``: ``motor_fit.demand`` of ``lossy_torque`` for some efficiencies, where the caller
     has it already (a study evaluates one cycle against several motor tables); the others are
     computed here.
     """
@@ -108,8 +108,8 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     ratio, eff_g, rows, row_start = _gearbox_options(gb, allow_direct)
     base: dict[float, Demand] = {}
     for eff in eff_g.tolist():
-        if eff not in base and demands is not None and eff in demands:
-            base[eff] = demands[eff]
+        if eff not in base and given_demands is not None and eff in given_demands:
+            base[eff] = given_demands[eff]
         elif eff not in base:
             # Losses applied at ratio 1; every ratio of the same efficiency is a scaling of it.
             base[eff] = demand(w0, a0, lossy_torque(axis, duty, eff), duty.weights, duty.period, duty.load_inertia)

@@ -199,7 +199,8 @@ class Engine:
 
         def ev(motors: MotorTable) -> Candidates:
             return evaluate(axis, duty, motors, tb.gb, margins, allow_direct=tb.allow_direct,
-                            max_inertia_ratio=spec.max_inertia_ratio, strict=spec.unknown == "fail", demands=demands)
+                            max_inertia_ratio=spec.max_inertia_ratio, strict=spec.unknown == "fail",
+                            given_demands=demands)
 
         found = _smallest_first(ev, tb, duty, margins, spec) if spec.objective == "smallest" else None
         if found is None:  # every candidate, ranked as select ranks them
@@ -232,7 +233,8 @@ def _smallest_first(ev: Any, tb: Tables, duty: DutyCycle, margins: Margins,
                 sub = tb.sub_table(members)
                 c = ev(sub)
             best = (c, sub, ranked(c, sub, tb.gb, "smallest", duty))
-        if best is not None and (stop == len(order) or _beats_the_rest(best, tb, duty, float(tb.size_key[order[stop]]))):
+        if best is not None and (stop == len(order) or _beats_the_rest(best, tb, duty,
+                                                                       float(tb.size_key[order[stop]]))):
             return best
     return best
 
