@@ -37,7 +37,7 @@ def _variant(mass: float, lead: float, time: float, **motor: Any) -> dict[str, A
     v["mechanism"]["lead"] = lead
     v["profile"][0]["time"] = time
     for k, val in motor.items():
-        if k in ("objective", "gearbox", "max_inertia_ratio"):
+        if k in ("objective", "gearbox", "max_inertia_ratio", "unknown"):
             v["motor"]["select"][k] = val
         else:
             v["motor"]["margins"][k] = val
@@ -71,6 +71,8 @@ SAMPLE = [
     _variant(25.0, 0.010, 0.5, gearbox="only"),
     _variant(25.0, 0.010, 0.5, gearbox="none"),
     _variant(20.0, 0.008, 0.5, torque=1.5, inertia_ratio=3),
+    _variant(25.0, 0.010, 0.5, unknown="fail"),  # a check that cannot be judged rejects the pair
+    _variant(12.0, 0.016, 0.4, objective="energy", unknown="fail"),
     _variant(4000.0, 0.002, 0.21),  # nothing passes: the closest candidate
 ]
 
@@ -95,6 +97,21 @@ def test_selected_candidate_equals_size(engine: Engine, k: int) -> None:
         assert fast["selection"]["failures_by_check"] == d["selection"]["failures_by_check"]
     for key in ("rms_torque_Nm", "peak_torque_Nm", "regen_energy_J", "max_speed_rpm"):
         assert fast[key] == d[key]
+
+
+@pytest.mark.parametrize("k", range(len(SAMPLE)))
+def test_keys_mean_what_size_says(engine: Engine, k: int) -> None:
+    """Every key of the batched answer is a key of ``size().to_dict()`` with the same value (the
+    selection's counts only where the batched search evaluated every candidate)."""
+    axis = parse_axis(SAMPLE[k])
+    fast, ref = engine.size(axis), full_result(axis)
+    assert set(fast) == set(ref)
+    assert set(fast["selection"]) <= set(ref["selection"])
+    for key, value in fast["selection"].items():
+        if key != "selected":
+            assert value == ref["selection"][key], key
+    for key in ("ok", "guide", "slip_check", "brake_check", "mechanism_checks", "gearbox_checks", "warnings"):
+        assert fast.get(key) == ref.get(key), key
 
 
 def test_nothing_passing_is_in_the_sample(engine: Engine) -> None:
