@@ -23,7 +23,8 @@ import drivetrain
 from drivetrain.axis.model import parse_axis
 from drivetrain.duty.cycle import duty_cycle
 from drivetrain.sizing.motor_fit import demand
-from drivetrain.study.batch import Engine, fast_demand, full_result
+from drivetrain.study.batch import Engine, full_result
+from drivetrain.study.hull import fast_demand
 from drivetrain.study.record import row_from
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
@@ -36,7 +37,7 @@ def _variant(mass: float, lead: float, time: float, **motor: Any) -> dict[str, A
     v["mechanism"]["lead"] = lead
     v["profile"][0]["time"] = time
     for k, val in motor.items():
-        if k in ("objective", "gearbox", "max_inertia_ratio"):
+        if k in ("objective", "gearbox", "max_inertia_ratio", "unknown"):
             v["motor"]["select"][k] = val
         else:
             v["motor"]["margins"][k] = val
@@ -70,6 +71,8 @@ SAMPLE = [
     _variant(25.0, 0.010, 0.5, gearbox="only"),
     _variant(25.0, 0.010, 0.5, gearbox="none"),
     _variant(20.0, 0.008, 0.5, torque=1.5, inertia_ratio=3),
+    _variant(25.0, 0.010, 0.5, unknown="fail"),  # a check that cannot be judged rejects the pair
+    _variant(12.0, 0.016, 0.4, objective="energy", unknown="fail"),
     _variant(4000.0, 0.002, 0.21),  # nothing passes: the closest candidate
 ]
 
@@ -90,10 +93,25 @@ def test_selected_candidate_equals_size(engine: Engine, k: int) -> None:
         _same_candidate(fast["selection"]["selected"], d["selection"]["selected"])
     else:
         assert "selected" not in fast["selection"]
-        _same_candidate(fast["selection"]["closest"], d["candidates"][0])
+        _same_candidate(fast["candidates"][0], d["candidates"][0])
         assert fast["selection"]["failures_by_check"] == d["selection"]["failures_by_check"]
     for key in ("rms_torque_Nm", "peak_torque_Nm", "regen_energy_J", "max_speed_rpm"):
         assert fast[key] == d[key]
+
+
+@pytest.mark.parametrize("k", range(len(SAMPLE)))
+def test_keys_mean_what_size_says(engine: Engine, k: int) -> None:
+    """Every key of the batched answer is a key of ``size().to_dict()`` with the same value (the
+    selection's counts only where the batched search evaluated every candidate)."""
+    axis = parse_axis(SAMPLE[k])
+    fast, ref = engine.size(axis), full_result(axis)
+    assert set(fast) == set(ref)
+    assert set(fast["selection"]) <= set(ref["selection"])
+    for key, value in fast["selection"].items():
+        if key != "selected":
+            assert value == ref["selection"][key], key
+    for key in ("ok", "guide", "slip_check", "brake_check", "mechanism_checks", "gearbox_checks", "warnings"):
+        assert fast.get(key) == ref.get(key), key
 
 
 def test_nothing_passing_is_in_the_sample(engine: Engine) -> None:
@@ -157,7 +175,7 @@ def test_compiled_hull_equals_demand(mass: float, lead: float, time: float, eff:
 def test_batched_hulls_equal_demand(mass: float, lead: float, time: float) -> None:
     """Several efficiencies in one pass give each efficiency's motor_fit.demand."""
     from drivetrain.physics.stage import Stage
-    from drivetrain.study.batch import fast_demands
+    from drivetrain.study.hull import fast_demands
 
     axis = parse_axis(_variant(mass, lead, time))
     duty = duty_cycle(axis, 16)

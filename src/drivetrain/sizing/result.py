@@ -7,6 +7,7 @@ metrics -> motor checks -> ``SizingResult`` (JSON of design.md, tables, plots).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -60,7 +61,7 @@ class SizingResult:
         if self.motor is not None:
             return bool(self.motor["ok"])
         if self.selection is not None:
-            return bool(self.selection.get("passing", 0))
+            return "_best" in self.selection  # the selection's best passing candidate
         return True
 
     def to_dict(self) -> dict[str, Any]:
@@ -333,17 +334,23 @@ def _first_move_ramp_times(duty: DutyCycle) -> float:
 
 
 def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64,
-         all_pairs: bool = False) -> SizingResult:
+         all_pairs: bool = False, *, duty: DutyCycle | None = None,
+         selector: Callable[..., dict[str, Any]] | None = None) -> SizingResult:
     """Size an axis: its duty cycle at the motor shaft, the given motor's checks or a selection.
 
     A selection lists the best configuration of each motor; ``all_pairs`` lists every passing
     motor-gearbox pair instead (``drivetrain size --all``).
+
+    For callers that size many axes (a study): ``duty`` is the axis's duty cycle when the caller
+    has it already; ``selector`` stands in for ``selection.select`` (same arguments; an answer
+    with the same keys, of which it may leave out those it did not compute).
     """
     if isinstance(axis, (str, Path)):
         axis = load_axis(axis)
     elif isinstance(axis, dict):
         axis = parse_axis(axis)
-    duty = duty_cycle(axis, points_per_phase)
+    if duty is None:
+        duty = duty_cycle(axis, points_per_phase)
     metrics = load_metrics(duty)
     result = SizingResult(axis=axis, duty=duty, metrics=metrics)
     from drivetrain.duty.sanity import sanity_warnings
@@ -384,7 +391,8 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64,
     elif axis.spec.motor is not None and axis.spec.motor.select is not None:
         from drivetrain.sizing.selection import select
 
-        chosen = select(axis, duty, axis.spec.motor.select, axis.spec.motor.margins, all_pairs=all_pairs)
+        chosen = (selector or select)(axis, duty, axis.spec.motor.select, axis.spec.motor.margins,
+                                      all_pairs=all_pairs)
         result.candidates = chosen["candidates"]
         result.selection = chosen["selection"]
         gear = gearbox_rating_checks(axis, duty, _selected_motor(result.selection), strict)

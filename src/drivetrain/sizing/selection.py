@@ -21,6 +21,7 @@ derived from ratings; ``unknown: fail`` rejects it instead (docs/checks.md).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -78,13 +79,25 @@ def _padded(arrays: list[Array], shape: tuple[int, ...]) -> Array:
     return out
 
 
+def lossy_torque(axis: Axis, duty: DutyCycle, efficiency: float) -> Array:
+    """The load torque at the input of a gearbox of ratio 1 and this efficiency [N m], per sample:
+    what every ratio of that efficiency scales (four-quadrant rule, stage.py)."""
+    stage = Stage("gearbox", "gearbox", efficiency=efficiency, back_efficiency=efficiency)
+    return duty.behind(stage, axis.efficiency_model).torque
+
+
 def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable | None, margins: Margins,
-             allow_direct: bool = True, max_inertia_ratio: float | None = None, strict: bool = False) -> Candidates:
+             allow_direct: bool = True, max_inertia_ratio: float | None = None, strict: bool = False,
+             given_demands: Mapping[float, Demand] | None = None) -> Candidates:
     """Check every motor against every gearbox row (and direct drive) in one compiled pass.
 
     The per-sample work runs once per distinct gearbox efficiency (its losses at ratio 1, then
     scaled to each ratio, motor_fit.scaled); envelopes are computed by envelope.py at the speeds
     the checks need; _select_kernel.check does the per-candidate arithmetic.
+
+    ``given_demands``: ``motor_fit.demand`` of ``lossy_torque`` for some efficiencies, where the caller
+    has it already (a study evaluates one cycle against several motor tables); the others are
+    computed here.
     """
     from drivetrain.sizing.kernel import check
 
@@ -95,10 +108,11 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     ratio, eff_g, rows, row_start = _gearbox_options(gb, allow_direct)
     base: dict[float, Demand] = {}
     for eff in eff_g.tolist():
-        if eff not in base:
+        if eff not in base and given_demands is not None and eff in given_demands:
+            base[eff] = given_demands[eff]
+        elif eff not in base:
             # Losses applied at ratio 1; every ratio of the same efficiency is a scaling of it.
-            lossy = duty.behind(Stage("gearbox", "gearbox", efficiency=eff, back_efficiency=eff), axis.efficiency_model)
-            base[eff] = demand(w0, a0, lossy.torque, duty.weights, duty.period, duty.load_inertia)
+            base[eff] = demand(w0, a0, lossy_torque(axis, duty, eff), duty.weights, duty.period, duty.load_inertia)
     effs = list(base)
     demands = list(base.values())
     e_of = np.array([effs.index(e) for e in eff_g.tolist()])  # each group's efficiency
@@ -251,13 +265,8 @@ def best_per_motor(c: Candidates, ranked: NDArray[np.intp]) -> NDArray[np.intp]:
     return ranked[np.sort(first)]
 
 
-def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
-           all_pairs: bool = False) -> dict[str, Any]:
-    """Evaluate the catalog against the duty cycle; rank, explain and summarise.
-
-    The ranked list holds the best configuration of each motor (its best gearbox), so the top
-    ``spec.top`` are that many different motors; ``all_pairs`` lists every passing pair instead.
-    """
+def catalog_tables(axis: Axis, spec: SelectSpec) -> tuple[MotorTable, GearboxTable | None, bool]:
+    """The catalog motors and gearboxes a selection searches, and whether direct drive is a candidate."""
     from drivetrain import catalog
 
     kind = None if spec.kind == "any" else spec.kind
@@ -276,12 +285,29 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
             gb = catalog.gearboxes(series=spec.gearbox_series, kind=gb_kind)
         except InputError as exc:
             raise exc.at("motor.select.gearbox_series") from None
-    c = evaluate(axis, duty, motors, gb, margins, allow_direct=spec.gearbox != "only" or gb is None,
-                 max_inertia_ratio=spec.max_inertia_ratio, strict=spec.unknown == "fail")
+    return motors, gb, spec.gearbox != "only" or gb is None
+
+
+def ranked(c: Candidates, motors: MotorTable, gb: GearboxTable | None, objective: str,
+           duty: DutyCycle) -> NDArray[np.intp]:
+    """The passing candidates, best first: by the objective (ties in candidate order), a pair not
+    known to assemble (a dimension missing) after every pair known to."""
     passing = np.flatnonzero(c.ok)
-    passing = passing[np.argsort(_objective(c, passing, motors, gb, spec.objective, duty), kind="stable")]
-    # a pair not known to assemble (a dimension missing) ranks after every pair known to
-    passing = passing[np.argsort((c.unknown[passing] & FIT_BIT) != 0, kind="stable")]
+    passing = passing[np.argsort(_objective(c, passing, motors, gb, objective, duty), kind="stable")]
+    return passing[np.argsort((c.unknown[passing] & FIT_BIT) != 0, kind="stable")]
+
+
+def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
+           all_pairs: bool = False) -> dict[str, Any]:
+    """Evaluate the catalog against the duty cycle; rank, explain and summarise.
+
+    The ranked list holds the best configuration of each motor (its best gearbox), so the top
+    ``spec.top`` are that many different motors; ``all_pairs`` lists every passing pair instead.
+    """
+    motors, gb, allow_direct = catalog_tables(axis, spec)
+    c = evaluate(axis, duty, motors, gb, margins, allow_direct=allow_direct, max_inertia_ratio=spec.max_inertia_ratio,
+                 strict=spec.unknown == "fail")
+    passing = ranked(c, motors, gb, spec.objective, duty)
     listed = passing if all_pairs else best_per_motor(c, passing)
     shown_ok = listed if all_pairs else listed[: spec.top]
     n_fail = max(spec.top - min(len(shown_ok), spec.top), 3)
@@ -390,5 +416,5 @@ def optimal_ratio(axis: Axis, duty: DutyCycle, motors: MotorTable, m: int,
             "max_ratio_for_speed": top, "nearest_catalog_ratio": nearest}
 
 
-__all__ = ["CHECK_UNITS", "MOTOR_CHECKS", "Candidates", "Details", "best_per_motor", "candidate_cycle", "evaluate",
-           "explain", "optimal_ratio", "select", "to_rpm"]
+__all__ = ["CHECK_UNITS", "MOTOR_CHECKS", "Candidates", "Details", "best_per_motor", "candidate_cycle",
+           "catalog_tables", "evaluate", "explain", "lossy_torque", "optimal_ratio", "ranked", "select", "to_rpm"]

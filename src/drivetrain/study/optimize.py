@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from drivetrain.errors import InputError
+from drivetrain.study.record import CHECK_NAMES
 from drivetrain.study.spec import OBJECTIVES, RECORD_GROUPS, Study
 
 if TYPE_CHECKING:
@@ -91,8 +92,7 @@ def optimize(study: Study, progress: bool = False) -> tuple[pd.DataFrame, dict[s
 
 _GROUP_COLUMNS = {"rated_power_W", "energy_per_cycle_J", "worst_margin", "rms_torque_Nm", "peak_torque_Nm",
                   "load_rms_torque_Nm", "load_peak_torque_Nm", "ratio",
-                  *(f"margin_{n}" for n in ("peak_torque", "rms_torque", "max_speed", "inertia_ratio",
-                                            "gearbox_rated_torque", "gearbox_peak_torque"))}
+                  *(f"margin_{n}" for n in CHECK_NAMES)}
 
 
 def _plain(v: Any) -> Any:

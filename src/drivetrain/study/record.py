@@ -9,7 +9,8 @@ Groups (``record:`` in the study file):
 * ``rms`` / ``peak``: RMS and peak motor torque with the rotor (``rms_torque_Nm``, ``peak_torque_Nm``)
   and the load's own at the motor shaft (``load_rms_torque_Nm``, ``load_peak_torque_Nm``);
 * ``energy``: ``energy_per_cycle_J``, what the motor delivers per cycle (regeneration not credited);
-* ``checks``: ``ok_<check>`` of every check, the axis's own (slip, guide, brake) included.
+* ``checks``: ``ok_<check>`` of every check, the axis's own (slip, guide, brake, the ratings of a
+  gearbox given in ``transmission:``, the mechanism's) included.
 
 Every row has ``variant``, the parameters, ``ok`` (every check passes) and ``error`` (an input error of
 that variant, e.g. a lead that makes the profile impossible; empty otherwise).
@@ -20,10 +21,12 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from drivetrain.sizing.candidates import CHECK_UNITS
 from drivetrain.study.paths import get_dotted
 
-CHECK_NAMES = ("peak_torque", "rms_torque", "max_speed", "inertia_ratio", "gearbox_rated_torque",
-               "gearbox_peak_torque")
+CHECK_NAMES = tuple(CHECK_UNITS)
+"""The checks of a catalog candidate, in the selection's order."""
+OWN_CHECKS = ("slip_check", "guide", "brake_check", "gearbox_checks")
 
 
 def _num(x: Any) -> float:
@@ -69,9 +72,11 @@ def row_from(result: dict[str, Any], record: list[str]) -> dict[str, Any]:
     if "checks" in groups:
         for n in CHECK_NAMES:
             row[f"ok_{n}"] = bool(checks[n]["ok"]) if n in checks else None
-        for own in ("slip_check", "guide", "brake_check"):
+        for own in OWN_CHECKS:
             if own in result:
                 row[f"ok_{own}"] = bool(result[own]["ok"])
+        if "mechanism_checks" in result:
+            row["ok_mechanism_checks"] = all(bool(c["ok"]) for c in result["mechanism_checks"])
     for name in record:
         if "." in name or "[" in name or name not in ("motor", "gearbox", "margins", "rms", "peak", "energy",
                                                       "checks"):
@@ -97,4 +102,4 @@ def fast_covers(fast: dict[str, Any], full: dict[str, Any], record: list[str]) -
     return not missing_fast, unknown
 
 
-__all__ = ["CHECK_NAMES", "fast_covers", "row_from"]
+__all__ = ["CHECK_NAMES", "OWN_CHECKS", "fast_covers", "row_from"]
