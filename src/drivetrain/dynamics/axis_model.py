@@ -193,13 +193,57 @@ def servo_loop(chain: Chain, block: dict[str, Any]) -> ServoLoop:
     return loop
 
 
+TABLE_POINTS = 201
+"""Positions across the stroke at which the mechanism's stiffness is tabulated for ``simulate``."""
+
+
+def with_mechanism_spring(axis: Axis, dyn: AxisDynamics, start: float = 0.0) -> AxisDynamics:
+    """``dyn`` with the mechanism's own spring, following the load along the stroke.
+
+    Where the axis file gives the mechanism's stiffness data (``mechanism.screw``/``nut``,
+    ``belt``, ``rack``; ``mechanism_modes.mechanism_stiffness_of``), the mechanism stage gets its
+    torsional stiffness k_x(x) r^2 at the load position ``start`` [m], and the chain's
+    ``spring_table`` carries the stiffness at the motor shaft, k_x(x) r^2 / i^2 (i the ratio of
+    the stages before the mechanism), against the load's angle at the motor shaft, x times the
+    total ratio: ``simulate`` then updates the spring as the load moves. Unchanged otherwise
+    (no data, or an explicit ``dynamics.chain``).
+    """
+    from dataclasses import replace
+
+    from drivetrain.dynamics.chain import model_from_stages
+    from drivetrain.dynamics.mechanism_modes import mechanism_stiffness_of
+
+    if "chain" in _block(axis) or not dyn.stages:
+        return dyn
+    stiff = mechanism_stiffness_of(axis, TABLE_POINTS)
+    if stiff is None:
+        return dyn
+    head, mech = dyn.stages[:-1], dyn.stages[-1]
+    r_head = math.prod(s.ratio for s in head)
+    ratio = math.prod(s.ratio for s in dyn.stages)
+    k_input = np.asarray(stiff.torsional, dtype=float)
+    k0 = float(np.interp(start, stiff.position, k_input))
+    chain = model_from_stages(dyn.motor_inertia, (*head, replace(mech, stiffness=k0)), 0.0)
+    angle = np.asarray(stiff.position, dtype=float) * ratio
+    order = np.argsort(angle)
+    chain = chain.with_(spring_table=(angle[order], k_input[order] / r_head**2))
+    return AxisDynamics(chain, dyn.motor, dyn.motor_inertia, dyn.stages)
+
+
 def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None = None,
                   velocity_bandwidth_hz: float | None = None) -> SimulationResult:
-    """Closed-loop simulation of the axis following its own duty-cycle profile."""
+    """Closed-loop simulation of the axis following its own duty-cycle profile.
+
+    The mechanism's spring follows the load's position (``with_mechanism_spring``) where the
+    axis file gives its stiffness data; the loop is tuned on the chain at the start position.
+    """
     from drivetrain.dynamics.simulation import Reference, simulate
 
     block = _block(axis)
     dyn = model(axis)
+    if axis.spec.profile:
+        x_start = float(np.asarray(axis.cycle().evaluate(np.array([0.0])).x, dtype=float)[0])
+        dyn = with_mechanism_spring(axis, dyn, x_start)
     if velocity_bandwidth_hz is not None:
         block = {**block, "loop": {**(block.get("loop") or {}), "velocity_bandwidth": velocity_bandwidth_hz}}
     loop = servo_loop(dyn.chain, block)

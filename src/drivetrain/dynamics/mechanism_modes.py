@@ -148,6 +148,8 @@ def required_velocity_bandwidth(axis: Axis, chain: Any) -> tuple[float, str]:
     loop = block.get("loop") or {}
     if isinstance(loop, dict) and "velocity_bandwidth" in loop:
         f_v = parse(loop["velocity_bandwidth"], "frequency", "dynamics.loop.velocity_bandwidth", allow_zero=False)
+        if not (math.isfinite(f_v) and f_v > 0.0):
+            raise InputError("dynamics.loop.velocity_bandwidth", "must be > 0 Hz", loop["velocity_bandwidth"])
         return float(f_v), "dynamics.loop.velocity_bandwidth"
     rigid = Chain(inertia=np.array([chain.total_inertia]), stiffness=np.zeros(0))
     tuned = servo_loop(rigid, block)
