@@ -38,6 +38,7 @@ if TYPE_CHECKING:
     from drivetrain.dynamics.chain import Chain
     from drivetrain.dynamics.control import ServoLoop
     from drivetrain.dynamics.simulation import SimulationResult
+    from drivetrain.sizing.result import SizingResult
 
 _KEYS = {"chain", "motor_inertia", "loop", "friction", "load_torque", "cycles", "step", "excitation_orders"}
 _LOOP_KEYS = {"velocity_bandwidth", "notch", "current_bandwidth", "torque_limit", "encoder_counts", "lowpass",
@@ -64,15 +65,19 @@ def _block(axis: Axis) -> dict[str, Any]:
     return raw
 
 
-def _motor(axis: Axis) -> tuple[str, float, tuple[Stage, ...]]:
-    """Motor name and inertia, and the stages with a selected catalog gearbox in front."""
+def _motor(axis: Axis, sized: SizingResult | None = None) -> tuple[str, float, tuple[Stage, ...]]:
+    """Motor name and inertia, and the stages with a selected catalog gearbox in front.
+
+    ``sized``: the axis's sizing result when the caller has it (its selection is used instead of
+    sizing the axis again).
+    """
     if axis.motor is not None:
         return axis.motor.name, axis.motor.inertia, axis.stages
     if axis.spec.motor is not None and axis.spec.motor.select is not None:
         from drivetrain import catalog
         from drivetrain.sizing.result import size
 
-        res = size(axis)
+        res = sized if sized is not None else size(axis)
         chosen = (res.selection or {}).get("selected")
         if not chosen:
             raise InputError("motor.select", "no catalog motor passes, so there is no motor to simulate; "
@@ -91,8 +96,8 @@ def _motor(axis: Axis) -> tuple[str, float, tuple[Stage, ...]]:
     raise InputError("motor", "dynamics need a motor: name one or select one from the catalog", has_value=False)
 
 
-def model(axis: Axis) -> AxisDynamics:
-    """The compliant chain of ``axis`` at the motor shaft."""
+def model(axis: Axis, sized: SizingResult | None = None) -> AxisDynamics:
+    """The compliant chain of ``axis`` at the motor shaft (``sized``: its sizing result, if at hand)."""
     from drivetrain.dynamics.chain import chain_from_spec, model_from_stages
 
     block = _block(axis)
@@ -101,7 +106,7 @@ def model(axis: Axis) -> AxisDynamics:
             raise InputError("dynamics.chain", "must be a list of inertia and spring entries", block["chain"])
         chain = chain_from_spec(block["chain"])
         return AxisDynamics(chain, "chain", float(chain.inertia[0]), axis.stages)
-    name, j_m, stages = _motor(axis)
+    name, j_m, stages = _motor(axis, sized)
     if "motor_inertia" in block:
         j_m = parse(block["motor_inertia"], "inertia", "dynamics.motor_inertia", allow_zero=False)
     chain = model_from_stages(j_m, stages, 0.0)

@@ -174,3 +174,27 @@ def servo_bandwidth_check(axis: Axis, chain: Any, f1_min: float, weakest: str,
              "ok": bool(margin >= 0.0), "unit": "Hz", "source": SRC_BANDWIDTH, "approximate": False,
              "note": f"f1 >= {factor:g} x velocity bandwidth {f_v:.1f} Hz ({origin}); weakest link: {weakest}"}
     return {"velocity_bandwidth_Hz": f_v, "bandwidth_source": origin, "check": check}
+
+
+def modes_of_result(result: Any) -> dict[str, Any] | None:
+    """``modes`` for a sizing result (report, web app): the chain with its given or selected motor.
+
+    None when the mechanism has no stiffness data, the axis gives an explicit
+    ``dynamics.chain``, or there is no motor (none given and no catalog motor passes). The
+    result carries ``motor``, the motor the chain assumes.
+    """
+    from drivetrain.dynamics.axis_model import model
+
+    axis = result.axis
+    if axis.mechanism.motion != "linear" or not axis.spec.profile or "chain" in (axis.spec.dynamics or {}):
+        return None
+    stiff = mechanism_stiffness_of(axis)
+    if stiff is None:
+        return None
+    if axis.motor is None and not ((result.selection or {}).get("selected")):
+        return None
+    dyn = model(axis, result)
+    out = modes_across_stroke(axis, dyn.stages, dyn.motor_inertia, stiff)
+    if out is not None:
+        out["motor"] = dyn.motor
+    return out
