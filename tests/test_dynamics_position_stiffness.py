@@ -115,7 +115,7 @@ def test_belt_gantry_rings_at_modes_f1_of_each_end() -> None:
 
 
 def test_an_axis_without_stiffness_data_keeps_its_chain() -> None:
-    axis = load_axis(ROOT / "examples" / "belt.yaml")
+    axis = load_axis(ROOT / "examples" / "rotary.yaml")
     dyn = model(axis)
     assert with_mechanism_spring(axis, dyn) is dyn
 
