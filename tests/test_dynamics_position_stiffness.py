@@ -165,3 +165,21 @@ def test_bad_bandwidth_names_its_field() -> None:
     with pytest.raises(InputError) as err:
         modes_across_stroke(axis, dyn.stages, dyn.motor_inertia)
     assert err.value.field == "dynamics.loop.velocity_bandwidth"
+
+
+@pytest.mark.parametrize(("example", "weakest", "checks"), [
+    ("belt.yaml", "timing_belt belt", {"belt_slack_side", "belt_tension"}),
+    ("belt_gantry_3m.yaml", "timing_belt belt", {"belt_slack_side", "belt_tension"}),
+    ("rack_pinion.yaml", "rack_pinion rack mesh", set()),
+])
+def test_shipped_examples_report_modes_across_the_stroke(example: str, weakest: str, checks: set[str]) -> None:
+    from drivetrain.dynamics.mechanism_modes import modes_of_result
+    from drivetrain.sizing.result import size
+
+    res = size(ROOT / "examples" / example)
+    assert {c["name"] for c in res.extras.get("mechanism_checks", [])} == checks
+    modes = modes_of_result(res)
+    assert modes is not None
+    assert modes["weakest_link"] == weakest
+    assert len(modes["f1_by_position"]) == 41
+    assert modes["checks"][0]["name"] == "servo_bandwidth"
