@@ -218,7 +218,7 @@ def test_pdf_report_pages_are_drawn_and_carry_the_numbers(ball: Any, tmp_path: P
 
 
 SECTION_HEADING = re.compile(r"^(\d+ (The axis|Motion profile|Motor shaft: speed and torque|Speed-torque plane|"
-                             r"Selection and ratio|Inputs|Formulas and sources)|Notes)$")
+                             r"Mechanism: checks and modes|Selection and ratio|Inputs|Formulas and sources)|Notes)$")
 
 
 def _page_texts(path: Path) -> list[str]:
@@ -231,7 +231,8 @@ def _page_texts(path: Path) -> list[str]:
 
 @needs_poppler
 @pytest.mark.skipif(shutil.which("pdfinfo") is None, reason="poppler-utils not installed (make browser)")
-@pytest.mark.parametrize("example", ["ball_screw", "rotary"])  # both left section headings at page bottoms
+# ball_screw and rotary once left section headings at page bottoms; the gantry has the mechanism section
+@pytest.mark.parametrize("example", ["ball_screw", "rotary", "belt_gantry_3m"])
 def test_pdf_section_headings_are_never_the_last_text_on_a_page(example: str, ball: Any, tmp_path: Path) -> None:
     result = ball if example == "ball_screw" else drivetrain.size(EXAMPLES / f"{example}.yaml")
     pages = _page_texts(render_pdf(result, tmp_path / f"{example}.pdf"))
@@ -389,3 +390,43 @@ def test_formulas_listed_match_the_axis(ball: Any, weak: Any) -> None:
     assert "hoist" not in keys and "belt" not in keys
     weak_keys = {f.key for f in build_report(weak).formulas}
     assert {"accel_times", "powers", "optimal_ratio"} <= weak_keys and "min_rms_ratio" not in weak_keys
+
+
+# --------------------------------------------------------------------------- mechanism section
+
+
+@pytest.fixture(scope="module")
+def gantry() -> drivetrain.sizing.result.SizingResult:
+    return drivetrain.size(EXAMPLES / "belt_gantry_3m.yaml")
+
+
+def test_html_mechanism_section_has_the_checks_and_f1_across_the_stroke(gantry: Any) -> None:
+    from drivetrain.dynamics.mechanism_modes import modes_of_result
+
+    page = render_html(gantry)
+    section = re.search(r'<section id="dt-mechanism">.*?</section>', page, re.S)
+    assert section is not None
+    body = section.group(0)
+    rows = re.search(r'id="dt-table-mechanism-checks".*?<tbody>(.*?)</tbody>', body, re.S)
+    assert rows is not None and rows.group(1).count("<tr>") == len(gantry.extras["mechanism_checks"])
+    assert "Belt tension" in body and "Gates Mectrol" in body
+    modes = modes_of_result(gantry)
+    assert modes is not None
+    assert f"{modes['f1_min_Hz']:.4g} Hz" in body
+    assert "Servo bandwidth (f1)" in body and "weakest link: timing_belt belt" in body
+    assert 'data-plot="modes"' in body
+    # the plot carries f1 at every position of the table
+    assert page.count('"name":"first natural frequency f1"') == 1
+
+
+def test_no_mechanism_section_without_mechanism_data(ball: Any) -> None:
+    assert 'id="dt-mechanism"' not in render_html(ball)
+
+
+@needs_poppler
+def test_pdf_has_the_mechanism_section(gantry: Any, tmp_path: Path) -> None:
+    pages = _page_texts(render_pdf(gantry, tmp_path / "gantry.pdf"))
+    text = "\n".join(pages)
+    assert "Mechanism: checks and modes" in text
+    assert "Checks of the mechanism" in text and "First mode across the stroke" in text
+    assert "bandwidth (f1)" in text

@@ -521,3 +521,22 @@ def test_candidate_columns_fit_or_scroll_with_the_motor_in_view(page: Any) -> No
                 last: last.right <= wrap.right + 0.5};
     }""")
     assert visible == {"first": True, "last": True}, visible
+
+
+def test_mechanism_checks_and_modes_show_in_the_results(page: Any) -> None:
+    # The 3 m belt gantry: its belt checks, the servo-bandwidth check and f1 across the stroke.
+    page.select_option("#example-select", "belt_gantry_3m")
+    wait_sized(page)
+    wait_until(page, "() => !document.querySelector('#mechanism').hidden")
+    table = page.locator(".mechanism-table")
+    text = table.inner_text()
+    expected = size(ROOT / "examples" / "belt_gantry_3m.yaml").extras["mechanism_checks"]
+    assert table.locator("tbody tr").count() == len(expected) + 1  # and the servo-bandwidth check
+    assert "belt tension" in text and "servo bandwidth" in text
+    assert "weakest link: timing_belt belt" in page.inner_text(".modes-summary")
+    assert page.locator("#plot-modes .main-svg").count() >= 1
+    # An axis without stiffness data hides the section.
+    page.select_option("#example-select", "rotary")
+    wait_sized(page)
+    wait_until(page, "() => document.querySelector('#mechanism').hidden")
+    assert page.locator("#plot-modes").is_hidden()

@@ -213,6 +213,10 @@ def _print_modes_across(console: Any, modes: dict[str, Any]) -> None:
         t.add_row(f"{r['position_m'] * 1e3:.0f} mm", f"{r['f1_Hz']:.1f} Hz",
                   f"{r['axial_stiffness_N_per_m'] / 1e6:.3g} N/um")
     console.print(t)
+    for c in modes.get("checks", []):
+        verdict = "[green]ok[/]" if c["ok"] else "[red]FAIL[/]"
+        console.print(f"{c['name']}: f1 {c['available']:.1f} Hz against {c['required']:.1f} Hz required "
+                      f"(margin {c['margin']:+.0%}) {verdict}; {c['note']}")
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:

@@ -44,6 +44,11 @@ Arguments (packed so that one signature serves every model):
     fmeth   (n,): friction form, -1 none, 0 exponential with stick, 1 tanh
     spring  (N_SPRING, max(n - 1, 1)): rows KK stiffness [N m/rad], DD damping [N m s/rad], GAP
             backlash [rad], ETA, ETAB forward/backward gear efficiency at its load end
+    tab_x, tab_k (t,): the last spring's stiffness tab_k [N m/rad] against the last inertia's angle
+            tab_x [rad], strictly increasing (``Chain.spring_table``): with t >= 2 the spring's
+            stiffness follows the load, interpolated linearly each step (held beyond the ends; the
+            interval is tracked from the previous step, so the lookup costs O(1) per step); t < 2:
+            the constant KK row, the code path of a chain without a table
     par     (N_PAR,): float parameters, see the P_* indices
     ipar    (N_IPAR,): integer parameters, see the I_* indices
     r_pos, r_vel, r_acc (n_steps + 1,): reference [rad, rad/s, rad/s^2] at each step
@@ -100,8 +105,8 @@ _OPTIONS: dict[str, Any] = {"cache": True, "fastmath": _FAST, "error_model": "nu
 
 
 @njit(**_OPTIONS)
-def run_two(plant: F64, fmeth: I64, spring: F64, par: F64, ipar: I64, r_pos: F64, r_vel: F64, r_acc: F64,
-            u_ext: F64, theta: F64, omega: F64, rec: F64, metrics: F64) -> tuple[int, int, int]:
+def run_two(plant: F64, fmeth: I64, spring: F64, tab_x: F64, tab_k: F64, par: F64, ipar: I64, r_pos: F64,
+            r_vel: F64, r_acc: F64, u_ext: F64, theta: F64, omega: F64, rec: F64, metrics: F64) -> tuple[int, int, int]:
     """Two inertias (motor ``a``, load ``b``) joined by one spring; state in scalars."""
     h = par[P_H]
     t_load = par[P_TLOAD]
@@ -130,6 +135,8 @@ def run_two(plant: F64, fmeth: I64, spring: F64, par: F64, ipar: I64, r_pos: F64
     n_pos = ipar[I_POS]
     ks = spring[KK, 0]
     ds = spring[DD, 0]
+    n_tab = tab_x.size
+    it = 0
     b2 = 0.5 * spring[GAP, 0]
     eta = spring[ETA, 0]
     eta_b = spring[ETAB, 0]
@@ -226,6 +233,17 @@ def run_two(plant: F64, fmeth: I64, spring: F64, par: F64, ipar: I64, r_pos: F64
             th_meas = tha if q <= 0.0 else q * math.floor(tha * inv_q + 0.5)
             ferr = r_pos[k] - th_meas
         # ---- spring torque (ElastoBacklash: none in the gap, never pulling, continuous) ----
+        if n_tab >= 2:  # stiffness at the load's position (Chain.spring_table)
+            while it < n_tab - 2 and thb > tab_x[it + 1]:
+                it += 1
+            while it > 0 and thb < tab_x[it]:
+                it -= 1
+            if thb <= tab_x[0]:
+                ks = tab_k[0]
+            elif thb >= tab_x[n_tab - 1]:
+                ks = tab_k[n_tab - 1]
+            else:
+                ks = tab_k[it] + (tab_k[it + 1] - tab_k[it]) * (thb - tab_x[it]) / (tab_x[it + 1] - tab_x[it])
         rel = tha - thb
         shaft = 0.0
         if b2 <= 0.0:
@@ -358,8 +376,9 @@ def run_two(plant: F64, fmeth: I64, spring: F64, par: F64, ipar: I64, r_pos: F64
 
 
 @njit(**_OPTIONS)
-def run_chain(plant: F64, fmeth: I64, spring: F64, par: F64, ipar: I64, r_pos: F64, r_vel: F64, r_acc: F64,
-              u_ext: F64, theta: F64, omega: F64, rec: F64, metrics: F64) -> tuple[int, int, int]:
+def run_chain(plant: F64, fmeth: I64, spring: F64, tab_x: F64, tab_k: F64, par: F64, ipar: I64,
+              r_pos: F64, r_vel: F64, r_acc: F64, u_ext: F64, theta: F64, omega: F64, rec: F64,
+              metrics: F64) -> tuple[int, int, int]:
     """Any number of inertias; the same equations as ``run_two`` with the state in arrays."""
     h = par[P_H]
     t_load = par[P_TLOAD]
@@ -393,6 +412,9 @@ def run_chain(plant: F64, fmeth: I64, spring: F64, par: F64, ipar: I64, r_pos: F
     row_t = 2 * n + m
     shaft = np.zeros(max(m, 1))
     peak = np.zeros(max(m, 1))
+    n_tab = tab_x.size if m >= 1 else 0
+    it = 0
+    k_last = spring[KK, max(m - 1, 0)]
     for e in range(m):
         peak[e] = metrics[N_METRICS_BASE + e]
     visc = np.empty(n)
@@ -480,10 +502,22 @@ def run_chain(plant: F64, fmeth: I64, spring: F64, par: F64, ipar: I64, r_pos: F
             t_cmd = t_m
             th_meas = tha if q <= 0.0 else q * math.floor(tha * inv_q + 0.5)
             ferr = r_pos[k] - th_meas
+        if n_tab >= 2:  # the last spring's stiffness at the load's position (Chain.spring_table)
+            thl = theta[m]
+            while it < n_tab - 2 and thl > tab_x[it + 1]:
+                it += 1
+            while it > 0 and thl < tab_x[it]:
+                it -= 1
+            if thl <= tab_x[0]:
+                k_last = tab_k[0]
+            elif thl >= tab_x[n_tab - 1]:
+                k_last = tab_k[n_tab - 1]
+            else:
+                k_last = tab_k[it] + (tab_k[it + 1] - tab_k[it]) * (thl - tab_x[it]) / (tab_x[it + 1] - tab_x[it])
         for e in range(m):
             rel = theta[e] - theta[e + 1]
             b2 = 0.5 * spring[GAP, e]
-            ks = spring[KK, e]
+            ks = k_last if e == m - 1 and n_tab >= 2 else spring[KK, e]
             ds = spring[DD, e]
             tau = 0.0
             if b2 <= 0.0:

@@ -38,6 +38,7 @@ if TYPE_CHECKING:
     from drivetrain.dynamics.chain import Chain
     from drivetrain.dynamics.control import ServoLoop
     from drivetrain.dynamics.simulation import SimulationResult
+    from drivetrain.sizing.result import SizingResult
 
 _KEYS = {"chain", "motor_inertia", "loop", "friction", "load_torque", "cycles", "step", "excitation_orders"}
 _LOOP_KEYS = {"velocity_bandwidth", "notch", "current_bandwidth", "torque_limit", "encoder_counts", "lowpass",
@@ -104,15 +105,19 @@ def _check_values(raw: dict[str, Any]) -> None:
                                      spec[name])
 
 
-def _motor(axis: Axis) -> tuple[str, float, tuple[Stage, ...]]:
-    """Motor name and inertia, and the stages with a selected catalog gearbox in front."""
+def _motor(axis: Axis, sized: SizingResult | None = None) -> tuple[str, float, tuple[Stage, ...]]:
+    """Motor name and inertia, and the stages with a selected catalog gearbox in front.
+
+    ``sized``: the axis's sizing result when the caller has it (its selection is used instead of
+    sizing the axis again).
+    """
     if axis.motor is not None:
         return axis.motor.name, axis.motor.inertia, axis.stages
     if axis.spec.motor is not None and axis.spec.motor.select is not None:
         from drivetrain import catalog
         from drivetrain.sizing.result import size
 
-        res = size(axis)
+        res = sized if sized is not None else size(axis)
         chosen = (res.selection or {}).get("selected")
         if not chosen:
             raise InputError("motor.select", "no catalog motor passes, so there is no motor to simulate; "
@@ -131,8 +136,8 @@ def _motor(axis: Axis) -> tuple[str, float, tuple[Stage, ...]]:
     raise InputError("motor", "dynamics need a motor: name one or select one from the catalog", has_value=False)
 
 
-def model(axis: Axis) -> AxisDynamics:
-    """The compliant chain of ``axis`` at the motor shaft."""
+def model(axis: Axis, sized: SizingResult | None = None) -> AxisDynamics:
+    """The compliant chain of ``axis`` at the motor shaft (``sized``: its sizing result, if at hand)."""
     from drivetrain.dynamics.chain import chain_from_spec, model_from_stages
 
     block = _block(axis)
@@ -141,7 +146,7 @@ def model(axis: Axis) -> AxisDynamics:
             raise InputError("dynamics.chain", "must be a list of inertia and spring entries", block["chain"])
         chain = chain_from_spec(block["chain"])
         return AxisDynamics(chain, "chain", float(chain.inertia[0]), axis.stages)
-    name, j_m, stages = _motor(axis)
+    name, j_m, stages = _motor(axis, sized)
     if "motor_inertia" in block:
         j_m = parse(block["motor_inertia"], "inertia", "dynamics.motor_inertia", allow_zero=False)
     chain = model_from_stages(j_m, stages, 0.0)
@@ -250,9 +255,50 @@ def servo_loop(chain: Chain, block: dict[str, Any]) -> ServoLoop:
     return loop
 
 
+TABLE_POINTS = 201
+"""Positions across the stroke at which the mechanism's stiffness is tabulated for ``simulate``."""
+
+
+def with_mechanism_spring(axis: Axis, dyn: AxisDynamics, start: float = 0.0) -> AxisDynamics:
+    """``dyn`` with the mechanism's own spring, following the load along the stroke.
+
+    Where the axis file gives the mechanism's stiffness data (``mechanism.screw``/``nut``,
+    ``belt``, ``rack``; ``mechanism_modes.mechanism_stiffness_of``), the mechanism stage gets its
+    torsional stiffness k_x(x) r^2 at the load position ``start`` [m], and the chain's
+    ``spring_table`` carries the stiffness at the motor shaft, k_x(x) r^2 / i^2 (i the ratio of
+    the stages before the mechanism), against the load's angle at the motor shaft, x times the
+    total ratio: ``simulate`` then updates the spring as the load moves. Unchanged otherwise
+    (no data, or an explicit ``dynamics.chain``).
+    """
+    from dataclasses import replace
+
+    from drivetrain.dynamics.chain import model_from_stages
+    from drivetrain.dynamics.mechanism_modes import mechanism_stiffness_of
+
+    if "chain" in _block(axis) or not dyn.stages:
+        return dyn
+    stiff = mechanism_stiffness_of(axis, TABLE_POINTS)
+    if stiff is None:
+        return dyn
+    head, mech = dyn.stages[:-1], dyn.stages[-1]
+    r_head = math.prod(s.ratio for s in head)
+    ratio = math.prod(s.ratio for s in dyn.stages)
+    k_input = np.asarray(stiff.torsional, dtype=float)
+    k0 = float(np.interp(start, stiff.position, k_input))
+    chain = model_from_stages(dyn.motor_inertia, (*head, replace(mech, stiffness=k0)), 0.0)
+    angle = np.asarray(stiff.position, dtype=float) * ratio
+    order = np.argsort(angle)
+    chain = chain.with_(spring_table=(angle[order], k_input[order] / r_head**2))
+    return AxisDynamics(chain, dyn.motor, dyn.motor_inertia, dyn.stages)
+
+
 def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None = None,
                   velocity_bandwidth_hz: float | None = None) -> SimulationResult:
-    """Closed-loop simulation of the axis following its own duty-cycle profile."""
+    """Closed-loop simulation of the axis following its own duty-cycle profile.
+
+    The mechanism's spring follows the load's position (``with_mechanism_spring``) where the
+    axis file gives its stiffness data; the loop is tuned on the chain at the start position.
+    """
     from drivetrain.dynamics.simulation import (
         MAX_SIMULATION_BYTES,
         Reference,
@@ -264,6 +310,9 @@ def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None =
 
     block = _block(axis)
     dyn = model(axis)
+    if axis.spec.profile:
+        x_start = float(np.asarray(axis.cycle().evaluate(np.array([0.0])).x, dtype=float)[0])
+        dyn = with_mechanism_spring(axis, dyn, x_start)
     if velocity_bandwidth_hz is not None:
         block = {**block, "loop": {**(block.get("loop") or {}), "velocity_bandwidth": velocity_bandwidth_hz}}
     loop = servo_loop(dyn.chain, block)

@@ -35,6 +35,22 @@ _INERTIA_KEYS = ("inertia", "damping", "friction", "name")
 _SPRING_KEYS = ("stiffness", "damping", "backlash", "efficiency", "back_efficiency", "name")
 
 
+def _spring_table(table: Any, springs: int, path: str) -> tuple[FloatArray, FloatArray]:
+    """Checked (angles, stiffness) table of the last spring (``Chain.spring_table``)."""
+    angle = np.array(table[0], dtype=float).reshape(-1)
+    k = np.array(table[1], dtype=float).reshape(-1)
+    if springs < 1:
+        raise InputError(f"{path}.spring_table", "needs a chain with at least one spring", springs)
+    if angle.size < 2 or k.size != angle.size:
+        raise InputError(f"{path}.spring_table", "needs angles and stiffnesses of the same length >= 2",
+                         f"{angle.size} and {k.size}")
+    if not (np.all(np.isfinite(angle)) and np.all(np.diff(angle) > 0.0)):
+        raise InputError(f"{path}.spring_table", "angles must be finite and strictly increasing", has_value=False)
+    if not (np.all(np.isfinite(k)) and np.all(k > 0.0)):
+        raise InputError(f"{path}.spring_table", "stiffnesses must be finite and > 0 N*m/rad", has_value=False)
+    return angle, k
+
+
 def _arr(x: Any, n: int, default: float) -> FloatArray:
     if x is None:
         return np.full(n, default, dtype=float)
@@ -58,6 +74,12 @@ class Chain:
         ratio: motor angle per unit of load motion [rad/rad or rad/m]: divide a load angle at the
             motor shaft by it to get the load's own position.
         path: where the chain sits in the axis file, for error messages.
+        spring_table: None, or (angles, stiffness): the LAST spring's stiffness [N m/rad] as a
+            function of the last inertia's angle [rad at the motor shaft], angles strictly
+            increasing (a mechanism spring that changes with the load position: a belt's free
+            lengths, a screw shaft's length to the nut). ``simulate`` interpolates it linearly
+            along the move and holds the end values beyond; ``stiffness[-1]`` is the value the
+            linear analyses use (set it to the table's value at the start).
     """
 
     inertia: FloatArray
@@ -71,6 +93,7 @@ class Chain:
     names: tuple[str, ...] = ()
     ratio: float = 1.0
     path: str = "dynamics.chain"
+    spring_table: tuple[FloatArray, FloatArray] | None = None
 
     def __post_init__(self) -> None:
         j = np.array(self.inertia, dtype=float).reshape(-1)
@@ -97,6 +120,8 @@ class Chain:
         object.__setattr__(self, "friction", fr)
         names = tuple(self.names) if self.names else tuple(_default_names(n))
         object.__setattr__(self, "names", names)
+        if self.spring_table is not None:
+            object.__setattr__(self, "spring_table", _spring_table(self.spring_table, m, self.path))
         self._validate()
 
     def _validate(self) -> None:

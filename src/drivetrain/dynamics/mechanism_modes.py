@@ -26,6 +26,15 @@ from drivetrain.errors import InputError
 POINTS = 41
 """Positions across the stroke at which the chain is solved."""
 
+BANDWIDTH_FACTOR = 2.0
+"""k of the servo-bandwidth requirement f1 >= k f_v: the velocity-loop bandwidth may reach at most
+half the first (anti-)resonance (Ellis, *Control System Design Guide*, 4th ed. (2012), chapter
+"Compliance and Resonance"; the tuning rule of ``control.tune``, ``fraction_of_anti_resonance``
+0.5, so k = 1 / 0.5)."""
+
+SRC_BANDWIDTH = ("lecture, five requirements of a servo transmission, 2 'High Resonant Frequency'; "
+                 "Ellis, Control System Design Guide, 4th ed., ch. Compliance and Resonance (f_v <= 0.5 f_r)")
+
 
 def _stroke(axis: Axis, points: int) -> np.ndarray:
     from drivetrain.duty.cycle import duty_cycle
@@ -107,6 +116,7 @@ def modes_across_stroke(axis: Axis, stages: tuple[Any, ...], motor_inertia: floa
              for st in compliant]
     k_motor = [float(k) for k in chain.stiffness]
     weakest = names[int(np.argmin(k_motor))]
+    bandwidth = servo_bandwidth_check(axis, chain, float(f1[worst]), weakest)
     return {
         "f1_min_Hz": float(f1[worst]),
         "worst_position_m": float(stiff.position[worst]),
@@ -115,4 +125,76 @@ def modes_across_stroke(axis: Axis, stages: tuple[Any, ...], motor_inertia: floa
         "natural_frequencies_at_worst_Hz": [float(f) for f in natural_frequencies(chain)],
         "f1_by_position": [{"position_m": float(x), "f1_Hz": float(f), "axial_stiffness_N_per_m": float(k)}
                            for x, f, k in zip(stiff.position, f1, stiff.axial, strict=True)],
+        "velocity_bandwidth_Hz": bandwidth["velocity_bandwidth_Hz"],
+        "bandwidth_source": bandwidth["bandwidth_source"],
+        "checks": [bandwidth["check"]],
     }
+
+
+def required_velocity_bandwidth(axis: Axis, chain: Any) -> tuple[float, str]:
+    """The velocity-loop bandwidth the axis asks for [Hz] and where it comes from.
+
+    ``dynamics.loop.velocity_bandwidth`` when the axis file gives it (the bandwidth the
+    application needs). Otherwise the bandwidth the tuning rule (``control.tune``) reaches on
+    the same inertia taken rigid, with the loop settings of ``dynamics.loop`` (current-loop
+    bandwidth / 4 and the loop delay's 20 deg of phase): the bandwidth the drive would give a
+    rigid mechanism, which the resonance must not take away.
+    """
+    from drivetrain.dynamics.axis_model import servo_loop
+    from drivetrain.dynamics.chain import Chain
+    from drivetrain.units import parse
+
+    block = axis.spec.dynamics or {}
+    loop = block.get("loop") or {}
+    if isinstance(loop, dict) and "velocity_bandwidth" in loop:
+        f_v = parse(loop["velocity_bandwidth"], "frequency", "dynamics.loop.velocity_bandwidth", allow_zero=False)
+        if not (math.isfinite(f_v) and f_v > 0.0):
+            raise InputError("dynamics.loop.velocity_bandwidth", "must be > 0 Hz", loop["velocity_bandwidth"])
+        return float(f_v), "dynamics.loop.velocity_bandwidth"
+    rigid = Chain(inertia=np.array([chain.total_inertia]), stiffness=np.zeros(0))
+    tuned = servo_loop(rigid, block)
+    return float(tuned.velocity_kp / (2.0 * math.pi * rigid.total_inertia)), "tuning rule on the rigid inertia"
+
+
+def servo_bandwidth_check(axis: Axis, chain: Any, f1_min: float, weakest: str,
+                          factor: float = BANDWIDTH_FACTOR) -> dict[str, Any]:
+    r"""The lecture's second requirement: the lowest first mode lies above the servo bandwidth.
+
+    .. math:: f_1(x_{worst}) \ge k\, f_v, \qquad k = 2
+
+    ``chain`` at the worst position, ``f1_min`` [Hz] its first mode, ``weakest`` the weakest
+    link's name; f_v [Hz] from :func:`required_velocity_bandwidth`; k :data:`BANDWIDTH_FACTOR`.
+    Returns {"velocity_bandwidth_Hz", "bandwidth_source", "check"}, the check shaped like
+    ``mechanism_checks`` (name, required, available, margin, ok, unit, source).
+    """
+    f_v, origin = required_velocity_bandwidth(axis, chain)
+    required = factor * f_v
+    margin = f1_min / required - 1.0
+    check = {"name": "servo_bandwidth", "required": required, "available": f1_min, "margin": margin,
+             "ok": bool(margin >= 0.0), "unit": "Hz", "source": SRC_BANDWIDTH, "approximate": False,
+             "note": f"f1 >= {factor:g} x velocity bandwidth {f_v:.1f} Hz ({origin}); weakest link: {weakest}"}
+    return {"velocity_bandwidth_Hz": f_v, "bandwidth_source": origin, "check": check}
+
+
+def modes_of_result(result: Any) -> dict[str, Any] | None:
+    """``modes`` for a sizing result (report, web app): the chain with its given or selected motor.
+
+    None when the mechanism has no stiffness data, the axis gives an explicit
+    ``dynamics.chain``, or there is no motor (none given and no catalog motor passes). The
+    result carries ``motor``, the motor the chain assumes.
+    """
+    from drivetrain.dynamics.axis_model import model
+
+    axis = result.axis
+    if axis.mechanism.motion != "linear" or not axis.spec.profile or "chain" in (axis.spec.dynamics or {}):
+        return None
+    stiff = mechanism_stiffness_of(axis)
+    if stiff is None:
+        return None
+    if axis.motor is None and not ((result.selection or {}).get("selected")):
+        return None
+    dyn = model(axis, result)
+    out = modes_across_stroke(axis, dyn.stages, dyn.motor_inertia, stiff)
+    if out is not None:
+        out["motor"] = dyn.motor
+    return out

@@ -361,9 +361,21 @@ def _loop_filters(loop: ServoLoop, h: float, n_cur: int, n_vel: int) -> tuple[fl
     return alpha_c, np.asarray(nb, dtype=float), lp_alpha
 
 
+def _spring_table(chain: Chain) -> tuple[FloatArray, FloatArray]:
+    """The last spring's (angle, stiffness) table as the kernels take it (empty: constant spring)."""
+    if chain.spring_table is None:
+        return np.zeros(0), np.zeros(0)
+    x, k = chain.spring_table
+    return np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(k, dtype=float)
+
+
 def _omega_max(chain: Chain) -> float:
+    """Highest natural frequency [rad/s]; with a ``spring_table``, at the table's stiffest value."""
     from drivetrain.dynamics.linear import natural_frequencies
 
+    if chain.spring_table is not None:
+        chain = chain.with_(stiffness=np.r_[chain.stiffness[:-1], float(np.max(chain.spring_table[1]))],
+                            spring_table=None)
     f = natural_frequencies(chain)
     return 2.0 * math.pi * float(f[-1]) if f.size else 0.0
 
@@ -567,7 +579,8 @@ def _run(chain: Chain, h: float, n_steps: int, rec_every: int, load_torque: floa
     rec = np.empty((3 * n + 2, n_steps // rec_every + 1))
     metrics = np.zeros(kern.N_METRICS_BASE + max(n - 1, 1))
     run = kern.run_two if n == 2 else kern.run_chain
-    status, k, j = run(plant, fmeth, spring, par, ipar, r_pos, r_vel, r_acc, u_ext,
+    tab_x, tab_k = _spring_table(chain)
+    status, k, j = run(plant, fmeth, spring, tab_x, tab_k, par, ipar, r_pos, r_vel, r_acc, u_ext,
                        np.ascontiguousarray(theta, dtype=float), np.ascontiguousarray(omega, dtype=float), rec, metrics)
     if status != 0:
         raise _diverged(chain, h, int(k), int(j), limit, loop)
@@ -698,12 +711,14 @@ def sweep(
     status = np.zeros(s_count, dtype=bool)
     run = kern.run_two if n == 2 else kern.run_chain
     u_none = np.zeros(1)
+    # a swept stiffness replaces the chain's position table (the swept values hold along the move)
+    tab_x, tab_k = _spring_table(chain) if stiffness is None else (np.zeros(0), np.zeros(0))
 
     def run_range(lo: int, hi: int) -> None:
         rec = np.empty((3 * n + 2, 1))
         for s in range(lo, hi):
-            st, _, _ = run(plant, fmeth, springs[s], pars[s], ipar, r_pos, r_vel, r_acc, u_none, theta.copy(),
-                           omega.copy(), rec, metrics[s])
+            st, _, _ = run(plant, fmeth, springs[s], tab_x, tab_k, pars[s], ipar, r_pos, r_vel, r_acc, u_none,
+                           theta.copy(), omega.copy(), rec, metrics[s])
             status[s] = st != 0
 
     # the kernel releases the GIL: plain threads run the simulations on all cores, in small chunks

@@ -74,6 +74,16 @@ def _figure(spec: PlotSpec, plot: str) -> str:
             f"<figcaption>{e(spec.caption)}</figcaption></figure>")
 
 
+def _mechanism_section(model: ReportModel, plot: Callable[[PlotSpec], str]) -> str:
+    """The mechanism's checks table, and f1 across the stroke with the servo-bandwidth check ("" if none)."""
+    out = _table(model.mechanism_checks) if model.mechanism_checks is not None else ""
+    if model.modes_plot is not None:
+        out += _figure(model.modes_plot, plot(model.modes_plot))
+    if model.modes is not None:
+        out += _table(model.modes)
+    return out
+
+
 def render_body(model: ReportModel, plot: Callable[[PlotSpec], str]) -> str:
     """The report's ``<div class="dt-report">``; ``plot`` renders one plot spec to HTML."""
     sections: list[tuple[str, str, str]] = []
@@ -89,6 +99,9 @@ def render_body(model: ReportModel, plot: Callable[[PlotSpec], str]) -> str:
     if model.motor_data is not None:
         motor += _table(model.motor_data)
     sections.append(("motor", "Speed-torque plane", motor))
+    mechanism = _mechanism_section(model, plot)
+    if mechanism:
+        sections.append(("mechanism", "Mechanism: checks and modes", mechanism))
     selection = ""
     if model.candidates is not None:
         selection += _table(model.candidates)

@@ -131,6 +131,9 @@ class ReportModel:
     notes: list[str]
     footer: str
     units: DisplayUnits
+    mechanism_checks: Table | None = None
+    modes: Table | None = None
+    modes_plot: PlotSpec | None = None
 
 
 def report_date() -> str:
@@ -768,9 +771,11 @@ def _subtitle(result: SizingResult, focus: Focus | None) -> str:
 def build_report(result: SizingResult, units: str = "si") -> ReportModel:
     """The report's content for ``result`` in the chosen units (si, imperial, as-given)."""
     from drivetrain import __version__
+    from drivetrain.report.mechanism import mechanism_checks_table, mechanism_modes, modes_plot, modes_table
 
     du = display_units(units, result.axis.raw)
     focus = focus_of(result)
+    modes = mechanism_modes(result)
     plots = {p.key: p for p in all_plots(result, du, focus)}
     notes = []
     if focus is not None:
@@ -811,4 +816,7 @@ def build_report(result: SizingResult, units: str = "si") -> ReportModel:
         notes=notes,
         footer=f"drivetrain {__version__} · {date}",
         units=du,
+        mechanism_checks=mechanism_checks_table(result, du),
+        modes=modes_table(modes, du) if modes is not None else None,
+        modes_plot=modes_plot(modes, du) if modes is not None else None,
     )

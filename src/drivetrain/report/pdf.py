@@ -370,6 +370,14 @@ def write_pdf(model: ReportModel, path: Path) -> None:
             if model.motor_data is not None:
                 doc.table(model.motor_data)
 
+        def mechanism() -> None:
+            if model.mechanism_checks is not None:
+                doc.table(model.mechanism_checks)
+            if model.modes_plot is not None:
+                doc.plot(model.modes_plot, 3.6)
+            if model.modes is not None:
+                doc.table(model.modes)
+
         def selection() -> None:
             for t in (model.candidates, model.ratios):
                 if t is not None:
@@ -378,6 +386,8 @@ def write_pdf(model: ReportModel, path: Path) -> None:
         sections: list[tuple[str, Callable[[], None]]] = [
             ("The axis", axis), ("Motion profile", motion), ("Motor shaft: speed and torque", shaft),
             ("Speed-torque plane", plane)]
+        if model.mechanism_checks is not None or model.modes is not None:
+            sections.append(("Mechanism: checks and modes", mechanism))
         if model.candidates is not None or model.ratios is not None:
             sections.append(("Selection and ratio", selection))
         sections.append(("Inputs", lambda: doc.table(model.inputs)))

@@ -208,8 +208,19 @@ def size_payload(axis: dict[str, Any]) -> dict[str, Any]:
         if result.selection is not None and "_best" in result.selection:
             selected = selected_payload(parsed, result, envelopes)
     return {"result": result.to_dict(), "motion": parsed.mechanism.motion, "series": series,
-            "envelopes": envelopes, "selected": selected, "notes": notes,
+            "envelopes": envelopes, "selected": selected, "notes": notes, "modes": mechanism_modes(result),
             "elapsed_ms": (time.perf_counter() - t0) * 1e3}
+
+
+def mechanism_modes(result: Any) -> dict[str, Any] | None:
+    """f1 across the stroke with the servo-bandwidth check (``modes`` of ``drivetrain modes``), or None.
+
+    None when the mechanism has no stiffness data or there is no motor to put in the chain.
+    """
+    from drivetrain.dynamics.mechanism_modes import modes_of_result
+
+    modes = engine(modes_of_result, result)
+    return None if modes is None else dict(plain(modes))
 
 
 def encode(payload: dict[str, Any]) -> bytes:

@@ -142,6 +142,12 @@ function renderResult(payload) {
   if (payload.notes && payload.notes.length) $("result-banner").append(el("span", { class: "muted small", text: ` (${payload.notes.join("; ")})` }));
   R.renderChecks($("checks"), r);
   R.renderMetrics($("metrics"), r, payload.motion);
+  const hasMechanism = R.renderMechanism($("mechanism"), r, payload.modes);
+  $("mechanism-title").hidden = !hasMechanism;
+  $("mechanism").hidden = !hasMechanism;
+  $("plot-modes").hidden = !payload.modes;
+  if (payload.modes) plots.drawModes($("plot-modes"), payload.modes);
+  else plots.clear($("plot-modes"));
   const keys = new Set((r.candidates || []).map(R.candidateKey));
   for (const k of [...state.picks.keys()]) if (!keys.has(k)) state.picks.delete(k);
   for (const c of r.candidates || []) if (state.picks.has(R.candidateKey(c))) state.picks.set(R.candidateKey(c), c);

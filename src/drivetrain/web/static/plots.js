@@ -129,3 +129,18 @@ export function drawEnvelope(node, env) {
     yaxis: { title: { text: "torque [N m]" }, rangemode: "tozero" },
   }), CONFIG);
 }
+
+// f1 of the drive train against the load position, the required f1 (2 x velocity bandwidth) dashed.
+export function drawModes(node, modes) {
+  if (!ready()) return;
+  const x = modes.f1_by_position.map((r) => r.position_m * 1000);
+  const f1 = modes.f1_by_position.map((r) => r.f1_Hz);
+  const data = [{ x, y: f1, name: "f1", mode: "lines", line: { color: COLORS[0], width: 2 } }];
+  const check = (modes.checks || [])[0];
+  if (check) data.push({ x: [x[0], x[x.length - 1]], y: [check.required, check.required], name: "required: 2 × velocity bandwidth", mode: "lines", line: { color: COLORS[4], dash: "dash" } });
+  data.push({ x: [modes.worst_position_m * 1000], y: [modes.f1_min_Hz], name: `worst: ${modes.weakest_link}`, mode: "markers", marker: { color: COLORS[4], size: 9 } });
+  window.Plotly.react(node, data, layout("First natural frequency across the stroke", {
+    xaxis: { title: { text: "load position [mm]" } },
+    yaxis: { title: { text: "f1 [Hz]" }, rangemode: "tozero" },
+  }), CONFIG);
+}

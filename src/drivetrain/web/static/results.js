@@ -210,3 +210,51 @@ export function renderCompare(node, picks, onClear) {
   node.replaceChildren(el("h3", { text: "Side by side" }), el("div", { class: "table-wrap" },
     table("Compared candidates", head, rows.map((r) => ({ cells: r })), "data compare-table")), clear);
 }
+
+const MECHANISM_NAMES = {
+  screw_buckling: "screw buckling",
+  screw_tensile_compressive: "screw tensile/compressive",
+  screw_critical_speed: "screw critical speed",
+  screw_dn_speed: "screw DN value",
+  nut_life: "nut life L10",
+  nut_static_safety: "nut static safety",
+  guide_life: "guide life L10",
+  guide_static_safety: "guide static safety",
+  belt_slack_side: "belt pretension",
+  belt_tension: "belt tension",
+  rack_feed_force: "rack feed force",
+  servo_bandwidth: "servo bandwidth (f1 ≥ 2 × f_v)",
+};
+
+// The mechanism's own checks (screw, nut, guide, belt, rack) and the first mode across the stroke
+// with the servo-bandwidth check. Returns false when there is nothing to show.
+export function renderMechanism(node, result, modes) {
+  const checks = [...(result.mechanism_checks || []), ...((modes && modes.checks) || [])];
+  if (!checks.length) {
+    node.replaceChildren();
+    return false;
+  }
+  const unit = (u) => (u === "-" ? "" : u);
+  const rows = checks.map((c) => ({
+    cls: c.ok ? "" : "fail",
+    cells: [
+      MECHANISM_NAMES[c.name] || c.name.replace(/_/g, " "),
+      `${fmt(c.required)} ${unit(c.unit)}`.trim(),
+      c.available === null ? "no limit" : `${fmt(c.available)} ${unit(c.unit)}`.trim(),
+      pct(c.margin),
+      c.ok ? "ok" : "FAILS",
+      c.source + (c.note ? ` (${c.note})` : ""),
+    ],
+  }));
+  const parts = [el("div", { class: "table-wrap" }, table("Checks of the mechanism", ["check", "required", "available", "margin", "result", "source"], rows, "data mechanism-table"))];
+  if (modes) {
+    parts.push(el("p", {
+      class: "muted modes-summary",
+      text: `Lowest first mode ${fmt(modes.f1_min_Hz)} Hz at load position ${fmt(modes.worst_position_m * 1000)} mm ` +
+        `(motor ${modes.motor}); weakest link: ${modes.weakest_link}. Velocity bandwidth ${fmt(modes.velocity_bandwidth_Hz)} Hz ` +
+        `from ${modes.bandwidth_source}.`,
+    }));
+  }
+  node.replaceChildren(...parts);
+  return true;
+}

@@ -1,0 +1,111 @@
+"""The report's mechanism section: the mechanism's own checks, and its first mode across the stroke.
+
+``mechanism_checks_table`` lists ``mechanism_checks`` of the sizing result (screw limits, nut and
+guide life, belt tension, rack force) with name, required, available, margin and source.
+``mechanism_modes`` solves the N-mass chain with the mechanism's spring at positions across the
+stroke (``dynamics.mechanism_modes``) for the given or selected motor; ``modes_table`` and
+``modes_plot`` show f1 against the load position, the worst position, the weakest link and the
+servo-bandwidth requirement (f1 >= 2 x velocity bandwidth).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from drivetrain.report.display import DisplayUnits, fmt_number, fmt_percent
+from drivetrain.report.model import Cell, Table, check_value
+from drivetrain.report.plots import COLORS, Note, Panel, PlotSpec, Trace, VLine
+
+if TYPE_CHECKING:
+    from drivetrain.sizing.result import SizingResult
+
+MECHANISM_CHECK_NAMES: dict[str, str] = {
+    "screw_buckling": "Screw buckling",
+    "screw_tensile_compressive": "Screw tensile/compressive",
+    "screw_critical_speed": "Screw critical speed",
+    "screw_dn_speed": "Screw DN value",
+    "nut_life": "Nut life L10",
+    "nut_static_safety": "Nut static safety",
+    "guide_life": "Guide life L10",
+    "guide_static_safety": "Guide static safety",
+    "belt_slack_side": "Belt pretension",
+    "belt_tension": "Belt tension",
+    "rack_feed_force": "Rack feed force",
+    "servo_bandwidth": "Servo bandwidth (f1)",
+}
+"""Readable names of the mechanism checks and the modes check."""
+
+
+def _rows(checks: list[dict[str, Any]], du: DisplayUnits) -> list[list[Cell]]:
+    rows = []
+    for c in checks:
+        ok = bool(c["ok"])
+        avail = c.get("available")
+        finite = isinstance(avail, (int, float)) and math.isfinite(float(avail))
+        rows.append([
+            Cell(MECHANISM_CHECK_NAMES.get(c["name"], c["name"].replace("_", " "))),
+            Cell(check_value(c["required"], c["unit"], du)),
+            Cell(check_value(float(avail or 0.0), c["unit"], du) if finite else "no limit"),
+            Cell(fmt_percent(c.get("margin")), "pass" if ok else "fail"),
+            Cell("PASS" if ok else "FAIL", "pass" if ok else "fail"),
+            Cell(str(c.get("source", "")) + (f" ({c['note']})" if c.get("note") else ""), "muted"),
+        ])
+    return rows
+
+
+def _table(key: str, title: str, rows: list[list[Cell]], note: str) -> Table:
+    return Table(key, title, ["check", "required", "available", "margin", "result", "source"], rows, "lrrrll",
+                 note, [0.15, 0.1, 0.11, 0.11, 0.08, 0.45])
+
+
+def mechanism_checks_table(result: SizingResult, du: DisplayUnits) -> Table | None:
+    """The ``mechanism_checks`` of the result as a table, or None when the axis has none."""
+    checks = result.extras.get("mechanism_checks") or []
+    if not checks:
+        return None
+    return _table("mechanism-checks", "Checks of the mechanism", _rows(checks, du),
+                  "Each check runs where the axis file gives the ratings it needs; margin = available / "
+                  "required − 1; the source names the catalog procedure (docs/checks.md).")
+
+
+def mechanism_modes(result: SizingResult) -> dict[str, Any] | None:
+    """``modes`` across the stroke for the result's motor (``dynamics.mechanism_modes.modes_of_result``)."""
+    from drivetrain.dynamics.mechanism_modes import modes_of_result
+
+    return modes_of_result(result)
+
+
+def modes_table(modes: dict[str, Any], du: DisplayUnits) -> Table:
+    """The servo-bandwidth check and the figures of the modes: f1 at the worst position, the weakest link."""
+    rows = _rows(modes.get("checks", []), du)
+    springs = ", ".join(f"{name} {fmt_number(k)} N·m/rad" for name, k in modes["springs_at_motor_Nm_per_rad"].items())
+    note = (f"Lowest first mode {fmt_number(modes['f1_min_Hz'])} Hz at load position "
+            f"{du.fmt(modes['worst_position_m'], 'length')} with motor {modes.get('motor', '')}; weakest link: "
+            f"{modes['weakest_link']} (springs at the motor shaft there: {springs}). Velocity bandwidth "
+            f"{fmt_number(modes['velocity_bandwidth_Hz'])} Hz from {modes['bandwidth_source']}.")
+    return _table("modes", "First mode across the stroke", rows, note)
+
+
+def modes_plot(modes: dict[str, Any], du: DisplayUnits) -> PlotSpec:
+    """f1 against the load position, the worst position marked, the required f1 as a line."""
+    rows = modes["f1_by_position"]
+    x = du.array(np.array([r["position_m"] for r in rows], dtype=float), "length")
+    f1 = np.array([r["f1_Hz"] for r in rows], dtype=float)
+    label = du.label("length")
+    traces = [Trace(x, f1, "first natural frequency f1", COLORS["position"], unit="Hz")]
+    checks = modes.get("checks") or []
+    if checks:
+        need = float(checks[0]["required"])
+        traces.append(Trace(x, np.full_like(f1, need), "required: 2 × velocity bandwidth", COLORS["peak"],
+                            dash="dash", unit="Hz"))
+    worst = float(du.array(np.array([modes["worst_position_m"]]), "length")[0])
+    panel = Panel("f1 [Hz]", traces, vlines=[VLine(worst, "worst position", COLORS["limit"])],
+                  notes=[Note(worst, float(modes["f1_min_Hz"]),
+                              [f"f1 = {fmt_number(modes['f1_min_Hz'])} Hz", modes["weakest_link"]],
+                              COLORS["limit"], dx=-110.0, dy=30.0)], ymin=0.0)
+    return PlotSpec("modes", "First natural frequency across the stroke", f"load position [{label}]", [panel],
+                    "First natural frequency of the drive train with the mechanism's own spring, against the "
+                    "load position; the worst position and the weakest link marked.", height=360, hover="closest")
