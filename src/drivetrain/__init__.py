@@ -13,6 +13,7 @@ __version__ = "0.1.0"
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Axis
+    from drivetrain.machine.result import MachineResult
     from drivetrain.sizing.result import SizingResult
 
 
@@ -41,4 +42,11 @@ def simulate(axis: Any, **kwargs: Any) -> Any:
     return simulate_axis(axis, **kwargs)
 
 
-__all__ = ["__version__", "load_axis", "simulate", "size"]
+def size_machine(machine: Any, **kwargs: Any) -> MachineResult:
+    """Size a machine (a path to a machine file, its mapping, or a ``Machine``): axes, DC bus, BOM."""
+    from drivetrain.machine.result import size_machine as _size_machine
+
+    return _size_machine(machine, **kwargs)
+
+
+__all__ = ["__version__", "load_axis", "simulate", "size", "size_machine"]
