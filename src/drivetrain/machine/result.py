@@ -234,7 +234,7 @@ def size_machine(machine: Machine | dict[str, Any] | str | Path, points_per_phas
     if phasing is not None:
         totals["worst_phasing"] = {k: max(totals.get(k, 0.0), phasing["in_phase"][k], phasing["random"][k]["p100"])
                                    for k in PHASING_KEYS}
-    bom = _bom(m, axes)
+    bom = _bom(m, axes, buses)
     return MachineResult(machine=m, axes=axes, offsets=offs, grid=grid,
                          buses=buses, totals=totals, phasing=phasing, bom=bom, traces=traces)
 
@@ -298,11 +298,22 @@ def _depends_on_free(m: Machine, name: str) -> bool:
     return a.free
 
 
-def _bom(m: Machine, axes: dict[str, AxisPower]) -> list[dict[str, Any]]:
-    """One bill of materials: identical order codes merged, quantities added, axes listed."""
+def _bom(m: Machine, axes: dict[str, AxisPower], buses: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """One bill of materials: identical order codes merged, quantities added, axes listed.
+
+    A bus that needs a braking resistor but names none gets a row without order code saying what
+    to choose (energy, average and peak power, resistance window)."""
     rows: list[dict[str, Any]] = []
     for a in m.axes:
         rows.extend(bom_items(a, axes[a.name]))
+    for g, b in zip(m.buses, buses, strict=True):
+        if not g.resistors and b["resistor_needed"]:
+            lo, hi = b.get("resistor_min_ohm"), b.get("resistor_max_ohm")
+            window = (f", {lo if lo is not None else 'drive minimum not given'} to "
+                      f"{f'{hi:.4g}' if hi is not None else '(switch-on voltage not given)'} ohm")
+            rows.append({"kind": "braking_resistor", "order_code": None, "vendor": None, "quantity": 1, "axis": g.name,
+                         "note": f"to choose: {b['resistor_average_power_W']:.4g} W average, "
+                                 f"{b['resistor_peak_power_W']:.4g} W peak{window}"})
     for g in m.buses:
         if g.supply_module is not None:
             rows.append({"kind": "supply_module", "order_code": g.supply_module.id, "vendor": g.supply_module.vendor,
