@@ -182,7 +182,8 @@ def _print_machine(out: dict[str, Any]) -> None:
     ph = out.get("phasing")
     if ph:
         r = ph["random"]
-        console.print(f"phasing of {', '.join(ph['free_axes'])}: in phase peak {ph['in_phase']['bus_peak_power_W']:.4g} W;"
+        console.print(f"phasing of {', '.join(ph['free_axes'])}: in phase peak "
+                      f"{ph['in_phase']['bus_peak_power_W']:.4g} W;"
                       f" random ({ph['samples']} samples, seed {ph['seed']}) peak p50 "
                       f"{r['bus_peak_power_W']['p50']:.4g} W, p95 {r['bus_peak_power_W']['p95']:.4g} W, max "
                       f"{r['bus_peak_power_W']['p100']:.4g} W")

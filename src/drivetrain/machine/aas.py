@@ -15,6 +15,7 @@ because the template types them as plain numbers.
 from __future__ import annotations
 
 import datetime as _dt
+import math
 import re
 from typing import Any
 
@@ -69,17 +70,24 @@ def mlp(name: str, text: str) -> dict[str, Any]:
 
 
 def smc(name: str, elements: list[dict[str, Any]], semantic: str | None = None) -> dict[str, Any]:
-    return {"modelType": "SubmodelElementCollection", "idShort": name, "semanticId": _sem(semantic or name),
-            "value": elements}
+    """A SubmodelElementCollection (an empty one carries no ``value``: AAS JSON lists have at least one item)."""
+    out: dict[str, Any] = {"modelType": "SubmodelElementCollection", "idShort": name,
+                           "semanticId": _sem(semantic or name)}
+    if elements:
+        out["value"] = elements
+    return out
 
 
 def entity(name: str, semantic: str, statements: list[dict[str, Any]]) -> dict[str, Any]:
-    return {"modelType": "Entity", "idShort": name, "semanticId": _sem(semantic), "entityType": "CoManagedEntity",
-            "statements": statements}
+    out: dict[str, Any] = {"modelType": "Entity", "idShort": name, "semanticId": _sem(semantic),
+                           "entityType": "CoManagedEntity"}
+    if statements:
+        out["statements"] = statements
+    return out
 
 
 def _num(items: list[dict[str, Any]], name: str, value: Any, unit: str) -> None:
-    if isinstance(value, (int, float)) and not isinstance(value, bool) and value == value and abs(value) != float("inf"):
+    if isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value):
         items.append(prop(name, float(value), unit))
 
 
@@ -208,8 +216,8 @@ def machine_aas(result: dict[str, Any], created: str | None = None) -> dict[str,
             main.extend(_axis_components({**r, "cycle_time_s": a["cycle_s"]}, len(main) + 1))
     others: list[dict[str, Any]] = []
     for row in result["bill_of_materials"]:
-        if row["kind"] in ("braking_resistor", "supply_module"):
-            bus = next((b for b in result["buses"] if b["name"] in row["used_by"]), {})
+        if row["kind"] in ("braking_resistor", "supply_module") and row["order_code"] is not None:
+            bus: dict[str, Any] = next((b for b in result["buses"] if b["name"] in row["used_by"]), {})
             figs = ([("EnergyConsumtionPerCycle", bus.get("resistor_energy_per_cycle_J"), "J (dissipated)")]
                     if row["kind"] == "braking_resistor" else [])
             others.append(_component(row["kind"], len(others) + 1, row.get("vendor"), str(row["order_code"]), figs,

@@ -106,7 +106,8 @@ def motor_power(res: SizingResult) -> tuple[Array, str, list[str]]:
     elec = axis.electrical
     kt = None
     if elec is not None:
-        kt = elec.kt if elec.kt is not None else (None if elec.ke is None else float(motor_electrical.kt_from_ke(elec.ke)))
+        kt = elec.kt if elec.kt is not None else (
+            None if elec.ke is None else float(motor_electrical.kt_from_ke(elec.ke)))
     if axis.motor is not None and elec is not None and kt is not None and elec.resistance is not None:
         sat = None
         if elec.peak_current is not None:
@@ -123,7 +124,9 @@ def axis_power(ma: MachineAxis, points_per_phase: int, supply_voltage: float) ->
     """Size a machine axis (each motor for its share) and sum its motors' electrical power."""
     full = size(ma.axis, points_per_phase)
     results = [full] if ma.motors == 1 else [size_share(full, s) for s in ma.shares]
-    powers, bases, notes = [], [], []
+    powers: list[Array] = []
+    bases: list[str] = []
+    notes: list[str] = []
     for r in results:
         p, b, n = motor_power(r)
         powers.append(p)

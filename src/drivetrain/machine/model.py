@@ -281,7 +281,6 @@ def _shares(d: dict[str, Any], where: str) -> tuple[tuple[float, ...], str]:
         return (1.0,), "single"
     if split is None:
         split = [1.0 / n] * n
-        basis = "stated"
     if split == "stiffness":
         ks = d.get("stiffness")
         if not isinstance(ks, list) or len(ks) != n:

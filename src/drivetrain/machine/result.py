@@ -318,9 +318,9 @@ def _bom(m: Machine, axes: dict[str, AxisPower], buses: list[dict[str, Any]]) ->
         if g.supply_module is not None:
             rows.append({"kind": "supply_module", "order_code": g.supply_module.id, "vendor": g.supply_module.vendor,
                          "quantity": 1, "axis": g.name})
-        for r in g.resistors:
-            rows.append({"kind": "braking_resistor", "order_code": r.id, "vendor": r.vendor, "quantity": r.quantity,
-                         "axis": g.name})
+        for res in g.resistors:
+            rows.append({"kind": "braking_resistor", "order_code": res.id, "vendor": res.vendor,
+                         "quantity": res.quantity, "axis": g.name})
     merged: dict[tuple[str, str | None], dict[str, Any]] = {}
     for r in rows:
         key = (r["kind"], r["order_code"])

@@ -109,7 +109,8 @@ def shared_energy(powers: ArrayLike, weights: ArrayLike) -> float:
 
 
 def line_current(power: ArrayLike, voltage: float, phases: int = 3, power_factor: float = 1.0) -> FloatArray:
-    r"""Supply line current [A rms] for an active power [W]: :math:`P / (\sqrt3 U \lambda)` (3 phases), :math:`P/(U\lambda)` (1).
+    r"""Supply line current [A rms] for an active power [W]: :math:`P / (\sqrt3 U \lambda)` (3 phases),
+    :math:`P/(U\lambda)` (1 phase).
 
     ``voltage`` line-to-line rms [V]; ``power_factor`` :math:`\lambda` (a diode rectifier's is
     below 1; the caller states which it used). Source: IEC 60050-131, active power of a

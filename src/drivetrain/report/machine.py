@@ -65,7 +65,8 @@ def _verdict(result: MachineResult, d: dict[str, Any]) -> Verdict:
         if not b.get("ok", True):
             details.append(f"bus {b['name']}: its supply module or braking resistors do not suffice")
         if b["resistor_needed"] and not b.get("resistors"):
-            details.append(f"bus {b['name']} needs a braking resistor: {_j(b['resistor_energy_per_cycle_J'])} per cycle,"
+            details.append(f"bus {b['name']} needs a braking resistor: "
+                           f"{_j(b['resistor_energy_per_cycle_J'])} per cycle,"
                            f" {_w(b['resistor_average_power_W'])} average, {_w(b['resistor_peak_power_W'])} peak")
     if result.ok:
         return Verdict("pass", f"Every axis of {d['machine']['name']} passes", details)
@@ -111,7 +112,8 @@ def _bus_table(d: dict[str, Any]) -> Table:
             ("resistor_average_power_W", "braking resistor average power", _w),
             ("resistor_min_ohm", "resistance at least", lambda x: "not given" if x is None else f"{fmt_number(x)} ohm"),
             ("resistor_max_ohm", "resistance at most", lambda x: "not known" if x is None else f"{fmt_number(x)} ohm"),
-            ("supply_peak_power_W", "supply peak power", _w), ("supply_continuous_power_W", "supply continuous power", _w),
+            ("supply_peak_power_W", "supply peak power", _w),
+            ("supply_continuous_power_W", "supply continuous power", _w),
             ("supply_peak_current_A", "supply peak line current", lambda x: f"{fmt_number(x)} A"),
             ("supply_rms_current_A", "supply RMS line current", lambda x: f"{fmt_number(x)} A")]
     rows = [[Cell(label)] + [Cell(fmt(b.get(k))) for b in d["buses"]] for k, label, fmt in keys]
@@ -180,14 +182,16 @@ def render_machine_html(result: MachineResult) -> str:
         def plot(s: PlotSpec, k: int = k) -> str:
             return _plotly_div(replace(s, key=f"a{k}-{s.key}"), figures)
 
-        axis_html.append(f'<section class="dt-machine-axis" id="dt-machine-axis-{k}">{render_body(model, plot)}</section>')
+        axis_html.append(f'<section class="dt-machine-axis" id="dt-machine-axis-{k}">'
+                         f"{render_body(model, plot)}</section>")
         sections.append((f"machine-axis-{k}", f"Axis {label}", ""))
     toc = "".join(f'<a href="#dt-{key}">{n}&nbsp;{e(title)}</a>' for n, (key, title, _) in enumerate(sections, 1))
     body = "".join(f'<section id="dt-{key}"><h2>{n} {e(title)}</h2>{content}</section>'
                    for n, (key, title, content) in enumerate(sections, 1) if content)
     date = report_date()
     m = d["machine"]
-    meta = [("Date", date), ("Software", f"drivetrain {__version__}"), ("Cycle time", f"{fmt_number(m['cycle_time_s'])} s"),
+    meta = [("Date", date), ("Software", f"drivetrain {__version__}"),
+            ("Cycle time", f"{fmt_number(m['cycle_time_s'])} s"),
             ("Supply", f"{m['supply_voltage_V']:.0f} V, {m['supply_phases']} phases")]
     meta_html = "".join(f"<dt>{e(k)}</dt><dd>{e(v)}</dd>" for k, v in meta)
     page = (
@@ -266,4 +270,8 @@ def write_machine_report(result: MachineResult, path: str | os.PathLike[str]) ->
     if suffix == ".pdf":
         return _write_atomic(target, lambda tmp: render_machine_pdf(result, tmp))
     data = render_machine_html(result).encode("utf-8")
-    return _write_atomic(target, lambda tmp: tmp.write_bytes(data))
+
+    def write(tmp: Path) -> None:
+        tmp.write_bytes(data)
+
+    return _write_atomic(target, write)
