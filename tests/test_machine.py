@@ -258,3 +258,18 @@ def test_machine_report_html_and_pdf(tmp_path: Path) -> None:
 def test_size_machine_is_exported_lazily() -> None:
     assert "size_machine" in drivetrain.__all__
     assert drivetrain.size_machine(TWO, phasing_samples=1).machine.name == "two axes"
+
+
+def test_the_documented_machine_file_is_valid(tmp_path: Path) -> None:
+    import re
+
+    text = (ROOT / "docs" / "machine.md").read_text(encoding="utf-8")
+    block = re.search(r"^```yaml\n(.*?)^```", text, re.MULTILINE | re.DOTALL)
+    assert block is not None
+    (tmp_path / "m.yaml").write_text(block.group(1), encoding="utf-8")
+    (tmp_path / "x_axis.yaml").write_text(yaml.safe_dump(X_AXIS), encoding="utf-8")
+    out = size_machine(tmp_path / "m.yaml", phasing_samples=1).to_dict()
+    b = out["buses"][0]
+    assert b["capacitor_energy_per_event_J"] == 10.0
+    assert b["resistor_equivalent_ohm"] == pytest.approx(50.0)
+    assert {r["kind"] for r in out["bill_of_materials"]} == {"motor", "braking_resistor"}
