@@ -1,9 +1,9 @@
 """Regenerate the report pictures in docs/: one example report per mechanism family.
 
 For each family (ball screw, belt, rack and pinion, rotary indexing table, hoist) this sizes the
-shipped example (and the example machine, as ``docs/machine-report.png``), writes its HTML report, opens it in headless Debian Chromium through
+shipped example, writes its HTML report, opens it in headless Debian Chromium through
 Playwright and saves a screenshot of the top of the page at 1280 px width as
-``docs/report-<family>.png``.
+``docs/report-<family>.png``; the example machine's report becomes ``docs/machine-report.png``.
 
     .venv/bin/python scripts/make_report_images.py            # all families into docs/
     .venv/bin/python scripts/make_report_images.py --keep-html out/   # also keep the HTML reports
