@@ -50,7 +50,7 @@ def test_machine_export_validates(tmp_path: Path, capsys: pytest.CaptureFixture[
     assert _errors(env) == []
     comps = [e for e in _elements(env)["SizingResult"]["value"] if e["idShort"].startswith("MainComponent")]
     kinds = [next(s["value"] for s in c["statements"] if s["idShort"] == "MainComponentType") for c in comps]
-    assert kinds.count("Motor") == 5 and kinds.count("Drive") == 4  # X, Y (two), Z with drives; R motor only
+    assert kinds.count("Motor") == 5 and kinds.count("Drive") == 5  # X, Y (two), Z, R
     others = [e for e in _elements(env)["SizingResult"]["value"] if e["idShort"].startswith("OtherComponent")]
     assert others == []  # no resistor named in the example: the BOM says what to choose instead
     assert env == machine_aas(result, created=env["submodels"][0]["submodelElements"][0]["value"][3]["value"])

@@ -115,7 +115,9 @@ def motor_power(res: SizingResult) -> tuple[Array, str, list[str]]:
                                               np.array(elec.peak_current))
         current = np.abs(motor_electrical.current_from_torque(t_m, kt, sat))
         return p + regen.copper_loss(current, elec.resistance), "electrical", notes
-    notes.append("no torque constant and winding resistance: shaft power with its four-quadrant losses, "
+    missing = [k for k, v in (("torque constant", kt), ("winding resistance", None if elec is None else
+                                                             elec.resistance)) if v is None]
+    notes.append(f"no {' or '.join(missing) or 'given motor'}: shaft power with its four-quadrant losses, "
                  "copper loss left out")
     return np.asarray(p, dtype=float), "shaft", notes
 
