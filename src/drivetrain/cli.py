@@ -173,7 +173,7 @@ def _print_machine(out: dict[str, Any]) -> None:
         t.add_column(col)
     for b in out["buses"]:
         lo, hi = b.get("resistor_min_ohm"), b.get("resistor_max_ohm")
-        window = f"{lo if lo is not None else '-'} .. {f'{hi:.4g}' if hi is not None else '-'} ohm"
+        window = f"{f'{lo:.4g}' if lo is not None else '-'} .. {f'{hi:.4g}' if hi is not None else '-'} ohm"
         t.add_row(b["name"], ", ".join(b["axes"]), f"{b['bus_peak_power_W']:.4g} W", f"{b['bus_rms_power_W']:.4g} W",
                   f"{b['regen_shared_J']:.4g} J", f"{b['resistor_energy_per_cycle_J']:.4g} J",
                   f"{b['resistor_peak_power_W']:.4g} / {b['resistor_average_power_W']:.4g} W", window,

@@ -167,34 +167,33 @@ def _drive_data(ma: MachineAxis, out: AxisPower, supply_voltage: float) -> None:
 
 
 def bom_items(ma: MachineAxis, ap: AxisPower) -> list[dict[str, Any]]:
-    """Bill-of-materials rows of one axis: motor(s), drive(s), catalog gearboxes, each with its quantity."""
+    """Bill-of-materials rows of one axis: each motor (a gantry's may differ by share), its drive, gearboxes."""
     rows: list[dict[str, Any]] = []
     axis = ma.axis
-    n = ma.motors
-    res = ap.results[0]
-    if axis.motor is not None:
-        spec = axis.spec.motor
-        code = (spec.id if spec is not None and spec.id else axis.motor.name)
-        vendor = axis.motor.source.split(" ")[0] if spec is not None and spec.id else None
-        rows.append({"kind": "motor", "order_code": code, "vendor": vendor, "quantity": n, "axis": ma.name})
-    elif res.selection is not None and res.selection.get("selected"):
-        pick = res.selection["selected"]
-        rows.append({"kind": "motor", "order_code": pick["motor"], "vendor": pick.get("vendor"), "quantity": n,
-                     "axis": ma.name})
-        if pick.get("gearbox"):
-            rows.append({"kind": "gearbox", "order_code": pick["gearbox"], "vendor": None, "quantity": n,
+    for res in ap.results:
+        if axis.motor is not None:
+            spec = axis.spec.motor
+            code = spec.id if spec is not None and spec.id else axis.motor.name
+            vendor = axis.motor.source.split(" ")[0] if spec is not None and spec.id else None
+            rows.append({"kind": "motor", "order_code": code, "vendor": vendor, "quantity": 1, "axis": ma.name})
+        elif res.selection is not None and res.selection.get("selected"):
+            pick = res.selection["selected"]
+            rows.append({"kind": "motor", "order_code": pick["motor"], "vendor": pick.get("vendor"), "quantity": 1,
                          "axis": ma.name})
-    else:
-        rows.append({"kind": "motor", "order_code": None, "vendor": None, "quantity": n, "axis": ma.name,
-                     "note": "no motor chosen"})
-    if axis.drive is not None:
-        rows.append({"kind": "drive", "order_code": axis.drive.name, "vendor": axis.drive.vendor, "quantity": n,
-                     "axis": ma.name})
-    for k, st in enumerate(axis.spec.transmission):
-        cat = getattr(st, "catalog", None)
-        if cat:
-            rows.append({"kind": "gearbox", "order_code": str(cat), "vendor": None, "quantity": n, "axis": ma.name,
-                         "position": f"transmission[{k}]"})
+            if pick.get("gearbox"):
+                rows.append({"kind": "gearbox", "order_code": pick["gearbox"], "vendor": None, "quantity": 1,
+                             "axis": ma.name})
+        else:
+            rows.append({"kind": "motor", "order_code": None, "vendor": None, "quantity": 1, "axis": ma.name,
+                         "note": "no motor chosen"})
+        if axis.drive is not None:
+            rows.append({"kind": "drive", "order_code": axis.drive.name, "vendor": axis.drive.vendor, "quantity": 1,
+                         "axis": ma.name})
+        for st in axis.spec.transmission:
+            cat = getattr(st, "catalog", None)
+            if cat:
+                rows.append({"kind": "gearbox", "order_code": str(cat), "vendor": None, "quantity": 1,
+                             "axis": ma.name})
     return rows
 
 

@@ -184,7 +184,7 @@ def parse_machine(data: Any, base: str | Path | None = None, path: str | None = 
             raise InputError(f"axes[{k}].after", "an axis cannot start after itself", a.after)
         period = a.axis.cycle().period
         if period > cycle_time * (1 + 1e-9):
-            raise InputError("cycle_time", f"is shorter than axis {a.name!r}'s own cycle ({period:.6g} s)",
+            raise InputError("cycle_time", f"is shorter than the own cycle of axis {a.name!r} ({period:.6g} s)",
                              data["cycle_time"])
     _check_after_cycles(axes)
     buses = _buses(data.get("buses"), names)

@@ -309,7 +309,7 @@ def _bom(m: Machine, axes: dict[str, AxisPower], buses: list[dict[str, Any]]) ->
     for g, b in zip(m.buses, buses, strict=True):
         if not g.resistors and b["resistor_needed"]:
             lo, hi = b.get("resistor_min_ohm"), b.get("resistor_max_ohm")
-            window = (f", {lo if lo is not None else 'drive minimum not given'} to "
+            window = (f", {f'{lo:.4g}' if lo is not None else 'drive minimum not given'} to "
                       f"{f'{hi:.4g}' if hi is not None else '(switch-on voltage not given)'} ohm")
             rows.append({"kind": "braking_resistor", "order_code": None, "vendor": None, "quantity": 1, "axis": g.name,
                          "note": f"to choose: {b['resistor_average_power_W']:.4g} W average, "
@@ -326,7 +326,8 @@ def _bom(m: Machine, axes: dict[str, AxisPower], buses: list[dict[str, Any]]) ->
         key = (r["kind"], r["order_code"])
         if key in merged and r["order_code"] is not None:
             merged[key]["quantity"] += r["quantity"]
-            merged[key]["used_by"].append(r["axis"])
+            if r["axis"] not in merged[key]["used_by"]:
+                merged[key]["used_by"].append(r["axis"])
         else:
             merged[(r["kind"], r["order_code"] if r["order_code"] is not None else f"#{len(merged)}")] = {
                 "kind": r["kind"], "order_code": r["order_code"], "vendor": r["vendor"], "quantity": r["quantity"],
