@@ -150,8 +150,12 @@ def load_machine(path: str | Path) -> Machine:
     return parse_machine(read_yaml(p), base=p.parent, path=str(p))
 
 
-def parse_machine(data: Any, base: str | Path | None = None, path: str | None = None) -> Machine:
-    """Validate a machine-file mapping (includes read relative to ``base``) into a ``Machine``."""
+def parse_machine(data: Any, base: str | Path | None = None, path: str | None = None, *,
+                  allow_include: bool = True, max_axes: int = MAX_AXES) -> Machine:
+    """Validate a machine-file mapping (includes read relative to ``base``) into a ``Machine``.
+
+    ``allow_include=False`` refuses ``include:`` (a server must not read files named by a request);
+    ``max_axes`` caps the number of axes."""
     if not isinstance(data, dict):
         raise InputError("", "a machine file must be a mapping of keys (version, machine, cycle_time, axes, ...)",
                          type(data).__name__)
@@ -169,10 +173,10 @@ def parse_machine(data: Any, base: str | Path | None = None, path: str | None = 
     raw_axes = data.get("axes")
     if not isinstance(raw_axes, list) or not raw_axes:
         raise InputError("axes", "must be a non-empty list of axes", raw_axes, has_value=raw_axes is not None)
-    if len(raw_axes) > MAX_AXES:
-        raise InputError("axes", f"has more than {MAX_AXES} axes", len(raw_axes))
+    if len(raw_axes) > max_axes:
+        raise InputError("axes", f"has more than {max_axes} axes", len(raw_axes))
     root = Path(base) if base is not None else Path.cwd()
-    axes = [_axis(a, k, root) for k, a in enumerate(raw_axes)]
+    axes = [_axis(a, k, root, allow_include) for k, a in enumerate(raw_axes)]
     names = [a.name for a in axes]
     for k, n in enumerate(names):
         if n in names[:k]:
@@ -213,10 +217,13 @@ def _supply(raw: Any) -> Supply:
     return Supply(voltage=u, phases=int(phases), power_factor=pf, power_factor_given=pf_given)
 
 
-def _axis(raw: Any, k: int, root: Path) -> MachineAxis:
+def _axis(raw: Any, k: int, root: Path, allow_include: bool = True) -> MachineAxis:
     where = f"axes[{k}]"
     d = _mapping(raw, where)
     _unknown(d, AXIS_KEYS, where)
+    if "include" in d and not allow_include:
+        raise InputError(f"{where}.include", "is not available here: give the axis inline (axis: {...})",
+                         d["include"])
     if ("include" in d) == ("axis" in d):
         raise InputError(where, "needs exactly one of include: (an axis file) or axis: (the axis inline)",
                          has_value=False)
