@@ -9,10 +9,10 @@ from pathlib import Path
 import pytest
 
 pytest.importorskip("fastapi")
-from fastapi.testclient import TestClient  # noqa: E402
-from test_machine import TWO, X_AXIS  # noqa: E402
+from fastapi.testclient import TestClient
 
-from drivetrain.web.app import create_app  # noqa: E402
+from drivetrain.web.app import create_app
+from test_machine import TWO, X_AXIS
 
 
 @pytest.fixture(scope="module")

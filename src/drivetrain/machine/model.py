@@ -20,10 +20,10 @@ from drivetrain.units import parse
 
 MACHINE_KEYS = {"version", "machine", "cycle_time", "supply", "axes", "buses"}
 AXIS_KEYS = {"name", "include", "axis", "offset", "after", "delay", "motors", "split", "stiffness"}
-SUPPLY_KEYS = {"voltage", "phases", "power_factor", "frequency"}
+SUPPLY_KEYS = {"voltage", "phases", "power_factor"}
 BUS_KEYS = {"name", "axes", "supply_module", "resistors", "capacitance", "bus_max_voltage", "absorbable_energy",
             "regen_on_voltage", "min_resistance"}
-MODULE_KEYS = {"id", "vendor", "continuous_power", "peak_power", "peak_time"}
+MODULE_KEYS = {"id", "vendor", "continuous_power", "peak_power"}
 RESISTOR_KEYS = {"id", "vendor", "resistance", "continuous_power", "peak_power", "quantity"}
 MAX_AXES = 64
 MAX_MOTORS = 8
