@@ -3,7 +3,7 @@
 For each family (ball screw, belt, rack and pinion, rotary indexing table, hoist) this sizes the
 shipped example, writes its HTML report, opens it in headless Debian Chromium through
 Playwright and saves a screenshot of the top of the page at 1280 px width as
-``docs/report-<family>.png``.
+``docs/report-<family>.png``; the example machine's report becomes ``docs/machine-report.png``.
 
     .venv/bin/python scripts/make_report_images.py            # all families into docs/
     .venv/bin/python scripts/make_report_images.py --keep-html out/   # also keep the HTML reports
@@ -31,6 +31,8 @@ FAMILIES: dict[str, str] = {
     "hoist": "hoist.yaml",
 }
 """docs picture name -> example axis file."""
+MACHINE = "machine/pick_and_place.yaml"
+"""the example machine, pictured as docs/machine-report.png"""
 CHROMIUM = os.environ.get("CHROMIUM", "/usr/bin/chromium")
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
                  "--disable-sync", "--no-first-run"]
@@ -55,6 +57,10 @@ def write_reports(folder: Path, units: str = "si") -> dict[str, Path]:
     for name, example in FAMILIES.items():
         result = size(ROOT / "examples" / example)
         paths[name] = write_report(result, folder / f"report-{name}.html", units=units)
+    from drivetrain import size_machine
+    from drivetrain.report.machine import write_machine_report
+
+    paths["machine"] = write_machine_report(size_machine(ROOT / "examples" / MACHINE), folder / "machine-report.html")
     return paths
 
 
@@ -71,7 +77,7 @@ def screenshot(reports: dict[str, Path], out: Path, width: int, height: int) -> 
                 page.goto(html.resolve().as_uri())
                 page.wait_for_function("document.querySelectorAll('.dt-plot .main-svg').length >= "
                                        "document.querySelectorAll('.dt-plot').length")
-                target = out / f"report-{name}.png"
+                target = out / ("machine-report.png" if name == "machine" else f"report-{name}.png")
                 page.screenshot(path=str(target), full_page=False)
                 written.append(target)
         finally:

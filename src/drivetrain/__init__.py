@@ -13,6 +13,7 @@ __version__ = "0.1.0"
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Axis
+    from drivetrain.machine.result import MachineResult
     from drivetrain.sizing.result import SizingResult
 
 
@@ -48,4 +49,11 @@ def sweep(study: Any, **kwargs: Any) -> Any:
     return _sweep(study, **kwargs)
 
 
-__all__ = ["__version__", "load_axis", "simulate", "size", "sweep"]
+def size_machine(machine: Any, **kwargs: Any) -> MachineResult:
+    """Size a machine (a path to a machine file, its mapping, or a ``Machine``): axes, DC bus, BOM."""
+    from drivetrain.machine.result import size_machine as _size_machine
+
+    return _size_machine(machine, **kwargs)
+
+
+__all__ = ["__version__", "load_axis", "simulate", "size", "size_machine", "sweep"]

@@ -40,6 +40,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--points", type=int, default=64, help="samples per profile phase (default 64)")
     p.add_argument("--all", action="store_true",
                    help="list every passing motor-gearbox pair, not only the best configuration of each motor")
+    p.add_argument("--aas", metavar="FILE", help="write an IDTA 02021 sizing submodel (AAS JSON) to FILE")
     p.set_defaults(handler=_cmd_size)
 
     p = sub.add_parser("select", help="same as size, with a catalog selection even if the axis names a motor")
@@ -61,6 +62,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--cycles", type=int, default=None, help="profile repetitions (default: dynamics.cycles or 1)")
     p.add_argument("--bandwidth", type=float, default=None, help="velocity-loop bandwidth [Hz] (default: tuned)")
     p.set_defaults(handler=_cmd_simulate)
+
+    p = sub.add_parser("machine", help="machine projects: several axes on shared DC buses, one report and BOM")
+    msub = p.add_subparsers(dest="machine_command", metavar="ACTION", required=True)
+    q = msub.add_parser("size", help="size every axis, the DC bus(es), braking resistors and supply; BOM")
+    q.add_argument("machine", help="machine file (YAML, docs/machine.md)")
+    q.add_argument("--json", action="store_true", help="print only the JSON result on standard output")
+    q.add_argument("--report", metavar="FILE", help="write an HTML (.html) or PDF (.pdf) machine report")
+    q.add_argument("--aas", metavar="FILE", help="write an IDTA 02021 sizing submodel (AAS JSON) to FILE")
+    q.add_argument("--samples", type=int, default=500, help="random-phasing samples for free axes (default 500)")
+    q.add_argument("--seed", type=int, default=0, help="seed of the random phasing (default 0)")
+    q.set_defaults(handler=_cmd_machine_size)
 
     _optional_parser(sub, "drivetrain.catalog.cli")
     _optional_parser(sub, "drivetrain.web.cli")
@@ -135,6 +147,10 @@ def _cmd_size(args: argparse.Namespace) -> int:
         from drivetrain.report import write_report
 
         write_report(result, args.report, units=args.units)
+    if args.aas:
+        from drivetrain.machine.aas import axis_aas
+
+        _write_atomic(args.aas, json.dumps(axis_aas(_jsonable(result.to_dict())), indent=2))
     if args.json:
         print(json.dumps(_jsonable(result.to_dict()), indent=2))
         return _exit_code(result)
@@ -153,6 +169,75 @@ def _cmd_size(args: argparse.Namespace) -> int:
 def _exit_code(result: Any) -> int:
     """0 when the given motor or the selection (and the axis's own checks) pass, 1 when not."""
     return EXIT_OK if result.ok else EXIT_FAILS
+
+
+def _cmd_machine_size(args: argparse.Namespace) -> int:
+    from drivetrain.machine.result import size_machine
+
+    result = size_machine(args.machine, phasing_samples=args.samples, seed=args.seed)
+    out = _jsonable(result.to_dict())
+    if args.aas:
+        from drivetrain.machine.aas import machine_aas
+
+        _write_atomic(args.aas, json.dumps(machine_aas(out), indent=2))
+    if args.report:
+        from drivetrain.report.machine import write_machine_report
+
+        write_machine_report(result, args.report)
+    if args.json:
+        print(json.dumps(out, indent=2))
+        return 0
+    _print_machine(out)
+    if args.report:
+        print(f"report written to {Path(args.report).resolve()}")
+    if args.aas:
+        print(f"AAS submodel written to {Path(args.aas).resolve()}")
+    return 0
+
+
+def _print_machine(out: dict[str, Any]) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    console = Console(width=None if sys.stdout.isatty() else 120)
+    m = out["machine"]
+    console.print(f"[bold]{m['name']}[/]: cycle {m['cycle_time_s']:.4g} s, supply {m['supply_voltage_V']:.0f} V "
+                  f"{m['supply_phases']}-phase; " + ("[green]ok[/]" if m["ok"] else "[bold red]FAILS[/]"))
+    t = Table(title="axes")
+    for col in ("axis", "motors", "start", "power basis", "peak power", "regen", "ok"):
+        t.add_column(col)
+    for a in out["axes"]:
+        t.add_row(a["name"], " + ".join(f"{s * 100:.0f} %" for s in a["load_shares"]) if a["motors"] > 1 else "1",
+                  f"{a['offset_s']:.4g} s ({a['phasing']})", a["power_basis"], f"{a['peak_power_W']:.4g} W",
+                  f"{a['regen_energy_J']:.4g} J", "yes" if a["ok"] else "NO")
+    console.print(t)
+    t = Table(title="DC buses")
+    for col in ("bus", "axes", "peak", "RMS", "shared regen", "resistor J/cycle", "resistor peak / avg", "R window",
+                "supply peak / cont."):
+        t.add_column(col)
+    for b in out["buses"]:
+        lo, hi = b.get("resistor_min_ohm"), b.get("resistor_max_ohm")
+        window = f"{f'{lo:.4g}' if lo is not None else '-'} .. {f'{hi:.4g}' if hi is not None else '-'} ohm"
+        t.add_row(b["name"], ", ".join(b["axes"]), f"{b['bus_peak_power_W']:.4g} W", f"{b['bus_rms_power_W']:.4g} W",
+                  f"{b['regen_shared_J']:.4g} J", f"{b['resistor_energy_per_cycle_J']:.4g} J",
+                  f"{b['resistor_peak_power_W']:.4g} / {b['resistor_average_power_W']:.4g} W", window,
+                  f"{b['supply_peak_power_W']:.4g} / {b['supply_continuous_power_W']:.4g} W")
+    console.print(t)
+    ph = out.get("phasing")
+    if ph:
+        r = ph["random"]
+        console.print(f"phasing of {', '.join(ph['free_axes'])}: in phase peak "
+                      f"{ph['in_phase']['bus_peak_power_W']:.4g} W;"
+                      f" random ({ph['samples']} samples, seed {ph['seed']}) peak p50 "
+                      f"{r['bus_peak_power_W']['p50']:.4g} W, p95 {r['bus_peak_power_W']['p95']:.4g} W, max "
+                      f"{r['bus_peak_power_W']['p100']:.4g} W")
+    t = Table(title="bill of materials")
+    for col in ("kind", "order code", "vendor", "qty", "used by"):
+        t.add_column(col)
+    for row in out["bill_of_materials"]:
+        t.add_row(row["kind"], str(row["order_code"] or row.get("note", "-")), str(row["vendor"] or "-"),
+                  str(row["quantity"]), ", ".join(row["used_by"]))
+    console.print(t)
 
 
 def _cmd_modes(args: argparse.Namespace) -> int:

@@ -44,7 +44,7 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from drivetrain import __version__
 from drivetrain.errors import InputError
-from drivetrain.web import routes_catalog, routes_meta, routes_projects, routes_reports, routes_sizing
+from drivetrain.web import routes_catalog, routes_machine, routes_meta, routes_projects, routes_reports, routes_sizing
 from drivetrain.web.common import (
     ApiError,
     Context,
@@ -340,7 +340,7 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
 
     context = Context(store=store, cache=cache, directory=directory, blocking=blocking, light=light,
                       temp_path=temp_path, size_payload=size_payload)
-    for module in (routes_meta, routes_sizing, routes_reports, routes_projects, routes_catalog):
+    for module in (routes_meta, routes_sizing, routes_reports, routes_projects, routes_catalog, routes_machine):
         module.register(app, context)
 
     # ------------------------------------------------------------------ OpenAPI with the axis schema
