@@ -272,3 +272,18 @@ def test_the_documented_machine_file_is_valid(tmp_path: Path) -> None:
     assert b["capacitor_energy_per_event_J"] == 10.0
     assert b["resistor_equivalent_ohm"] == pytest.approx(50.0)
     assert {r["kind"] for r in out["bill_of_materials"]} == {"motor", "braking_resistor"}
+
+
+def test_one_axis_on_its_bus_reproduces_the_axis_regen_block() -> None:
+    """The machine's bus path (periodic grid, trapezoid) and the axis's own regen block (its samples,
+    Simpson weights) are two computations of the same energy flow: they agree to 1e-4."""
+    example = yaml.safe_load(EXAMPLE.read_text(encoding="utf-8"))
+    z = copy.deepcopy(example["axes"][2]["axis"])
+    z["drive"]["absorbable_energy"] = "5 J"
+    out = size_machine({"version": 1, "cycle_time": "0.7 s", "supply": {"voltage": "400 V"}, "axes": [{"axis": z}]},
+                       phasing_samples=1).to_dict()
+    rg, m = out["axes"][0]["result"]["regen"], out["machine"]
+    assert rg["resistor_energy_per_cycle_J"] > 0 and rg["capacitor_absorbed_J"] == m["capacitor_absorbed_J"] == 10.0
+    assert m["regen_into_bus_J"] == pytest.approx(rg["energy_per_cycle_J"], rel=1e-4)
+    for key in ("resistor_energy_per_cycle_J", "resistor_peak_power_W", "resistor_average_power_W"):
+        assert m[key] == pytest.approx(rg[key], rel=1e-4)

@@ -189,11 +189,19 @@ def bom_items(ma: MachineAxis, ap: AxisPower) -> list[dict[str, Any]]:
         if axis.drive is not None:
             rows.append({"kind": "drive", "order_code": axis.drive.name, "vendor": axis.drive.vendor, "quantity": 1,
                          "axis": ma.name})
-        for st in axis.spec.transmission:
+        for k, st in enumerate(axis.spec.transmission):
+            if getattr(st, "type", None) != "gearbox":
+                continue
             cat = getattr(st, "catalog", None)
             if cat:
                 rows.append({"kind": "gearbox", "order_code": str(cat), "vendor": None, "quantity": 1,
                              "axis": ma.name})
+            else:
+                ratio = getattr(st, "ratio", None)
+                rows.append({"kind": "gearbox", "order_code": None, "vendor": None, "quantity": 1, "axis": ma.name,
+                             "note": f"{getattr(st, 'kind', '')} gearbox"
+                                     + (f" i = {ratio:g}" if isinstance(ratio, (int, float)) else "")
+                                     + f" (transmission[{k}], no catalog part)"})
     return rows
 
 

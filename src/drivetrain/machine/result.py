@@ -323,13 +323,13 @@ def _bom(m: Machine, axes: dict[str, AxisPower], buses: list[dict[str, Any]]) ->
                          "quantity": res.quantity, "axis": g.name})
     merged: dict[tuple[str, str | None], dict[str, Any]] = {}
     for r in rows:
-        key = (r["kind"], r["order_code"])
-        if key in merged and r["order_code"] is not None:
+        key = (r["kind"], r["order_code"] if r["order_code"] is not None else f"note:{r.get('note')}")
+        if key in merged:
             merged[key]["quantity"] += r["quantity"]
             if r["axis"] not in merged[key]["used_by"]:
                 merged[key]["used_by"].append(r["axis"])
         else:
-            merged[(r["kind"], r["order_code"] if r["order_code"] is not None else f"#{len(merged)}")] = {
+            merged[key] = {
                 "kind": r["kind"], "order_code": r["order_code"], "vendor": r["vendor"], "quantity": r["quantity"],
                 "used_by": [r["axis"]], **({"note": r["note"]} if "note" in r else {})}
     order = {"motor": 0, "drive": 1, "gearbox": 2, "supply_module": 3, "braking_resistor": 4}
