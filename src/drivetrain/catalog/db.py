@@ -234,6 +234,10 @@ def _merge_electrical(values: dict[str, Any]) -> None:
             values[name] = float(text) * factor
     if row.get("pole_count", "").strip() and values.get("pole_count") is None:
         values["pole_count"] = int(float(row["pole_count"]))
+    # The table prints I_0 at a 60 K and at a 100 K winding rise (Siemens 1FT7, Table 4-8): the stall
+    # current read is the 100 K one, so the rated rise that goes with it is 100 K.
+    if row.get("stall_current_60K_A", "").strip() and values.get("stall_current") is not None:
+        values.setdefault("rated_winding_rise", 100.0)
     if values.get("back_emf") is not None:
         values["back_emf_basis"] = "ll_rms"
     if row.get("resistance_basis"):

@@ -101,6 +101,7 @@ MOTOR_FIELDS: tuple[Field, ...] = (
     _text("resistance_basis"),
     Field("pole_count", INTEGER, "pole_count"),
     Field("thermal_time_constant", "time", "thermal_time_constant_s", "s"),
+    Field("rated_winding_rise", "temperature_difference", "rated_winding_rise_K", "K"),
     _text("electrical_source"),
     _text("rated_torque_basis"),
     _text("derived"),

@@ -294,15 +294,17 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64) -
             block = result.motor.pop(f"_{key}", None)
             if block is not None:
                 result.extras[key] = block
-    elif axis.drive is not None:
-        from drivetrain.errors import InputError
-
-        raise InputError("drive", "a given drive needs a given motor (motor: {id: ...} or its parameters); "
-                         "catalog selection with drives is not available yet", has_value=False)
     elif axis.spec.motor is not None and axis.spec.motor.select is not None:
+        from drivetrain.sizing.drive_select import attach_drives
         from drivetrain.sizing.selection import select
 
         chosen = select(axis, duty, axis.spec.motor.select, axis.spec.motor.margins)
+        attach_drives(axis, duty, chosen, axis.spec.motor.margins)  # the electrical post-pass
         result.candidates = chosen["candidates"]
         result.selection = chosen["selection"]
+    elif axis.drive is not None:
+        from drivetrain.errors import InputError
+
+        raise InputError("drive", "a given drive needs a motor: give motor: {id: ...}, its parameters, "
+                         "or motor: {select: ...}", has_value=False)
     return result

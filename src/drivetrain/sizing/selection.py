@@ -357,8 +357,9 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins) -> d
     def row(k: int, rank: int | None) -> dict[str, Any]:
         return candidate_dict(c, k, motors, gb, rank)
 
-    shown = [row(int(k), r + 1) for r, k in enumerate(passing[: spec.top])]
-    shown += [row(int(k), None) for k in failing[: max(spec.top - len(shown), 3)]]
+    shown_ks = [int(k) for k in passing[: spec.top]]
+    shown_ks += [int(k) for k in failing[: max(spec.top - len(shown_ks), 3)]]
+    shown = [row(k, r + 1 if r < min(len(passing), spec.top) else None) for r, k in enumerate(shown_ks)]
     summary: dict[str, Any] = {
         "objective": spec.objective, "evaluated": len(c.motor), "motors": len(motors),
         "gearbox_rows": 0 if gb is None else len(gb), "passing": len(passing),
@@ -377,6 +378,7 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins) -> d
         summary["advice"] = advice(c, margins, spec)
     summary["_candidates"] = c
     summary["_tables"] = (motors, gb)
+    summary["_shown"] = shown_ks  # for the drive post-pass (drivetrain.sizing.drive_select)
     return {"candidates": shown, "selection": summary}
 
 
