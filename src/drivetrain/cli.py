@@ -318,8 +318,39 @@ def _print_checks(console: Any, title: str, block: dict[str, Any]) -> None:
 
 def _print_electrical(console: Any, result: Any) -> None:
     """The electrical half of a given motor: supply, envelope source, currents, winding, drive, regen."""
-    m = result.motor
-    if "rms_current_A" not in m:
+    _print_electrical_blocks(console, result.motor, result.extras.get("drive"), result.extras.get("regen"))
+
+
+def _drive_label(drive: dict[str, Any] | None) -> str:
+    """A candidate's drive in one cell: its id and status (unknown / none / fails)."""
+    if not drive:
+        return "-"
+    status = drive.get("status", "ok" if drive.get("ok") else "fails")
+    return f"{drive.get('id') or '-'}" + ("" if status == "ok" else f" ({status})")
+
+
+def _print_selected_electrical(console: Any, pick: dict[str, Any]) -> None:
+    """The selected candidate's drive, electrical figures and regen block (drivetrain.sizing.drive_select)."""
+    drive = pick.get("drive")
+    if drive and drive.get("status") in ("unknown", "none"):
+        console.print(f"drive: {drive.get('id') or 'none'} ({drive['status']}: {drive.get('reason', '')})")
+        drive = None
+    elec = pick.get("electrical") or {}
+    if elec.get("note"):
+        console.print(f"electrical: {elec['note']}")
+    _print_electrical_blocks(console, {**elec, "checks": elec.get("checks", [])}, drive, pick.get("regen"))
+    if elec.get("checks"):
+        _print_checks(console, f"motor {pick['motor']} electrical",
+                      {"ok": all(c["ok"] for c in elec["checks"]), "checks": elec["checks"]})
+
+
+def _print_electrical_blocks(console: Any, m: dict[str, Any], drive: dict[str, Any] | None,
+                             rg: dict[str, Any] | None) -> None:
+    if m.get("rms_current_A") is None:
+        if rg is not None:
+            _print_regen(console, rg)
+        if drive is not None:
+            _print_checks(console, f"drive {drive['id']}", drive)
         return
     bus = m.get("dc_bus_voltage_V")
     supply = m.get("supply_voltage_V")
@@ -332,10 +363,13 @@ def _print_electrical(console: Any, result: Any) -> None:
     if rise is not None:
         console.print(f"winding temperature rise {rise:.4g} K (allowed {m['winding_allowed_rise_K']:.4g} K at "
                       f"{m['ambient_degC']:g} degC, {m['altitude_m']:g} m)")
-    drive = result.extras.get("drive")
     if drive is not None:
         _print_checks(console, f"drive {drive['id']}", drive)
-    rg = result.extras.get("regen")
+    if rg is not None:
+        _print_regen(console, rg)
+
+
+def _print_regen(console: Any, rg: dict[str, Any]) -> None:
     if rg is not None:
         window = (f", resistance {rg['resistor_min_ohm'] or 0:.4g} to {rg['resistor_max_ohm']:.4g} ohm"
                   if rg.get("resistor_max_ohm") is not None else "")
@@ -353,7 +387,7 @@ def _print_candidates(console: Any, result: Any) -> None:
     sel = result.selection or {}
     t = Table(title=f"candidates: {sel.get('passing', '?')} of {sel.get('evaluated', '?')} pass "
                     f"(ranked by {sel.get('objective', '?')}; rejected ones below with the reason)")
-    for col in ("rank", "motor", "gearbox", "ratio", "J_L/J_M", "peak margin", "RMS margin", "ok / why not"):
+    for col in ("rank", "motor", "gearbox", "ratio", "J_L/J_M", "peak margin", "RMS margin", "ok / why not", "drive"):
         t.add_column(col, no_wrap=col in ("motor", "gearbox"))
     for c in result.candidates:
         checks = {ch["name"]: ch for ch in c["checks"]}
@@ -363,12 +397,13 @@ def _print_candidates(console: Any, result: Any) -> None:
             why = f"{worst['name']} {worst['margin'] * 100:+.0f} %"
         t.add_row(str(c["rank"]) if c.get("rank") else "-", c["motor"], c.get("gearbox") or "direct",
                   f"{c['ratio']:.4g}", f"{c['inertia_ratio']:.3g}", f"{checks['peak_torque']['margin'] * 100:+.0f} %",
-                  f"{checks['rms_torque']['margin'] * 100:+.0f} %", why)
+                  f"{checks['rms_torque']['margin'] * 100:+.0f} %", why, _drive_label(c.get("drive")))
     console.print(t)
     if sel.get("selected"):
         pick = sel["selected"]
         console.print(f"selected: {pick['motor']} ({pick['vendor']})"
                       + (f" + {pick['gearbox']}" if pick.get("gearbox") else ", direct drive"))
+        _print_selected_electrical(console, pick)
         nxt = sel.get("next_smaller")
         if nxt:
             console.print(f"next smaller motor {nxt['motor']} fails: {nxt['failed']}")
