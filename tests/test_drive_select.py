@@ -214,3 +214,26 @@ def test_drive_pick_is_monotone_in_load(user_catalog: None) -> None:
             sizes.append(d["continuous_current_A"])
     assert sizes and all(b >= a for a, b in zip(sizes, sizes[1:], strict=False))
     assert not math.isnan(float(np.sum(sizes)))
+
+
+def test_report_shows_the_drive_regen_plot_and_supply_curve(user_catalog: None, tmp_path: Path) -> None:
+    from drivetrain.report import write_report
+    from drivetrain.report.model import build_report
+
+    r = size(axis(motor={"select": {"vendor": "testco", "gearbox": "none"}}))
+    m = build_report(r)
+    assert m.regen is not None and m.electrical is not None
+    names = [t.name for p in m.regen.panels for t in p.traces]
+    assert "to the braking resistor (cumulative)" in names
+    # the plot's resistor energy ends at the regen block's figure (same model, same cycle)
+    res = next(t for p in m.regen.panels for t in p.traces if t.name.startswith("to the braking resistor"))
+    assert float(res.y[-1]) == pytest.approx(r.selection["selected"]["regen"]["resistor_energy_per_cycle_J"],
+                                             rel=1e-6, abs=1e-9)
+    assert any("DC bus" in t.name for p in m.speed_torque.panels for t in p.traces)
+    labels = [row[0].text for row in m.electrical.rows]
+    assert "Drive" in labels and "Braking resistor: energy per cycle" in labels
+    write_report(r, tmp_path / "r.html")
+    write_report(r, tmp_path / "r.pdf")
+    html = (tmp_path / "r.html").read_text(encoding="utf-8")
+    assert "Drive and regeneration" in html and "TD-M" in html
+    assert (tmp_path / "r.pdf").stat().st_size > 10_000

@@ -89,6 +89,13 @@ def render_body(model: ReportModel, plot: Callable[[PlotSpec], str]) -> str:
     if model.motor_data is not None:
         motor += _table(model.motor_data)
     sections.append(("motor", "Speed-torque plane", motor))
+    electrical = ""
+    if model.regen is not None:
+        electrical += _figure(model.regen, plot(model.regen))
+    if model.electrical is not None:
+        electrical += _table(model.electrical)
+    if electrical:
+        sections.append(("electrical", "Drive and regeneration", electrical))
     selection = ""
     if model.candidates is not None:
         selection += _table(model.candidates)

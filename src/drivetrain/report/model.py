@@ -127,6 +127,9 @@ class ReportModel:
     notes: list[str]
     footer: str
     units: DisplayUnits
+    electrical: Table | None = None
+    """drive, motor current, winding temperature and regen (drivetrain.report.electrical)"""
+    regen: PlotSpec | None = None
 
 
 def report_date() -> str:
@@ -720,6 +723,8 @@ def build_report(result: SizingResult, units: str = "si") -> ReportModel:
     """The report's content for ``result`` in the chosen units (si, imperial, as-given)."""
     from drivetrain import __version__
 
+    from drivetrain.report.electrical import electrical_table, regen_plot
+
     du = display_units(units, result.axis.raw)
     focus = focus_of(result)
     plots = {p.key: p for p in all_plots(result, du, focus)}
@@ -762,4 +767,6 @@ def build_report(result: SizingResult, units: str = "si") -> ReportModel:
         notes=notes,
         footer=f"drivetrain {__version__} · {date}",
         units=du,
+        electrical=electrical_table(result, du),
+        regen=regen_plot(result, du, focus),
     )

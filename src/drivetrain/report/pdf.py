@@ -378,6 +378,14 @@ def write_pdf(model: ReportModel, path: Path) -> None:
         sections: list[tuple[str, Callable[[], None]]] = [
             ("The axis", axis), ("Motion profile", motion), ("Motor shaft: speed and torque", shaft),
             ("Speed-torque plane", plane)]
+        def electrical() -> None:
+            if model.regen is not None:
+                doc.plot(model.regen, 4.2)
+            if model.electrical is not None:
+                doc.table(model.electrical)
+
+        if model.regen is not None or model.electrical is not None:
+            sections.append(("Drive and regeneration", electrical))
         if model.candidates is not None or model.ratios is not None:
             sections.append(("Selection and ratio", selection))
         sections.append(("Inputs", lambda: doc.table(model.inputs)))
