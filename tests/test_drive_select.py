@@ -237,3 +237,46 @@ def test_report_shows_the_drive_regen_plot_and_supply_curve(user_catalog: None, 
     html = (tmp_path / "r.html").read_text(encoding="utf-8")
     assert "Drive and regeneration" in html and "TD-M" in html
     assert (tmp_path / "r.pdf").stat().st_size > 10_000
+
+
+def test_web_payload_carries_drive_electrical_and_regen(user_catalog: None) -> None:
+    from drivetrain.web.payload import encode, size_payload
+
+    p = size_payload(axis(motor={"select": {"vendor": "testco", "gearbox": "none"}}))
+    e = p["electrical"]
+    assert e["drive"]["id"] == "TD-M" and e["electrical"]["winding_temperature_rise_K"] is not None
+    assert "events" not in e["regen"] and "curve" not in e["electrical"]
+    assert p["result"]["candidates"][0]["drive"]["id"] == "TD-M"
+    assert json.loads(encode(p))["electrical"]["regen"]["resistor_energy_per_cycle_J"] >= 0
+    given = size_payload(axis(motor={"id": PAIRED_MOTOR}, drive={"id": PAIRED_DRIVE}))
+    assert given["electrical"]["drive"]["id"] == PAIRED_DRIVE
+
+
+def test_results_panel_renders_the_electrical_block() -> None:
+    """results.js: the drive, winding and regen rows appear (node, when available)."""
+    import shutil
+    import subprocess
+
+    node = shutil.which("node")
+    if node is None:
+        pytest.skip("node is not installed")
+    js = Path(__file__).resolve().parents[1] / "src/drivetrain/web/static/results.js"
+    script = f"""
+      globalThis.Node = class {{}};
+      globalThis.document = {{ createElement: (t) => ({{ tag: t, children: [], attrs: {{}},
+        setAttribute(k, v) {{ this.attrs[k] = v; }}, append(...c) {{ this.children.push(...c); }},
+        appendChild(c) {{ this.children.push(c); return c; }}, set textContent(v) {{ this.text = v; }},
+        get textContent() {{ return this.text ?? this.children.map((c) => typeof c === "string" ? c : c.textContent).join(""); }},
+        replaceChildren(...c) {{ this.children = c; }}, addEventListener() {{}}, classList: {{ add() {{}} }} }}),
+        createTextNode: (t) => t }};
+      const R = await import({json.dumps(js.as_uri())});
+      const parts = R.electricalParts({{ drive: {{ id: "TD-M", status: "ok", basis: "vendor", checks: [] }},
+        electrical: {{ envelope_source: "electrical", rms_current_A: 1, peak_current_A: 2, checks: [],
+                       winding_temperature_rise_K: 12 }},
+        regen: {{ energy_per_cycle_J: 5, capacitor_absorbed_J: 1, resistor_energy_per_cycle_J: 4,
+                 resistor_peak_power_W: 100, resistor_average_power_W: 2, builtin_resistor_sufficient: true }} }});
+      console.log(JSON.stringify(parts.length), parts[0].textContent);
+    """
+    out = subprocess.run([node, "--input-type=module", "-e", script], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.startswith("1") and "TD-M" in out.stdout and "braking resistor" in out.stdout
