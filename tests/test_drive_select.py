@@ -280,3 +280,10 @@ def test_results_panel_renders_the_electrical_block() -> None:
     out = subprocess.run([node, "--input-type=module", "-e", script], capture_output=True, text=True, timeout=60)
     assert out.returncode == 0, out.stderr
     assert out.stdout.startswith("1") and "TD-M" in out.stdout and "braking resistor" in out.stdout
+
+
+def test_a_vendor_without_drives_answers_none() -> None:
+    r = size(axis(motor={"select": {"vendor": "panasonic", "gearbox": "none"}}))
+    for cand in r.candidates:
+        d = cand["drive"]
+        assert d["status"] in ("none", "unknown") and d["ok"] is None and d["candidates"] == []

@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from drivetrain.axis.electrical import DriveData, MotorElectrical, drive_from_catalog_row, electrical_from_catalog_row
+from drivetrain.errors import InputError
 from drivetrain.physics import drive_overload, motor_electrical
 from drivetrain.sizing.electrical import _drive_block, _regen_block, dc_bus, electrical_answer
 
@@ -68,7 +69,10 @@ def _pool(motor_id: str, vendor: str, voltage: float) -> tuple[list[DriveData], 
     if pairs:
         table = catalog.drives(ids=pairs)
         return [drive_from_catalog_row(table.row(i)) for i in range(len(table))], "vendor pairing table"
-    table = catalog.drives(vendor=vendor) if vendor else catalog.drives()
+    try:
+        table = catalog.drives(vendor=vendor) if vendor else catalog.drives()
+    except InputError:  # the catalog has no drive of this vendor
+        return [], "vendor and supply voltage"
     out = []
     for i in range(len(table)):
         v = float(table.voltage[i])
