@@ -4,6 +4,7 @@ by id, and the selected candidate's electrical and regen blocks in the table, JS
 from __future__ import annotations
 
 import copy
+import itertools
 import json
 import math
 import textwrap
@@ -212,7 +213,7 @@ def test_drive_pick_is_monotone_in_load(user_catalog: None) -> None:
         d = size(a).selection.get("selected", {}).get("drive")
         if d and d["status"] == "ok":
             sizes.append(d["continuous_current_A"])
-    assert sizes and all(b >= a for a, b in zip(sizes, sizes[1:], strict=False))
+    assert sizes and all(b >= a for a, b in itertools.pairwise(sizes))
     assert not math.isnan(float(np.sum(sizes)))
 
 
@@ -266,7 +267,8 @@ def test_results_panel_renders_the_electrical_block() -> None:
       globalThis.document = {{ createElement: (t) => ({{ tag: t, children: [], attrs: {{}},
         setAttribute(k, v) {{ this.attrs[k] = v; }}, append(...c) {{ this.children.push(...c); }},
         appendChild(c) {{ this.children.push(c); return c; }}, set textContent(v) {{ this.text = v; }},
-        get textContent() {{ return this.text ?? this.children.map((c) => typeof c === "string" ? c : c.textContent).join(""); }},
+        get textContent() {{
+          return this.text ?? this.children.map((c) => typeof c === "string" ? c : c.textContent).join(""); }},
         replaceChildren(...c) {{ this.children = c; }}, addEventListener() {{}}, classList: {{ add() {{}} }} }}),
         createTextNode: (t) => t }};
       const R = await import({json.dumps(js.as_uri())});

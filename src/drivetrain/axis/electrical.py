@@ -278,7 +278,7 @@ def electrical_from_catalog_row(row: dict[str, Any]) -> MotorElectrical:
     source = row.get("electrical_source") or row.get("source") or "catalog"
     return MotorElectrical(
         kt=num("torque_constant_Nm_per_A"),
-        ke=None if ke is None else float(ke_si(ke, basis, per_krpm=False)),  # type: ignore[arg-type]
+        ke=None if ke is None else float(ke_si(ke, basis, per_krpm=False)),
         resistance=None if r is None else float(phase_value(r, r_basis)),
         inductance=None if ind is None else float(phase_value(ind, r_basis)),
         pole_pairs=None if poles is None else int(poles) // 2,

@@ -722,7 +722,6 @@ def _subtitle(result: SizingResult, focus: Focus | None) -> str:
 def build_report(result: SizingResult, units: str = "si") -> ReportModel:
     """The report's content for ``result`` in the chosen units (si, imperial, as-given)."""
     from drivetrain import __version__
-
     from drivetrain.report.electrical import electrical_table, regen_plot
 
     du = display_units(units, result.axis.raw)

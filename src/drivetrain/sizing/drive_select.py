@@ -37,7 +37,7 @@ from drivetrain.sizing.electrical import _drive_block, _regen_block, dc_bus, ele
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Axis, Margins, MotorData
-    from drivetrain.catalog.tables import DriveTable, MotorTable
+    from drivetrain.catalog.tables import MotorTable
     from drivetrain.duty.cycle import DutyCycle
 
 
