@@ -248,6 +248,7 @@ def drive_data(spec: DriveSpec) -> DriveData:
             raise InputError(f"drive.{key}", f"the catalog drive {spec.id} has no {key.replace('_', ' ')} "
                              "(data/SOURCES.md): give it in the axis file", has_value=False)
     merged.setdefault("name", "drive")
+    merged.setdefault("vendor", None)
     return DriveData(**merged)
 
 
