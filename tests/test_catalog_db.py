@@ -178,9 +178,14 @@ def test_fanuc_rated_torques_are_flagged_derived() -> None:
     assert np.all(m.stall_torque >= m.rated_torque)
 
 
-def test_drives_table_is_empty_but_queryable() -> None:
+def test_shipped_drives_are_queryable_with_unknown_currents_as_nan() -> None:
     d = catalog.drives()
-    assert len(d) == 0 and d.continuous_current.shape == (0,)
+    assert len(d) == 19 and d.continuous_current.shape == (19,)
+    yaskawa = catalog.drives(vendor="yaskawa", voltage="200 V")
+    assert len(yaskawa) == 4 and np.isnan(yaskawa.continuous_current).all()
+    # Yaskawa Sigma-7S manual 12.8.6 p. 12-37: SGD7S-2R8A absorbs 31.7 J
+    assert yaskawa.absorbable_energy[list(yaskawa.ids).index("SGD7S-2R8A")] == pytest.approx(31.7)
+    assert catalog.drive_pairs()["1FT7044-5AK7"] == ["6SL312x-xTE21-0AAx"]
 
 
 # ---------------------------------------------------------------------------------- get
@@ -221,7 +226,8 @@ def test_cli_list_json_and_table(capsys: pytest.CaptureFixture[str]) -> None:
     assert "GPB042-L1-i3" in out and "1079 more" in out
     assert "T2B N·m" in out and "n1max rpm" in out and "bore mm" in out
     assert cli.main(["catalog", "list", "--kind", "drive"]) == 0
-    assert "no drives" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "drives (19 of 19)" in out and "SGD7S-R70A" in out
 
 
 def test_cli_show_prints_provenance(capsys: pytest.CaptureFixture[str]) -> None:

@@ -126,7 +126,7 @@ def test_import_drives_gearboxes_and_curve_points(tmp_path: Path) -> None:
         id,vendor,continuous_current [A],peak_current [A],voltage [V],dc_bus_capacitance [uF],source
         DRV-1,Acme,4.5,13.5,400,470,Acme drive manual
         """))
-    d = catalog.drives()
+    d = catalog.drives(ids=["DRV-1"])
     assert len(d) == 1 and d.dc_bus_capacitance[0] == pytest.approx(470e-6)
     catalog.import_file(write(tmp_path, "g.csv", """\
         id,vendor,ratio,efficiency [%],rated_output_torque [N*m],backlash [arcmin],inertia_input [kg*cm^2]

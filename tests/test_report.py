@@ -140,7 +140,7 @@ def test_html_report_in_chromium_shows_numbers_checks_and_plots(ball: Any, brows
             lines: Array.from(d.querySelectorAll('.main-svg .trace path.js-line'))
                         .filter(p => (p.getAttribute('d') || '').length > 20).length,
             bands: d.querySelectorAll('.shapelayer path').length}))""")
-        assert {p["key"] for p in plots} == {"motion", "motor", "speed_torque"}
+        assert {p["key"] for p in plots} == {"motion", "motor", "speed_torque", "regen"}
         for p in plots:
             assert p["svg"] >= 1 and p["lines"] >= 2, p
         assert all(p["bands"] >= len(ball.duty.cycle.phases) for p in plots if p["key"] in ("motion", "motor"))

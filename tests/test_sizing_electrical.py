@@ -188,7 +188,14 @@ def test_bad_electrical_input_names_the_field(changes: dict[str, Any], field: st
     assert f"error: {field}" in capsys.readouterr().err
 
 
-def test_a_drive_without_a_given_motor_is_refused() -> None:
-    data = axis(motor={"select": {"vendor": "siemens"}})
+def test_a_drive_without_a_motor_is_refused() -> None:
+    data = axis()
+    del data["motor"]
     with pytest.raises(InputError, match="drive"):
         size(data)
+
+
+def test_a_drive_with_a_selection_is_checked_for_every_candidate() -> None:
+    data = axis(motor={"select": {"vendor": "siemens", "flange": "96 mm", "gearbox": "none"}})
+    r = size(data)
+    assert r.candidates and all(c["drive"]["basis"] == "given in the axis file" for c in r.candidates)

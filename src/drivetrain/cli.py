@@ -470,8 +470,39 @@ def _print_checks(console: Any, title: str, block: dict[str, Any]) -> None:
 
 def _print_electrical(console: Any, result: Any) -> None:
     """The electrical half of a given motor: supply, envelope source, currents, winding, drive, regen."""
-    m = result.motor
-    if "rms_current_A" not in m:
+    _print_electrical_blocks(console, result.motor, result.extras.get("drive"), result.extras.get("regen"))
+
+
+def _drive_label(drive: dict[str, Any] | None) -> str:
+    """A candidate's drive in one cell: its id and status (unknown / none / fails)."""
+    if not drive:
+        return "-"
+    status = drive.get("status", "ok" if drive.get("ok") else "fails")
+    return f"{drive.get('id') or '-'}" + ("" if status == "ok" else f" ({status})")
+
+
+def _print_selected_electrical(console: Any, pick: dict[str, Any]) -> None:
+    """The selected candidate's drive, electrical figures and regen block (drivetrain.sizing.drive_select)."""
+    drive = pick.get("drive")
+    if drive and drive.get("status") in ("unknown", "none"):
+        console.print(f"drive: {drive.get('id') or 'none'} ({drive['status']}: {drive.get('reason', '')})")
+        drive = None
+    elec = pick.get("electrical") or {}
+    if elec.get("note"):
+        console.print(f"electrical: {elec['note']}")
+    _print_electrical_blocks(console, {**elec, "checks": elec.get("checks", [])}, drive, pick.get("regen"))
+    if elec.get("checks"):
+        _print_checks(console, f"motor {pick['motor']} electrical",
+                      {"ok": all(c["ok"] for c in elec["checks"]), "checks": elec["checks"]})
+
+
+def _print_electrical_blocks(console: Any, m: dict[str, Any], drive: dict[str, Any] | None,
+                             rg: dict[str, Any] | None) -> None:
+    if m.get("rms_current_A") is None:
+        if rg is not None:
+            _print_regen(console, rg)
+        if drive is not None:
+            _print_checks(console, f"drive {drive['id']}", drive)
         return
     bus = m.get("dc_bus_voltage_V")
     supply = m.get("supply_voltage_V")
@@ -484,10 +515,13 @@ def _print_electrical(console: Any, result: Any) -> None:
     if rise is not None:
         console.print(f"winding temperature rise {rise:.4g} K (allowed {m['winding_allowed_rise_K']:.4g} K at "
                       f"{m['ambient_degC']:g} degC, {m['altitude_m']:g} m)")
-    drive = result.extras.get("drive")
     if drive is not None:
         _print_checks(console, f"drive {drive['id']}", drive)
-    rg = result.extras.get("regen")
+    if rg is not None:
+        _print_regen(console, rg)
+
+
+def _print_regen(console: Any, rg: dict[str, Any]) -> None:
     if rg is not None:
         window = (f", resistance {rg['resistor_min_ohm'] or 0:.4g} to {rg['resistor_max_ohm']:.4g} ohm"
                   if rg.get("resistor_max_ohm") is not None else "")
@@ -517,7 +551,7 @@ def _print_candidates(console: Any, result: Any) -> None:
                     f"{sel.get('passing_motors', '?')} motors (ranked by {sel.get('objective', '?')}; {per}; "
                     "rejected ones below with the reason)")
     for col in ("rank", "motor", "vendor", "power", "flange", "gearbox", "J_L/J_M", "peak margin", "RMS margin",
-                "result / why not"):
+                "result / why not", "drive"):
         t.add_column(col, no_wrap=col in ("motor", "gearbox"))
     for c in result.candidates:
         checks = {ch["name"]: ch for ch in c["checks"]}
@@ -533,7 +567,7 @@ def _print_candidates(console: Any, result: Any) -> None:
                   "" if power is None or math.isnan(power) else f"{power:.0f} W",
                   "" if flange is None else f"{flange:.0f} mm", _mounting(c, sel),
                   f"{c['inertia_ratio']:.3g}", _pct(checks["peak_torque"]["margin"]),
-                  _pct(checks["rms_torque"]["margin"]), why)
+                  _pct(checks["rms_torque"]["margin"]), why, _drive_label(c.get("drive")))
     console.print(t)
     if sel.get("selected"):
         pick = sel["selected"]
@@ -541,6 +575,7 @@ def _print_candidates(console: Any, result: Any) -> None:
                if pick.get("gearbox") else (f", on the axis's {sel['transmission_gearbox']}"
                                             if sel.get("transmission_gearbox") else ", direct drive"))
         console.print(f"selected: {pick['motor']} ({pick['vendor']}){how}")
+        _print_selected_electrical(console, pick)
         if pick.get("unknown"):
             console.print("  not judged (the catalog lacks the data): "
                           + "; ".join(f"{ch['name']}: {ch.get('note', '')}" for ch in pick["checks"]

@@ -20,7 +20,7 @@ from __future__ import annotations
 import csv
 import io
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import asdict, dataclass, field, replace
 from functools import lru_cache
 from importlib import resources
 from typing import Annotated, Any, Literal
@@ -95,8 +95,8 @@ class DriveSpec(Spec):
 
     id: str | None = None
     vendor: str | None = None
-    continuous_current: Current
-    peak_current: Current
+    continuous_current: Current | None = None
+    peak_current: Current | None = None
     peak_time: TimePos | None = None
     supply_voltage: VoltagePos | None = None
     dc_bus_voltage: VoltagePos | None = None
@@ -109,7 +109,10 @@ class DriveSpec(Spec):
 
     @model_validator(mode="after")
     def _drive(self) -> DriveSpec:
-        if self.peak_current < self.continuous_current:
+        if self.id is None and (self.continuous_current is None or self.peak_current is None):
+            raise ValueError("a drive needs its catalog id, or continuous_current and peak_current")
+        if (self.peak_current is not None and self.continuous_current is not None
+                and self.peak_current < self.continuous_current):
             raise ValueError("peak_current must be >= continuous_current")
         return self
 
@@ -213,16 +216,100 @@ def motor_electrical(spec: MotorElectricalSpec, catalog_id: str | None = None) -
 
 
 def drive_data(spec: DriveSpec) -> DriveData:
-    """The SI drive of ``drive:``."""
+    """The SI drive of ``drive:``: the catalog's row for ``id`` (if any), overridden by the keys given."""
+    base: dict[str, Any] = {}
+    if spec.id is not None and (spec.continuous_current is None or spec.peak_current is None
+                                or spec.vendor is None):
+        from drivetrain import catalog
+
+        try:
+            row: dict[str, Any] | None = catalog.get(spec.id)
+        except InputError:
+            row = None
+        if row is None or row.get("table") != "drive":
+            if spec.continuous_current is None or spec.peak_current is None:
+                raise InputError("drive.id", "is not a catalog drive (drivetrain catalog list --kind drive); "
+                                 "give continuous_current and peak_current", spec.id)
+        else:
+            base = asdict(drive_from_catalog_row(row))
     b = spec.builtin_resistor
+    given: dict[str, Any] = {
+        "name": spec.id, "vendor": spec.vendor, "continuous_current": spec.continuous_current,
+        "peak_current": spec.peak_current, "peak_time": spec.peak_time, "supply_voltage": spec.supply_voltage,
+        "dc_bus_voltage": spec.dc_bus_voltage, "bus_capacitance": spec.bus_capacitance,
+        "bus_max_voltage": spec.bus_max_voltage, "regen_on_voltage": spec.regen_on_voltage,
+        "absorbable_energy": spec.absorbable_energy, "min_resistance": spec.min_resistance,
+        "builtin_resistance": None if b is None else b.resistance,
+        "builtin_average_power": None if b is None else b.average_power,
+    }
+    merged = {**base, **{k: v for k, v in given.items() if v is not None}}
+    for key in ("continuous_current", "peak_current"):
+        if _nan_none(merged.get(key)) is None:
+            raise InputError(f"drive.{key}", f"the catalog drive {spec.id} has no {key.replace('_', ' ')} "
+                             "(data/SOURCES.md): give it in the axis file", has_value=False)
+    merged.setdefault("name", "drive")
+    merged.setdefault("vendor", None)
+    return DriveData(**merged)
+
+
+def _nan_none(value: Any) -> float | None:
+    if value is None:
+        return None
+    x = float(value)
+    return None if math.isnan(x) else x
+
+
+def electrical_from_catalog_row(row: dict[str, Any]) -> MotorElectrical:
+    """A catalog motor's electrical columns (``catalog.get``: SI, unit in the key) as MotorElectrical.
+
+    Bases: k_E as ``back_emf_basis`` says (line-to-line rms when empty), R and L per phase unless
+    ``resistance_basis`` says line-to-line; pole count / 2 = pole pairs.
+    """
+    from drivetrain.physics.motor_electrical import ke_si, phase_value
+
+    def num(key: str) -> float | None:
+        return _nan_none(row.get(key))
+
+    ke = num("back_emf_Vs_per_rad")
+    basis = str(row.get("back_emf_basis") or "ll_rms")
+    text = str(row.get("resistance_basis") or "").lower().replace("not phase-to-phase", "")
+    r_basis = "line_to_line" if ("line" in text or "phase-to-phase" in text) else "phase"
+    r, ind = num("winding_resistance_ohm"), num("winding_inductance_H")
+    poles = num("pole_count")
+    source = row.get("electrical_source") or row.get("source") or "catalog"
+    return MotorElectrical(
+        kt=num("torque_constant_Nm_per_A"),
+        ke=None if ke is None else float(ke_si(ke, basis, per_krpm=False)),
+        resistance=None if r is None else float(phase_value(r, r_basis)),
+        inductance=None if ind is None else float(phase_value(ind, r_basis)),
+        pole_pairs=None if poles is None else int(poles) // 2,
+        rated_current=num("rated_current_A"), stall_current=num("stall_current_A"),
+        peak_current=num("peak_current_A"), thermal_time_constant=num("thermal_time_constant_s"),
+        rated_rise=num("rated_winding_rise_K"),
+        sources=(f"catalog {row.get('id')}: {source}",),
+    )
+
+
+def drive_from_catalog_row(row: dict[str, Any]) -> DriveData:
+    """A catalog drive (``catalog.get`` or ``DriveTable.row``: SI, unit in the key) as DriveData.
+
+    Unknown currents stay NaN here (the selection answers their checks as unknown); ``drive_data``
+    refuses them for a given drive.
+    """
+    def num(key: str) -> float | None:
+        return _nan_none(row.get(key))
+
+    cont, peak = num("continuous_current_A"), num("peak_current_A")
+    builtin = row.get("builtin_braking_resistor")
     return DriveData(
-        name=spec.id or "drive", vendor=spec.vendor, continuous_current=spec.continuous_current,
-        peak_current=spec.peak_current, peak_time=spec.peak_time, supply_voltage=spec.supply_voltage,
-        dc_bus_voltage=spec.dc_bus_voltage, bus_capacitance=spec.bus_capacitance,
-        bus_max_voltage=spec.bus_max_voltage, regen_on_voltage=spec.regen_on_voltage,
-        absorbable_energy=spec.absorbable_energy, min_resistance=spec.min_resistance,
-        builtin_resistance=None if b is None else b.resistance,
-        builtin_average_power=None if b is None else b.average_power,
+        name=str(row.get("id")), vendor=row.get("vendor"),
+        continuous_current=math.nan if cont is None else cont, peak_current=math.nan if peak is None else peak,
+        peak_time=num("peak_time_s"), supply_voltage=num("voltage_V"), dc_bus_voltage=num("dc_bus_voltage_V"),
+        bus_capacitance=num("dc_bus_capacitance_F"), bus_max_voltage=num("bus_max_voltage_V"),
+        regen_on_voltage=num("regen_on_voltage_V"), absorbable_energy=num("absorbable_energy_J"),
+        min_resistance=num("min_resistance_ohm"),
+        builtin_resistance=None if builtin == 0 else num("braking_resistor_ohm"),
+        builtin_average_power=None if builtin == 0 else num("braking_resistor_average_power_W"),
     )
 
 
@@ -267,14 +354,19 @@ def shipped_electrical(motor_id: str) -> MotorElectrical:
     resistance = num("winding_resistance_ohm")
     if resistance is not None and "per phase" not in basis_r:
         raise InputError("motor.id", f"the shipped resistance basis is not per phase ({basis_r})", motor_id)
+    stall = num("stall_current_A")
+    # The table prints I_0 at a 60 K and at a 100 K winding rise (Siemens 1FT7, Table 4-8); the
+    # stall current read is the 100 K one, so the rated rise that goes with it is 100 K.
+    rated_rise = 100.0 if stall is not None and num("stall_current_60K_A") is not None else None
     return MotorElectrical(
+        rated_rise=rated_rise,
         kt=num("torque_constant_Nm_per_A"),
         ke=None if ke is None else float(ke_si(ke, "ll_rms")),
         resistance=resistance,
         inductance=num("winding_inductance_H"),
         pole_pairs=None if poles is None else int(poles) // 2,
         rated_current=num("rated_current_A"),
-        stall_current=num("stall_current_A"),
+        stall_current=stall,
         peak_current=num("peak_current_A"),
         thermal_time_constant=num("thermal_time_constant_s"),
         sources=(f"{ELECTRICAL_FILE}: {row.get('source', '')}",),

@@ -169,7 +169,7 @@ def gearboxes(
 
 
 def drives(vendor: Names = None, voltage: float | str | None = None, ids: Iterable[str] | None = None) -> DriveTable:
-    """Servo drives as arrays (SI). The shipped catalog has none (data/SOURCES.md); imports add them."""
+    """Servo drives as arrays (SI): the shipped rows (data/drives_servo.csv, SOURCES.md "Drives") and imports."""
     with db.reader() as rd:
         rows = _filter(DRIVE, rd.rows(DRIVE), vendor, None, ids)
     if voltage is not None:
@@ -178,6 +178,13 @@ def drives(vendor: Names = None, voltage: float | str | None = None, ids: Iterab
     from drivetrain.catalog.tables import DriveTable
 
     return DriveTable.from_rows(rows)
+
+
+@_cached("drive_pairs")
+def drive_pairs() -> dict[str, list[str]]:
+    """The vendors' motor-drive pairing tables: motor id -> the drive ids printed for it (data/SOURCES.md)."""
+    with db.reader() as rd:
+        return rd.drive_pairs()
 
 
 def get(id: str) -> dict[str, Any]:

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import math
 import os
 import re
 import sys
@@ -29,7 +30,10 @@ from typing import TYPE_CHECKING, Any
 from drivetrain.catalog.schema import (
     CURVE,
     DATA_VERSION,
+    ELECTRICAL_FILE,
     GEARBOX,
+    MOTOR,
+    PAIRING_FILE,
     REJECTS_FILE,
     ROW_TABLES,
     SCHEMA_VERSION,
@@ -84,7 +88,7 @@ def shipped_text(filename: str) -> str:
 def build_stamp() -> str:
     """Identifies the shipped data: DATA_VERSION, schema version and a hash of the files."""
     digest = hashlib.sha256()
-    for name in [f.filename for f in SHIPPED_FILES] + [REJECTS_FILE]:
+    for name in [f.filename for f in SHIPPED_FILES] + [REJECTS_FILE, ELECTRICAL_FILE, PAIRING_FILE]:
         digest.update(name.encode())
         digest.update(shipped_text(name).encode())
     return f"{DATA_VERSION}/schema-{SCHEMA_VERSION}/{digest.hexdigest()[:16]}"
@@ -148,6 +152,7 @@ def _build(path: Path, stamp: str) -> None:
             for shipped, rows in shipped_rows():
                 insert_rows(conn, "main", shipped.table, rows)
             conn.executemany("INSERT INTO rejects VALUES (?, ?, ?, ?, ?, ?)", _rejects())
+            conn.executemany("INSERT INTO drive_pairs VALUES (?, ?, ?, ?)", _pairs())
             conn.executemany(
                 "INSERT INTO meta VALUES (?, ?)",
                 [
@@ -187,10 +192,74 @@ def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
             m = re.match(shipped.model_pattern, row.id or "") if shipped.model_pattern else None
             if m is not None:
                 row.values["model"] = m.group(1)
+            if shipped.table is MOTOR and shipped.kind == "ac_servo":
+                _merge_electrical(row.values)
             if shipped.table is GEARBOX and shipped.kind == "servo_gearbox":
                 # right-angle series end in R (GPBR, GPDR, GPVR, GPER; data/SOURCES.md)
                 row.values["right_angle"] = int(str(row.values.get("series", "")).endswith("R"))
         yield shipped, parsed.rows
+
+
+# electrical table column -> (motor field, factor to SI); back-EMF V/1000 rpm -> V s/rad (its basis kept as text)
+_ELECTRICAL_COLUMNS: dict[str, tuple[str, float]] = {
+    "rated_current_A": ("rated_current", 1.0),
+    "peak_current_A": ("peak_current", 1.0),
+    "stall_current_A": ("stall_current", 1.0),
+    "torque_constant_Nm_per_A": ("torque_constant", 1.0),
+    "back_emf_V_per_krpm": ("back_emf", 60.0 / (2.0 * math.pi * 1000.0)),
+    "winding_resistance_ohm": ("winding_resistance", 1.0),
+    "winding_inductance_H": ("winding_inductance", 1.0),
+    "thermal_time_constant_s": ("thermal_time_constant", 1.0),
+}
+
+
+def _electrical_rows() -> dict[str, dict[str, str]]:
+    import csv
+    import io
+
+    return {r["id"]: r for r in csv.DictReader(io.StringIO(shipped_text(ELECTRICAL_FILE)))}
+
+
+def _merge_electrical(values: dict[str, Any]) -> None:
+    """Add the shipped electrical table's values (data/SOURCES.md, "Motor electrical data") to a motor row.
+
+    Only empty fields are filled; the electrical table's source is kept in ``electrical_source``.
+    """
+    row = _electrical_rows_cached().get(str(values.get("id")))
+    if row is None:
+        return
+    for column, (name, factor) in _ELECTRICAL_COLUMNS.items():
+        text = row.get(column, "").strip()
+        if text and values.get(name) is None:
+            values[name] = float(text) * factor
+    if row.get("pole_count", "").strip() and values.get("pole_count") is None:
+        values["pole_count"] = int(float(row["pole_count"]))
+    # The table prints I_0 at a 60 K and at a 100 K winding rise (Siemens 1FT7, Table 4-8): the stall
+    # current read is the 100 K one, so the rated rise that goes with it is 100 K.
+    if row.get("stall_current_60K_A", "").strip() and values.get("stall_current") is not None:
+        values.setdefault("rated_winding_rise", 100.0)
+    if values.get("back_emf") is not None:
+        values["back_emf_basis"] = "ll_rms"
+    if row.get("resistance_basis"):
+        values["resistance_basis"] = row["resistance_basis"]
+    values["electrical_source"] = f"{row.get('source', '')} <{row.get('source_url', '')}>"
+
+
+_ELECTRICAL_CACHE: dict[str, dict[str, dict[str, str]]] = {}
+
+
+def _electrical_rows_cached() -> dict[str, dict[str, str]]:
+    if "rows" not in _ELECTRICAL_CACHE:
+        _ELECTRICAL_CACHE["rows"] = _electrical_rows()
+    return _ELECTRICAL_CACHE["rows"]
+
+
+def _pairs() -> Iterator[tuple[str, ...]]:
+    import csv
+    import io
+
+    for r in csv.DictReader(io.StringIO(shipped_text(PAIRING_FILE))):
+        yield r["motor_id"], r["drive_id"], r["source"], r["source_url"]
 
 
 def _rejects() -> Iterator[tuple[str, ...]]:
@@ -272,9 +341,10 @@ def _ensure_user_schema(conn: sqlite3.Connection) -> None:
     _check_user_version(conn, "main")
 
 
-_UPGRADABLE = ("1",)
+_UPGRADABLE = ("1", "2")
 """User database versions brought up to SCHEMA_VERSION in place: they lack only columns added since
-(version 2 added the gearbox fields T2B source document, bore range, flange, pilot, verified)."""
+(version 2 added the gearbox fields T2B source document, bore range, flange, pilot, verified; version 3
+the drives' regen fields and the motors' electrical columns)."""
 
 
 def _upgrade_user(conn: sqlite3.Connection, schema: str) -> None:
@@ -387,6 +457,13 @@ class Reader:
         for mid, speed, cont, peak in self.conn.execute(sql):
             if wanted is None or mid in wanted:
                 out.setdefault(mid, []).append((speed, cont, peak))
+        return out
+
+    def drive_pairs(self) -> dict[str, list[str]]:
+        """The shipped motor-drive pairing table: motor id -> drive ids (data/drives_pairing.csv)."""
+        out: dict[str, list[str]] = {}
+        for mid, did in self.conn.execute("SELECT motor_id, drive_id FROM builtin.drive_pairs ORDER BY rowid"):
+            out.setdefault(mid, []).append(did)
         return out
 
     def rejected(self, rid: str) -> dict[str, str] | None:

@@ -13,10 +13,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-DATA_VERSION = "2026.11-2"
+DATA_VERSION = "2026.11-3"
 """Version of the shipped data files; the cached database is rebuilt when it changes."""
 
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
 """Version of the SQLite layout; a user database of another version is refused, not migrated."""
 
 # Non-numeric field types; every other ``quantity`` is a units.QUANTITIES key or in EXTRA_QUANTITIES.
@@ -93,6 +93,16 @@ MOTOR_FIELDS: tuple[Field, ...] = (
     Field("max_continuous_speed", "angular_speed", "max_continuous_speed_rad_s", "rpm"),
     Field("rth_winding_housing", "thermal_resistance", "rth_winding_housing_K_per_W", "K/W"),
     Field("rth_housing_ambient", "thermal_resistance", "rth_housing_ambient_K_per_W", "K/W"),
+    # electrical columns (data/motors_ac_servo_electrical.csv, merged by id into the motors they describe)
+    Field("peak_current", "current", "peak_current_A", "A"),
+    Field("stall_current", "current", "stall_current_A", "A"),
+    Field("back_emf", "back_emf_constant", "back_emf_Vs_per_rad", "V*s"),
+    _text("back_emf_basis"),
+    _text("resistance_basis"),
+    Field("pole_count", INTEGER, "pole_count"),
+    Field("thermal_time_constant", "time", "thermal_time_constant_s", "s"),
+    Field("rated_winding_rise", "temperature_difference", "rated_winding_rise_K", "K"),
+    _text("electrical_source"),
     _text("rated_torque_basis"),
     _text("derived"),
     *_COMMON_TAIL,
@@ -138,7 +148,17 @@ DRIVE_FIELDS: tuple[Field, ...] = (
     Field("dc_bus_capacitance", "capacitance", "dc_bus_capacitance_F", "uF"),
     Field("braking_resistor", "resistance", "braking_resistor_ohm", "ohm"),
     Field("braking_resistor_power", "power", "braking_resistor_power_W", "W"),
+    # the electrical half of sizing (docs/checks.md, "Drive" and "Regeneration")
+    Field("peak_time", "time", "peak_time_s", "s"),
+    Field("dc_bus_voltage", "voltage", "dc_bus_voltage_V", "V"),
+    Field("bus_max_voltage", "voltage", "bus_max_voltage_V", "V"),
+    Field("regen_on_voltage", "voltage", "regen_on_voltage_V", "V"),
+    Field("absorbable_energy", "energy", "absorbable_energy_J", "J", positive=False),
+    Field("builtin_braking_resistor", FLAG, "builtin_braking_resistor"),
+    Field("braking_resistor_average_power", "power", "braking_resistor_average_power_W", "W"),
+    Field("min_resistance", "resistance", "min_resistance_ohm", "ohm"),
     *_COMMON_TAIL,
+    *_DOCUMENT,
 )
 
 CURVE_FIELDS: tuple[Field, ...] = (
@@ -234,7 +254,8 @@ DRIVE = TableSpec(
     sql="drives",
     fields=DRIVE_FIELDS,
     kinds=("servo_drive",),
-    required={"servo_drive": ("id", "vendor", "continuous_current", "peak_current", "voltage")},
+    # a drive documented only by its regen data is kept: its current checks are answered as unknown
+    required={"servo_drive": ("id", "vendor")},
     aliases={},
 )
 
@@ -291,7 +312,13 @@ SHIPPED_FILES: tuple[ShippedFile, ...] = (
     ),
     ShippedFile("gearboxes_small.csv", GEARBOX, "small_gearhead"),
     ShippedFile("drives.csv", DRIVE, "servo_drive"),
+    # data/SOURCES.md, "Drives": every number read from the vendor document named in its row
+    ShippedFile("drives_servo.csv", DRIVE, "servo_drive"),
 )
+ELECTRICAL_FILE = "motors_ac_servo_electrical.csv"
+"""Motor electrical data by motor id, merged into the motors rows when the shipped database is built."""
+PAIRING_FILE = "drives_pairing.csv"
+"""The vendors' motor-drive pairing tables: motor_id, drive_id, source, source_url."""
 REJECTS_FILE = "rejects.csv"
 
 
@@ -317,6 +344,7 @@ def ddl() -> list[str]:
         statements.append(f"CREATE TABLE {spec.sql} (\n  {cols},\n  CHECK (kind IN ({kinds}))\n)")
     cols = ",\n  ".join(f"{f.column} {sql_type(f)}" for f in CURVE.fields)
     statements.append(f"CREATE TABLE {CURVE.sql} (\n  {cols},\n  PRIMARY KEY (motor_id, speed_rad_s)\n)")
+    statements.append("CREATE TABLE drive_pairs (motor_id TEXT, drive_id TEXT, source TEXT, source_url TEXT)")
     statements.append(
         "CREATE TABLE rejects (target_file TEXT, id TEXT, vendor TEXT, reason TEXT, source TEXT, source_values TEXT)"
     )

@@ -193,3 +193,11 @@ class DriveTable(_Table):
     rated_power: FloatArray  # [W]
     dc_bus_capacitance: FloatArray  # [F]
     braking_resistor: FloatArray  # [ohm]
+    braking_resistor_power: FloatArray  # [W]
+    peak_time: FloatArray  # [s] how long the peak current is allowed (NaN: not printed)
+    dc_bus_voltage: FloatArray  # [V]
+    bus_max_voltage: FloatArray  # [V]
+    regen_on_voltage: FloatArray  # [V]
+    absorbable_energy: FloatArray  # [J] regen energy the bus capacitors absorb, as the vendor prints it
+    braking_resistor_average_power: FloatArray  # [W]
+    min_resistance: FloatArray  # [ohm] smallest external braking resistor allowed

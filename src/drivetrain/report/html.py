@@ -102,6 +102,13 @@ def render_body(model: ReportModel, plot: Callable[[PlotSpec], str]) -> str:
     mechanism = _mechanism_section(model, plot)
     if mechanism:
         sections.append(("mechanism", "Mechanism: checks and modes", mechanism))
+    electrical = ""
+    if model.regen is not None:
+        electrical += _figure(model.regen, plot(model.regen))
+    if model.electrical is not None:
+        electrical += _table(model.electrical)
+    if electrical:
+        sections.append(("electrical", "Drive and regeneration", electrical))
     selection = ""
     if model.candidates is not None:
         selection += _table(model.candidates)

@@ -134,6 +134,9 @@ class ReportModel:
     mechanism_checks: Table | None = None
     modes: Table | None = None
     modes_plot: PlotSpec | None = None
+    electrical: Table | None = None
+    """drive, motor current, winding temperature and regen (drivetrain.report.electrical)"""
+    regen: PlotSpec | None = None
 
 
 def report_date() -> str:
@@ -771,6 +774,7 @@ def _subtitle(result: SizingResult, focus: Focus | None) -> str:
 def build_report(result: SizingResult, units: str = "si") -> ReportModel:
     """The report's content for ``result`` in the chosen units (si, imperial, as-given)."""
     from drivetrain import __version__
+    from drivetrain.report.electrical import electrical_table, regen_plot
     from drivetrain.report.mechanism import mechanism_checks_table, mechanism_modes, modes_plot, modes_table
 
     du = display_units(units, result.axis.raw)
@@ -819,4 +823,6 @@ def build_report(result: SizingResult, units: str = "si") -> ReportModel:
         mechanism_checks=mechanism_checks_table(result, du),
         modes=modes_table(modes, du) if modes is not None else None,
         modes_plot=modes_plot(modes, du) if modes is not None else None,
+        electrical=electrical_table(result, du),
+        regen=regen_plot(result, du, focus),
     )

@@ -386,6 +386,14 @@ def write_pdf(model: ReportModel, path: Path) -> None:
         sections: list[tuple[str, Callable[[], None]]] = [
             ("The axis", axis), ("Motion profile", motion), ("Motor shaft: speed and torque", shaft),
             ("Speed-torque plane", plane)]
+        def electrical() -> None:
+            if model.regen is not None:
+                doc.plot(model.regen, 4.2)
+            if model.electrical is not None:
+                doc.table(model.electrical)
+
+        if model.regen is not None or model.electrical is not None:
+            sections.append(("Drive and regeneration", electrical))
         if model.mechanism_checks is not None or model.modes is not None:
             sections.append(("Mechanism: checks and modes", mechanism))
         if model.candidates is not None or model.ratios is not None:

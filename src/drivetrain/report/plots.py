@@ -245,6 +245,13 @@ def speed_torque_plot(result: SizingResult, du: DisplayUnits, focus: Focus | Non
                                   COLORS["intermittent"], width=2.2, unit=tq))
         panel.traces.append(Trace(x_env, du.array(cont.torque[0], "torque"), f"continuous S1{tag}",
                                   COLORS["continuous"], width=2.2, unit=tq))
+        from drivetrain.report.electrical import supply_curve_traces
+
+        supply = supply_curve_traces(result, du)
+        panel.traces.extend(supply)
+        if supply:
+            caption += (" The dashed and dotted purple curves are the motor's limits at the supply voltage, from "
+                        "its electrical data (back-EMF, resistance, inductance) and the current limits.")
         n = du.array(np.abs(focus.omega), "angular_speed")
         main = du.array(np.abs(focus.torque), "torque")
         rms = focus.metrics["rms_torque_Nm"]

@@ -383,16 +383,13 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64,
             if block is not None:
                 result.extras[key] = block
         gear = gearbox_rating_checks(axis, duty, axis.motor)
-    elif axis.drive is not None:
-        from drivetrain.errors import InputError
-
-        raise InputError("drive", "a given drive needs a given motor (motor: {id: ...} or its parameters); "
-                         "catalog selection with drives is not available yet", has_value=False)
     elif axis.spec.motor is not None and axis.spec.motor.select is not None:
+        from drivetrain.sizing.drive_select import attach_drives
         from drivetrain.sizing.selection import select
 
         chosen = (selector or select)(axis, duty, axis.spec.motor.select, axis.spec.motor.margins,
                                       all_pairs=all_pairs)
+        attach_drives(axis, duty, chosen, axis.spec.motor.margins)  # the electrical post-pass
         result.candidates = chosen["candidates"]
         result.selection = chosen["selection"]
         gear = gearbox_rating_checks(axis, duty, _selected_motor(result.selection), strict)
@@ -400,6 +397,11 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64,
         if own and not result.selection.get("gearbox_rows"):
             # the motors go direct onto the axis's own gearbox: say so, not "direct drive, ratio 1"
             result.selection["transmission_gearbox"] = ", ".join(own)
+    elif axis.drive is not None:
+        from drivetrain.errors import InputError
+
+        raise InputError("drive", "a given drive needs a motor: give motor: {id: ...}, its parameters, "
+                         "or motor: {select: ...}", has_value=False)
     else:
         gear = gearbox_rating_checks(axis, duty, None)
     if gear is not None:

@@ -317,8 +317,9 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
     def row(k: int, rank: int | None) -> dict[str, Any]:
         return candidate_dict(c, k, motors, gb, rank)
 
-    shown = [row(int(k), r + 1) for r, k in enumerate(shown_ok)]
-    shown += [row(int(k), None) for k in failing[: max(spec.top - len(shown), 3)]]
+    shown_ks = [int(k) for k in shown_ok]
+    shown_ks += [int(k) for k in failing[: max(spec.top - len(shown_ks), 3)]]
+    shown = [row(k, r + 1 if r < len(shown_ok) else None) for r, k in enumerate(shown_ks)]
     summary: dict[str, Any] = {
         "objective": spec.objective, "evaluated": len(c.motor), "motors": len(motors),
         "gearbox_rows": 0 if gb is None else len(gb), "passing": len(passing),
@@ -345,6 +346,7 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
     summary["_candidates"] = c
     summary["_ranked"] = passing
     summary["_tables"] = (motors, gb)
+    summary["_shown"] = shown_ks  # for the drive post-pass (drivetrain.sizing.drive_select)
     return {"candidates": shown, "selection": summary}
 
 

@@ -209,7 +209,31 @@ def size_payload(axis: dict[str, Any]) -> dict[str, Any]:
             selected = selected_payload(parsed, result, envelopes)
     return {"result": result.to_dict(), "motion": parsed.mechanism.motion, "series": series,
             "envelopes": envelopes, "selected": selected, "notes": notes, "modes": mechanism_modes(result),
-            "elapsed_ms": (time.perf_counter() - t0) * 1e3}
+            "electrical": electrical_payload(result), "elapsed_ms": (time.perf_counter() - t0) * 1e3}
+
+
+def electrical_payload(result: Any) -> dict[str, Any] | None:
+    """The results panel's drive, electrical figures and regen block: the given motor's or the selected one's.
+
+    ``drive`` (id, status, checks), ``electrical`` (envelope source, currents, winding temperature
+    and their checks; the T-n curve left out) and ``regen`` (energy into the bus, braking resistor),
+    each None when the sizing has none.
+    """
+    if result.motor is not None:
+        m = result.motor
+        electrical = {k: v for k, v in m.items() if k not in ("checks", "supply_curve")}
+        electrical["checks"] = [c for c in m.get("checks", []) if str(c.get("name", "")).startswith(
+            ("motor_rms_current", "motor_peak_current", "peak_torque_at_supply", "winding_"))]
+        out = {"drive": result.extras.get("drive"), "electrical": electrical, "regen": result.extras.get("regen")}
+    else:
+        sel = (result.selection or {}).get("selected")
+        if not sel:
+            return None
+        elec = {k: v for k, v in (sel.get("electrical") or {}).items() if k != "curve"}
+        out = {"drive": sel.get("drive"), "electrical": elec or None, "regen": sel.get("regen")}
+    if out["regen"] is not None:
+        out["regen"] = {k: v for k, v in out["regen"].items() if k != "events"}
+    return out if any(v for v in out.values()) else None
 
 
 def mechanism_modes(result: Any) -> dict[str, Any] | None:

@@ -140,7 +140,7 @@ function renderResult(payload) {
   $("result-body").classList.remove("stale");
   R.renderBanner($("result-banner"), r);
   if (payload.notes && payload.notes.length) $("result-banner").append(el("span", { class: "muted small", text: ` (${payload.notes.join("; ")})` }));
-  R.renderChecks($("checks"), r);
+  R.renderChecks($("checks"), r, payload.electrical);
   R.renderMetrics($("metrics"), r, payload.motion);
   const hasMechanism = R.renderMechanism($("mechanism"), r, payload.modes);
   $("mechanism-title").hidden = !hasMechanism;

@@ -101,10 +101,42 @@ export function renderBanner(node, result) {
   }
 }
 
-export function renderChecks(node, result) {
+// The drive, the motor's electrical figures and the regen block (payload.electrical, web/payload.py).
+export function electricalParts(e) {
+  if (!e) return [];
+  const parts = [];
+  const rows = [];
+  const d = e.drive;
+  if (d) {
+    const status = d.status || (d.ok ? "ok" : "fails");
+    rows.push({ cls: status === "fails" ? "fail" : "", cells: ["drive", `${d.id || "none"}${d.basis ? ` (${d.basis})` : ""}`, status] });
+    if (d.reason) rows.push({ cells: ["", d.reason, ""] });
+    for (const c of d.checks || []) rows.push({ cls: c.ok ? "" : "fail", cells: [checkName(c.name), `${fmt(c.required)} / ${fmt(c.available)} ${c.unit}`, pct(c.margin)] });
+  }
+  const m = e.electrical;
+  if (m) {
+    if (m.envelope_source) rows.push({ cells: ["envelope source", m.envelope_source, ""] });
+    if (m.rms_current_A != null) rows.push({ cells: ["motor current RMS / peak", `${fmt(m.rms_current_A)} / ${fmt(m.peak_current_A)} A`, ""] });
+    for (const c of m.checks || []) rows.push({ cls: c.ok ? "" : "fail", cells: [checkName(c.name), `${fmt(c.required)} / ${fmt(c.available)} ${c.unit}`, pct(c.margin)] });
+    rows.push({ cells: ["winding temperature rise", m.winding_temperature_rise_K != null ? `${fmt(m.winding_temperature_rise_K)} K` : "not known", ""] });
+    if (m.note) rows.push({ cells: ["", m.note, ""] });
+  }
+  const g = e.regen;
+  if (g) {
+    rows.push({ cells: ["regen into the DC bus", `${fmt(g.energy_per_cycle_J)} J per cycle (capacitors ${fmt(g.capacitor_absorbed_J)} J)`, ""] });
+    rows.push({ cells: ["braking resistor", `${fmt(g.resistor_energy_per_cycle_J)} J per cycle, peak ${fmt(g.resistor_peak_power_W)} W, average ${fmt(g.resistor_average_power_W)} W`, ""] });
+    if (g.resistor_min_ohm != null || g.resistor_max_ohm != null) rows.push({ cells: ["resistance window", `${fmt(g.resistor_min_ohm)} to ${fmt(g.resistor_max_ohm)} Ω`, ""] });
+    const b = g.builtin_resistor_sufficient;
+    rows.push({ cls: b === false ? "fail" : "", cells: ["built-in resistor sufficient", b == null ? "not known" : b ? "yes" : "no", ""] });
+  }
+  if (rows.length) parts.push(table("Drive, electrical and regeneration", ["item", "value (required / available)", "margin"], rows, "data electrical-table"));
+  return parts;
+}
+
+export function renderChecks(node, result, electrical = null) {
   const v = verdict(result);
   if (!v || !v.checks.length) {
-    node.replaceChildren(el("p", { class: "muted", text: "No motor to check." }));
+    node.replaceChildren(el("p", { class: "muted", text: "No motor to check." }), ...electricalParts(electrical));
     return;
   }
   const rows = v.checks.map((c) => ({
@@ -119,6 +151,7 @@ export function renderChecks(node, result) {
   }));
   const parts = [el("p", { class: "muted", text: `${v.who}` }), table(`Checks of ${v.who}`, ["check", "required", "available", "margin", "result"], rows, "data checks-table")];
   if (v.checks.some((c) => c.approximate)) parts.push(el("p", { class: "muted small", text: "* against an envelope derived from the ratings (no vendor curve)." }));
+  parts.push(...electricalParts(electrical));
   node.replaceChildren(...parts);
 }
 
@@ -170,6 +203,7 @@ export function renderCandidates(node, result, picked, onToggle) {
         pct(checks.peak_torque ? checks.peak_torque.margin : null),
         pct(checks.rms_torque ? checks.rms_torque.margin : null),
         c.ok ? "ok" : c.failed,
+        c.drive ? `${c.drive.id || "–"}${c.drive.status && c.drive.status !== "ok" ? ` (${c.drive.status})` : ""}` : "–",
       ],
     };
   });
@@ -177,7 +211,7 @@ export function renderCandidates(node, result, picked, onToggle) {
   const intro = el("p", { class: "muted", text: `Best first by "${s.objective || "smallest"}"; rejected ones last, each with the check it fails. Tick 2–3 to compare.` });
   // The motor stays in view (a sticky first column) while the table scrolls sideways.
   node.replaceChildren(intro, el("div", { class: "table-wrap candidates-wrap" },
-    table("Ranked candidates", ["motor", "rank", "compare", "gearbox", "J_L/J_M", "peak margin", "RMS margin", "result"], rows, "data candidates-table")));
+    table("Ranked candidates", ["motor", "rank", "compare", "gearbox", "J_L/J_M", "peak margin", "RMS margin", "result", "drive"], rows, "data candidates-table")));
 }
 
 export function renderCompare(node, picks, onClear) {

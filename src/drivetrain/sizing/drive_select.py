@@ -1,0 +1,217 @@
+"""Drives for a catalog selection: a post-pass after the motor/gearbox selection.
+
+For each listed candidate (and the selected one) this picks the smallest catalog drive of the
+motor's vendor and supply voltage that passes the current checks, honouring the vendors' pairing
+tables (``catalog.drive_pairs``), and, for the selected candidate, adds the electrical answer:
+motor currents, the envelope at the supply voltage, the winding temperature and the regen block
+(``drivetrain.sizing.electrical``). A drive given in the axis file (``drive: {id: ...}``) is
+checked instead of picked.
+
+The rules (docs/checks.md, "Drive selection"):
+
+* motor current over the cycle: I = T / K_t (with the datasheet's saturation where it prints the
+  peak current), from the candidate's own torque over its own cycle;
+* a drive passes when RMS current <= its continuous current, peak current <= its peak current and,
+  where the vendor prints how long the peak may last, the I^2 t accumulator stays below its
+  set point (``drivetrain.physics.drive_overload``);
+* candidates: the drives the pairing table lists for the motor; without an entry, the drives of
+  the motor's vendor whose supply voltage matches the motor's (within ``catalog.VOLTAGE_TOLERANCE``;
+  a voltage missing on either side matches, and the answer says so);
+* smallest: least continuous current, then least peak current;
+* a motor without a torque constant, or drives without current ratings, give ``status: unknown``
+  with the reason; no candidate drive at all gives ``status: none``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from drivetrain.axis.electrical import DriveData, MotorElectrical, drive_from_catalog_row, electrical_from_catalog_row
+from drivetrain.errors import InputError
+from drivetrain.physics import drive_overload, motor_electrical
+from drivetrain.sizing.electrical import _drive_block, _regen_block, dc_bus, electrical_answer
+
+if TYPE_CHECKING:
+    from drivetrain.axis.model import Axis, Margins, MotorData
+    from drivetrain.catalog.tables import MotorTable
+    from drivetrain.duty.cycle import DutyCycle
+
+
+def catalog_electrical(motor_id: str) -> MotorElectrical:
+    """The catalog motor's electrical data (its electrical columns; empty where not known)."""
+    from drivetrain import catalog
+
+    return electrical_from_catalog_row(catalog.get(motor_id))
+
+
+def _currents(cycle: DutyCycle, inertia: float, elec: MotorElectrical, rated: float,
+              peak: float) -> np.ndarray | None:
+    """|I(t)| [A rms] of the motor over its cycle, or None without a torque constant."""
+    kt = elec.kt if elec.kt is not None else (
+        None if elec.ke is None else float(motor_electrical.kt_from_ke(elec.ke)))
+    if kt is None:
+        return None
+    sat = None
+    if elec.peak_current is not None:
+        sat = motor_electrical.Saturation(np.array(rated), np.array(peak), np.array(elec.peak_current))
+    return np.abs(motor_electrical.current_from_torque(cycle.motor_torque(inertia), kt, sat))
+
+
+def _pool(motor_id: str, vendor: str, voltage: float) -> tuple[list[DriveData], str]:
+    """The drives a motor may use and the basis: the pairing table's, else its vendor's at its voltage."""
+    from drivetrain import catalog
+
+    pairs = catalog.drive_pairs().get(motor_id)
+    if pairs:
+        table = catalog.drives(ids=pairs)
+        return [drive_from_catalog_row(table.row(i)) for i in range(len(table))], "vendor pairing table"
+    try:
+        table = catalog.drives(vendor=vendor) if vendor else catalog.drives()
+    except InputError:  # the catalog has no drive of this vendor
+        return [], "vendor and supply voltage"
+    out = []
+    for i in range(len(table)):
+        v = float(table.voltage[i])
+        if math.isfinite(voltage) and math.isfinite(v) and abs(v - voltage) > catalog.VOLTAGE_TOLERANCE * voltage:
+            continue
+        out.append(drive_from_catalog_row(table.row(i)))
+    basis = "vendor and supply voltage" if math.isfinite(voltage) else "vendor (the motor's voltage is not known)"
+    return out, basis
+
+
+def pick_drive(cycle: DutyCycle, inertia: float, motor_id: str, vendor: str, voltage: float,
+               rated: float, peak: float, given: DriveData | None = None) -> tuple[dict[str, Any], DriveData | None]:
+    """The drive block of one candidate and the DriveData chosen (None when none can be named).
+
+    ``status``: ``ok`` (a drive passes), ``fails`` (the largest drive with ratings fails; or the
+    given drive fails), ``unknown`` (no torque constant, or no drive with current ratings),
+    ``none`` (no drive of the vendor and voltage in the catalog).
+    """
+    elec = catalog_electrical(motor_id)
+    current = _currents(cycle, inertia, elec, rated, peak)
+    if given is not None:
+        pool, basis = [given], "given in the axis file"
+    else:
+        pool, basis = _pool(motor_id, vendor, voltage)
+    base: dict[str, Any] = {"basis": basis, "candidates": [d.name for d in pool]}
+    if current is None:
+        first = pool[0] if len(pool) == 1 else None
+        return ({**base, "status": "unknown", "id": None if first is None else first.name, "ok": None,
+                 "reason": f"the catalog has no torque constant for {motor_id}: its current, and so the drive, "
+                           "cannot be checked"}, first)
+    i_rms = float(drive_overload.rms_current(current, cycle.weights, cycle.period))
+    i_peak = float(current.max()) if current.size else 0.0
+    base.update({"motor_rms_current_A": i_rms, "motor_peak_current_A": i_peak})
+    if not pool:
+        return {**base, "status": "none", "id": None, "ok": None,
+                "reason": f"the catalog has no {vendor} drive for this motor's supply voltage"}, None
+    rated_drives = sorted((d for d in pool if math.isfinite(d.continuous_current) and math.isfinite(d.peak_current)),
+                          key=lambda d: (d.continuous_current, d.peak_current))
+    if not rated_drives:
+        first = pool[0] if len(pool) == 1 else None
+        return ({**base, "status": "unknown", "id": None if first is None else first.name, "ok": None,
+                 "reason": f"no {vendor} drive in the catalog has current ratings (data/SOURCES.md, \"Drives\")"},
+                first)
+    block: dict[str, Any] = {}
+    chosen = rated_drives[-1]
+    for d in rated_drives:
+        block = _drive_block(d, cycle, current, i_rms, i_peak)
+        if block["ok"]:
+            chosen = d
+            break
+    else:
+        block = _drive_block(chosen, cycle, current, i_rms, i_peak)
+    status = "ok" if block["ok"] else "fails"
+    return {**base, **block, "status": status, "vendor": chosen.vendor, "supply_voltage_V": chosen.supply_voltage,
+            "peak_time_s": chosen.peak_time}, chosen
+
+
+def _motor_voltage(motors: MotorTable, m: int) -> float:
+    return float(motors.voltage[m])
+
+
+def attach_drives(axis: Axis, duty: DutyCycle, chosen: dict[str, Any], margins: Margins | None) -> None:
+    """Add a ``drive`` block to every listed candidate and to ``selection.selected`` (in place).
+
+    The selected candidate also gets ``electrical`` (motor currents, envelope source, winding
+    temperature, with their checks) and ``regen`` (energy into the bus, braking resistor).
+    """
+    from drivetrain.sizing.selection import candidate_cycle
+
+    sel = chosen["selection"]
+    if "_candidates" not in sel:
+        return
+    c = sel["_candidates"]
+    motors, _ = sel["_tables"]
+    shown: list[int] = sel.get("_shown", [])
+    for cand, k in zip(chosen["candidates"], shown, strict=False):
+        cycle, inertia = candidate_cycle(axis, duty, sel, k)
+        m = int(c.motor[k])
+        block, _ = pick_drive(cycle, inertia, str(motors.ids[m]), str(motors.vendor[m]), _motor_voltage(motors, m),
+                              float(motors.rated_torque[m]), float(motors.peak_torque[m]), axis.drive)
+        cand["drive"] = block
+    if "selected" not in sel:
+        return
+    best = int(sel["_best"])
+    cycle, inertia = candidate_cycle(axis, duty, sel, best)
+    m = int(c.motor[best])
+    mid = str(motors.ids[m])
+    block, drive = pick_drive(cycle, inertia, mid, str(motors.vendor[m]), _motor_voltage(motors, m),
+                              float(motors.rated_torque[m]), float(motors.peak_torque[m]), axis.drive)
+    sel["selected"]["drive"] = block
+    sel["selected"].update(selected_electrical(axis, cycle, motors, m, drive, margins))
+
+
+def selected_electrical(axis: Axis, cycle: DutyCycle, motors: MotorTable, m: int, drive: DriveData | None,
+                        margins: Margins | None) -> dict[str, Any]:
+    """``electrical`` and ``regen`` of the selected motor with its drive (empty keys when not known)."""
+    from drivetrain import catalog
+    from drivetrain.axis.model import motor_from_catalog_row
+
+    mid = str(motors.ids[m])
+    elec = catalog_electrical(mid)
+    voltage = float(motors.voltage[m])
+    if elec.supply_voltage is None and math.isfinite(voltage):
+        elec = replace(elec, supply_voltage=voltage)
+    motor: MotorData = motor_from_catalog_row(catalog.get(mid))
+    rated_drive = drive if drive is not None and math.isfinite(drive.continuous_current) else None
+    regen_drive = drive
+    if not elec.any:
+        out: dict[str, Any] = {"electrical": {"envelope_source": "derived" if motor.approximate_envelope
+                                              else "datasheet", "rms_current_A": None, "peak_current_A": None,
+                                              "winding_temperature_rise_K": None,
+                                              "note": f"the catalog has no electrical data for {mid}"}}
+        out["regen"] = _mechanical_regen(cycle, motor, regen_drive, elec)
+        return out
+    ax = replace(axis, electrical=elec, drive=rated_drive)
+    try:
+        ans = electrical_answer(ax, cycle, motor, margins)
+    except Exception as exc:  # an electrical datum the model needs is missing: say so, keep the answer
+        from drivetrain.errors import InputError
+
+        if not isinstance(exc, InputError):
+            raise
+        return {"electrical": {"note": str(exc), "winding_temperature_rise_K": None},
+                "regen": _mechanical_regen(cycle, motor, regen_drive, elec)}
+    electrical = {**ans.motor, "checks": [ch.to_dict() for ch in ans.checks]}
+    if ans.curve is not None:
+        electrical["curve"] = ans.curve
+    regen = ans.regen
+    if rated_drive is None and regen_drive is not None:
+        regen = _mechanical_regen(cycle, motor, regen_drive, elec)
+    return {"electrical": electrical, "regen": regen}
+
+
+def _mechanical_regen(cycle: DutyCycle, motor: MotorData, drive: DriveData | None,
+                      elec: MotorElectrical) -> dict[str, Any]:
+    """The regen block from the motor torque and speed (copper loss where R and K_t are known)."""
+    t_m = cycle.motor_torque(motor.inertia)
+    current = np.zeros_like(t_m)
+    if elec.kt is not None:
+        current = np.abs(t_m) / elec.kt
+    _, bus = dc_bus(elec, drive)
+    return _regen_block(cycle, t_m, current, elec, drive, bus)

@@ -1,0 +1,291 @@
+"""Selection returns motor + drive: the drive post-pass (drivetrain.sizing.drive_select), catalog drives
+by id, and the selected candidate's electrical and regen blocks in the table, JSON and report."""
+
+from __future__ import annotations
+
+import copy
+import itertools
+import json
+import math
+import textwrap
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import yaml
+
+from drivetrain import catalog, cli
+from drivetrain.axis.electrical import DriveSpec, drive_data, electrical_from_catalog_row, shipped_electrical
+from drivetrain.errors import InputError
+from drivetrain.sizing.result import size
+
+Z_AXIS: dict[str, Any] = yaml.safe_load(textwrap.dedent("""\
+    axis: Z lift
+    efficiency_model: four_quadrant
+    mechanism:
+      type: ball_screw
+      lead: 10 mm
+      diameter: 20 mm
+      length: 800 mm
+      material: steel
+      efficiency: 0.9
+      incline: 90 deg
+      load: {mass: 25 kg, counterweight: 0 kg, friction: 0.05, thrust: 0 N}
+    profile:
+      - {move: 200 mm, time: 0.5 s, accel: 0.1 s}
+      - {dwell: 0.3 s}
+      - {move: -200 mm, time: 0.5 s, accel: 0.1 s}
+      - {dwell: 0.3 s, holding: brake}
+    motor:
+      select: {vendor: siemens, flange: 96 mm, gearbox: none}
+    """))
+PAIRED_MOTOR = "1FT7044-5AK7"
+PAIRED_DRIVE = "6SL312x-xTE21-0AAx"
+
+
+def axis(**changes: Any) -> dict[str, Any]:
+    d = copy.deepcopy(Z_AXIS)
+    d.update(changes)
+    return d
+
+
+# ---------------------------------------------------------------------------------- shipped data
+
+
+@pytest.fixture(scope="module")
+def siemens() -> Any:
+    return size(axis())
+
+
+def test_pairing_table_names_the_drive_and_its_current_checks_pass(siemens: Any) -> None:
+    cand = next(c for c in siemens.candidates if c["motor"] == PAIRED_MOTOR)
+    d = cand["drive"]
+    assert d["basis"] == "vendor pairing table" and d["candidates"] == [PAIRED_DRIVE]
+    # Siemens 1FT7 configuration manual Table 4-8 p. 90: the recommended Motor Module, 9 A / 18 A
+    assert d["id"] == PAIRED_DRIVE and d["continuous_current_A"] == 9.0 and d["peak_current_A"] == 18.0
+    assert d["status"] == "ok" and d["ok"] is True
+    checks = {c["name"]: c for c in d["checks"]}
+    assert checks["drive_rms_current"]["required"] == pytest.approx(d["motor_rms_current_A"])
+    # I = T / Kt below the rated torque, more above it (saturation): never less than T_rms / Kt
+    kt = 0.88  # Table 4-8, k_T
+    assert d["motor_rms_current_A"] >= cand["rms_torque_Nm"] / kt * (1 - 1e-9)
+    assert d["motor_rms_current_A"] <= cand["rms_torque_Nm"] / kt * 1.2
+
+
+def test_motor_without_torque_constant_leaves_the_drive_unknown_and_says_why(siemens: Any) -> None:
+    for cand in siemens.candidates:
+        if cand["motor"] == PAIRED_MOTOR:
+            continue
+        d = cand["drive"]
+        assert d["status"] == "unknown" and d["ok"] is None
+        assert "torque constant" in d["reason"] and cand["motor"] in d["reason"]
+
+
+def test_drives_without_current_ratings_answer_unknown() -> None:
+    r = size(axis(motor={"select": {"vendor": "yaskawa", "gearbox": "none"}}))
+    with_kt = [c for c in r.candidates if catalog.get(c["motor"])["torque_constant_Nm_per_A"] is not None]
+    assert with_kt, "the shipped electrical table covers these series"
+    for cand in with_kt:
+        d = cand["drive"]
+        assert d["status"] == "unknown" and "current ratings" in d["reason"]
+        assert d["motor_rms_current_A"] > 0 and d["candidates"]
+        # the pool is the vendor's drives at the motor's supply voltage (200 V): SGD7S-xxxA, never the 100 V F models
+        assert all(x.endswith("A") for x in d["candidates"])
+
+
+def test_shipped_electrical_merge_matches_the_table_reader() -> None:
+    row = catalog.get(PAIRED_MOTOR)
+    a, b = electrical_from_catalog_row(row), shipped_electrical(PAIRED_MOTOR)
+    for key in ("kt", "ke", "resistance", "inductance", "pole_pairs", "rated_current", "stall_current",
+                "peak_current", "thermal_time_constant", "rated_rise"):
+        assert getattr(a, key) == pytest.approx(getattr(b, key)), key
+    # Table 4-8 prints I_0 at 60 K and 100 K: the stall current read is the 100 K one
+    assert a.rated_rise == 100.0 and a.stall_current == 5.7
+
+
+def test_a_catalog_drive_by_id_is_checked_like_a_given_motor() -> None:
+    r = size(axis(motor={"id": PAIRED_MOTOR}, drive={"id": PAIRED_DRIVE}))
+    d = r.extras["drive"]
+    assert d["id"] == PAIRED_DRIVE and d["continuous_current_A"] == 9.0 and d["ok"] is True
+    assert r.motor["winding_temperature_rise_K"] is not None
+
+
+def test_a_catalog_drive_without_currents_is_an_input_error_naming_the_field(tmp_path: Path,
+                                                                           capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(InputError) as exc:
+        drive_data(DriveSpec(id="SGD7S-R70A"))
+    assert exc.value.field == "drive.continuous_current"
+    path = tmp_path / "z.yaml"
+    path.write_text(yaml.safe_dump(axis(motor={"id": PAIRED_MOTOR}, drive={"id": "SGD7S-R70A"})), encoding="utf-8")
+    assert cli.main(["size", str(path)]) == 2
+    assert "drive.continuous_current" in capsys.readouterr().err
+    # values given beside the id complete it (Yaskawa 12.8.6 p. 12-37: 24.2 J absorbable)
+    d = drive_data(DriveSpec(id="SGD7S-R70A", continuous_current="0.66 A", peak_current="2.1 A"))
+    assert d.absorbable_energy == pytest.approx(24.2) and d.supply_voltage == 200.0
+
+
+def test_unknown_drive_id_without_currents_is_an_input_error() -> None:
+    with pytest.raises(InputError) as exc:
+        drive_data(DriveSpec(id="NO-SUCH-DRIVE"))
+    assert exc.value.field == "drive.id"
+
+
+# ---------------------------------------------------------------------------------- a user catalog
+
+USER_MOTORS = """\
+id,vendor,series,rated_torque [N*m],peak_torque [N*m],rated_speed [rpm],max_speed [rpm],rotor_inertia [kg*cm^2],\
+rated_power [W],voltage [V],torque_constant [N*m/A],back_emf [V*s],winding_resistance [ohm],\
+winding_inductance [mH],pole_count,rated_current [A],stall_current [A],peak_current [A],\
+thermal_time_constant [s],rated_winding_rise [K],source
+TC-04,Testco,T,1.27,4.46,3000,6000,0.486,400,200,0.544,0.36,1.9,4.5,10,2.5,2.6,9.3,1200,100,test fixture
+"""
+USER_DRIVES = """\
+id,vendor,continuous_current [A],peak_current [A],peak_time [s],voltage [V],absorbable_energy [J],\
+min_resistance [ohm],regen_on_voltage [V],builtin_braking_resistor,braking_resistor [ohm],\
+braking_resistor_average_power [W],source
+TD-S,Testco,0.3,0.9,3,200,10,40,390,yes,50,12,test fixture
+TD-M,Testco,1.6,4.8,3,200,10,40,390,yes,50,12,test fixture
+TD-L,Testco,5,15,3,200,20,30,390,yes,40,30,test fixture
+TD-400,Testco,1.6,4.8,3,400,10,40,780,yes,50,12,test fixture
+"""
+
+
+@pytest.fixture()
+def user_catalog(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from drivetrain.catalog import db
+
+    monkeypatch.setenv(db.ENV_DATA_DIR, str(tmp_path / "data"))
+    for name, text in (("m.csv", USER_MOTORS), ("d.csv", USER_DRIVES)):
+        (tmp_path / name).write_text(text, encoding="utf-8")
+        catalog.import_file(tmp_path / name)
+
+
+def test_selection_answers_motor_drive_resistor_and_winding_temperature(user_catalog: None) -> None:
+    r = size(axis(motor={"select": {"vendor": "testco", "gearbox": "none"}}))
+    sel = r.selection["selected"]
+    assert sel["motor"] == "TC-04"
+    d = sel["drive"]
+    # the smallest passing drive of the vendor at 200 V: TD-S is too small, TD-400 is another voltage
+    assert d["status"] == "ok" and d["id"] == "TD-M" and d["basis"] == "vendor and supply voltage"
+    assert "TD-400" not in d["candidates"] and d["candidates"][0] == "TD-S"
+    assert {c["name"] for c in d["checks"]} >= {"drive_rms_current", "drive_peak_current", "drive_i2t"}
+    elec = sel["electrical"]
+    assert elec["envelope_source"] == "electrical" and elec["supply_voltage_V"] == 200.0
+    assert elec["winding_temperature_rise_K"] is not None and 0 < elec["winding_temperature_rise_K"] < 100
+    assert elec["rms_current_A"] == pytest.approx(d["motor_rms_current_A"])
+    rg = sel["regen"]
+    assert rg["capacitor_basis"] == "published" and rg["resistor_min_ohm"] == 40.0
+    assert rg["energy_per_cycle_J"] <= rg["shaft_energy_per_cycle_J"] + 1e-9
+    assert isinstance(rg["builtin_resistor_sufficient"], bool)
+    # every listed candidate carries a drive block
+    assert all("drive" in c for c in r.candidates)
+
+
+def test_selection_drive_in_json_and_table(user_catalog: None, tmp_path: Path,
+                                           capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "z.yaml"
+    path.write_text(yaml.safe_dump(axis(motor={"select": {"vendor": "testco", "gearbox": "none"}})),
+                    encoding="utf-8")
+    assert cli.main(["size", str(path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["selection"]["selected"]["drive"]["id"] == "TD-M"
+    assert out["candidates"][0]["drive"]["id"] == "TD-M"
+    assert out["selection"]["selected"]["regen"]["resistor_peak_power_W"] >= 0
+    assert cli.main(["size", str(path)]) == 0
+    text = capsys.readouterr().out
+    assert "TD-M" in text and "winding temperature rise" in text and "braking resistor" in text
+
+
+def test_given_drive_is_checked_for_every_candidate(user_catalog: None) -> None:
+    r = size(axis(motor={"select": {"vendor": "testco", "gearbox": "none"}}, drive={"id": "TD-S"}))
+    d = r.selection["selected"]["drive"]
+    assert d["id"] == "TD-S" and d["basis"] == "given in the axis file"
+    assert d["status"] == "fails" and not all(c["ok"] for c in d["checks"])
+
+
+def test_drive_pick_is_monotone_in_load(user_catalog: None) -> None:
+    """A heavier load never gets a smaller drive (property over a few masses)."""
+    sizes = []
+    for mass in (5, 15, 25, 35):
+        a = axis(motor={"select": {"vendor": "testco", "gearbox": "none", "max_inertia_ratio": 100}})
+        a["mechanism"]["load"]["mass"] = f"{mass} kg"
+        d = size(a).selection.get("selected", {}).get("drive")
+        if d and d["status"] == "ok":
+            sizes.append(d["continuous_current_A"])
+    assert sizes and all(b >= a for a, b in itertools.pairwise(sizes))
+    assert not math.isnan(float(np.sum(sizes)))
+
+
+def test_report_shows_the_drive_regen_plot_and_supply_curve(user_catalog: None, tmp_path: Path) -> None:
+    from drivetrain.report import write_report
+    from drivetrain.report.model import build_report
+
+    r = size(axis(motor={"select": {"vendor": "testco", "gearbox": "none"}}))
+    m = build_report(r)
+    assert m.regen is not None and m.electrical is not None
+    names = [t.name for p in m.regen.panels for t in p.traces]
+    assert "to the braking resistor (cumulative)" in names
+    # the plot's resistor energy ends at the regen block's figure (same model, same cycle)
+    res = next(t for p in m.regen.panels for t in p.traces if t.name.startswith("to the braking resistor"))
+    assert float(res.y[-1]) == pytest.approx(r.selection["selected"]["regen"]["resistor_energy_per_cycle_J"],
+                                             rel=1e-6, abs=1e-9)
+    assert any("DC bus" in t.name for p in m.speed_torque.panels for t in p.traces)
+    labels = [row[0].text for row in m.electrical.rows]
+    assert "Drive" in labels and "Braking resistor: energy per cycle" in labels
+    write_report(r, tmp_path / "r.html")
+    write_report(r, tmp_path / "r.pdf")
+    html = (tmp_path / "r.html").read_text(encoding="utf-8")
+    assert "Drive and regeneration" in html and "TD-M" in html
+    assert (tmp_path / "r.pdf").stat().st_size > 10_000
+
+
+def test_web_payload_carries_drive_electrical_and_regen(user_catalog: None) -> None:
+    from drivetrain.web.payload import encode, size_payload
+
+    p = size_payload(axis(motor={"select": {"vendor": "testco", "gearbox": "none"}}))
+    e = p["electrical"]
+    assert e["drive"]["id"] == "TD-M" and e["electrical"]["winding_temperature_rise_K"] is not None
+    assert "events" not in e["regen"] and "curve" not in e["electrical"]
+    assert p["result"]["candidates"][0]["drive"]["id"] == "TD-M"
+    assert json.loads(encode(p))["electrical"]["regen"]["resistor_energy_per_cycle_J"] >= 0
+    given = size_payload(axis(motor={"id": PAIRED_MOTOR}, drive={"id": PAIRED_DRIVE}))
+    assert given["electrical"]["drive"]["id"] == PAIRED_DRIVE
+
+
+def test_results_panel_renders_the_electrical_block() -> None:
+    """results.js: the drive, winding and regen rows appear (node, when available)."""
+    import shutil
+    import subprocess
+
+    node = shutil.which("node")
+    if node is None:
+        pytest.skip("node is not installed")
+    js = Path(__file__).resolve().parents[1] / "src/drivetrain/web/static/results.js"
+    script = f"""
+      globalThis.Node = class {{}};
+      globalThis.document = {{ createElement: (t) => ({{ tag: t, children: [], attrs: {{}},
+        setAttribute(k, v) {{ this.attrs[k] = v; }}, append(...c) {{ this.children.push(...c); }},
+        appendChild(c) {{ this.children.push(c); return c; }}, set textContent(v) {{ this.text = v; }},
+        get textContent() {{
+          return this.text ?? this.children.map((c) => typeof c === "string" ? c : c.textContent).join(""); }},
+        replaceChildren(...c) {{ this.children = c; }}, addEventListener() {{}}, classList: {{ add() {{}} }} }}),
+        createTextNode: (t) => t }};
+      const R = await import({json.dumps(js.as_uri())});
+      const parts = R.electricalParts({{ drive: {{ id: "TD-M", status: "ok", basis: "vendor", checks: [] }},
+        electrical: {{ envelope_source: "electrical", rms_current_A: 1, peak_current_A: 2, checks: [],
+                       winding_temperature_rise_K: 12 }},
+        regen: {{ energy_per_cycle_J: 5, capacitor_absorbed_J: 1, resistor_energy_per_cycle_J: 4,
+                 resistor_peak_power_W: 100, resistor_average_power_W: 2, builtin_resistor_sufficient: true }} }});
+      console.log(JSON.stringify(parts.length), parts[0].textContent);
+    """
+    out = subprocess.run([node, "--input-type=module", "-e", script], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.startswith("1") and "TD-M" in out.stdout and "braking resistor" in out.stdout
+
+
+def test_a_vendor_without_drives_answers_none() -> None:
+    r = size(axis(motor={"select": {"vendor": "panasonic", "gearbox": "none"}}))
+    for cand in r.candidates:
+        d = cand["drive"]
+        assert d["status"] in ("none", "unknown") and d["ok"] is None and d["candidates"] == []
