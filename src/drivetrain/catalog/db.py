@@ -7,7 +7,9 @@ folder, e.g. ``~/.local/share/drivetrain``):
   ``drivetrain/catalog/data`` and rebuilt whenever their version or content changes. It is
   written to a temporary file and moved into place, so a reader never sees half of it, and it is
   only ever opened read-only.
-* ``user.sqlite`` holds the user's imports. Every import is one transaction.
+* ``user.sqlite`` holds the user's imports. Every import is one transaction. A team can share one
+  user catalog anywhere: ``$DRIVETRAIN_CATALOG`` (or ``drivetrain --catalog FILE.sqlite``) names
+  it; the shipped data is still read beside it.
 
 Queries see the union of both; each row carries ``origin`` = ``"builtin"`` or ``"user"``.
 """
@@ -30,6 +32,7 @@ from drivetrain.catalog.schema import (
     CURVE,
     DATA_VERSION,
     GEARBOX,
+    HISTORY_COLUMNS,
     REJECTS_FILE,
     ROW_TABLES,
     SCHEMA_VERSION,
@@ -49,6 +52,7 @@ if TYPE_CHECKING:
 BUILTIN_NAME = "catalog.sqlite"
 USER_NAME = "user.sqlite"
 ENV_DATA_DIR = "DRIVETRAIN_DATA_DIR"
+ENV_CATALOG = "DRIVETRAIN_CATALOG"
 _STALE_TEMP_S = 3600.0  # a build temp file this old was left by a killed process
 
 _verified: set[Path] = set()  # shipped databases checked up to date in this process
@@ -73,6 +77,13 @@ def data_dir() -> Path:
 
 
 def user_db_path(directory: Path | None = None) -> Path:
+    """The user catalog: ``$DRIVETRAIN_CATALOG`` when set (a shared file), else user.sqlite in the data folder."""
+    env = os.environ.get(ENV_CATALOG)
+    if env:
+        path = Path(env).expanduser().resolve()
+        if path.is_dir():
+            raise InputError(ENV_CATALOG, "must name a catalog file (e.g. team.sqlite), not a folder", env)
+        return path
     return (directory or data_dir()) / USER_NAME
 
 
@@ -184,6 +195,9 @@ def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
         if parsed.errors:
             raise RuntimeError(f"shipped catalog data is invalid:\n{InputErrors(parsed.errors)}")
         for row in parsed.rows:
+            if shipped.unverified and row.values.get("verified") != 1:
+                row.values["verified"] = 0
+                row.values.setdefault("unverified_reason", _reason_of(row.values, shipped.unverified))
             m = re.match(shipped.model_pattern, row.id or "") if shipped.model_pattern else None
             if m is not None:
                 row.values["model"] = m.group(1)
@@ -191,6 +205,13 @@ def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
                 # right-angle series end in R (GPBR, GPDR, GPVR, GPER; data/SOURCES.md)
                 row.values["right_angle"] = int(str(row.values.get("series", "")).endswith("R"))
         yield shipped, parsed.rows
+
+
+def _reason_of(values: dict[str, Any], default: str) -> str:
+    """Why a shipped row is unverified: the notes' own "not verified: ..." clause, else the file's reason."""
+    notes = str(values.get("notes") or "")
+    m = re.search(r"not verified: ([^;]*(?:;[^;]*)*)$", notes)
+    return m.group(1).strip() if m else default
 
 
 def _rejects() -> Iterator[tuple[str, ...]]:
@@ -232,10 +253,18 @@ def user_writer(directory: Path | None = None) -> Iterator[sqlite3.Connection]:
 
     directory = directory or data_dir()
     builtin_db(directory)  # creates the folder, and the user rows' ids were checked against it
-    conn = sqlite3.connect(user_db_path(directory), isolation_level=None, timeout=30.0)
+    path = user_db_path(directory)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        conn = sqlite3.connect(path, isolation_level=None, timeout=30.0)
+    except (OSError, sqlite3.Error) as exc:
+        raise InputError("catalog", f"cannot open the user catalog ({exc})", str(path)) from None
     try:
         conn.execute("PRAGMA synchronous = FULL")
-        _ensure_user_schema(conn)
+        try:
+            _ensure_user_schema(conn)
+        except sqlite3.DatabaseError as exc:
+            raise InputError("catalog", f"is not a drivetrain catalog database ({exc})", str(path)) from None
         with immediate_transaction(conn):
             yield conn
     finally:
@@ -272,9 +301,10 @@ def _ensure_user_schema(conn: sqlite3.Connection) -> None:
     _check_user_version(conn, "main")
 
 
-_UPGRADABLE = ("1",)
-"""User database versions brought up to SCHEMA_VERSION in place: they lack only columns added since
-(version 2 added the gearbox fields T2B source document, bore range, flange, pilot, verified)."""
+_UPGRADABLE = ("1", "2")
+"""User database versions brought up to SCHEMA_VERSION in place: they lack only columns and tables added
+since (version 2 added the gearbox fields source document, bore range, flange, pilot, verified; version 3
+the motor and drive documents, the unverified reasons, the motor field-group sources and the history)."""
 
 
 def _upgrade_user(conn: sqlite3.Connection, schema: str) -> None:
@@ -289,6 +319,11 @@ def _upgrade_user(conn: sqlite3.Connection, schema: str) -> None:
             for f in spec.fields:
                 if f.column not in have:
                     conn.execute(f"ALTER TABLE {schema}.{spec.sql} ADD COLUMN {f.column} {sql_type(f)}")
+        has_history = conn.execute(
+            f"SELECT 1 FROM {schema}.sqlite_master WHERE type = 'table' AND name = 'history'"
+        ).fetchone()
+        if not has_history:
+            conn.execute(f"CREATE TABLE {schema}.history ({', '.join(c + ' TEXT' for c in HISTORY_COLUMNS)})")
         conn.execute(
             f"UPDATE {schema}.meta SET value = ? WHERE key = 'schema_version'", (str(SCHEMA_VERSION),)
         )
@@ -332,11 +367,16 @@ def reader(directory: Path | None = None) -> Iterator[Reader]:
         user = user_db_path(directory)
         has_user = user.exists()
         if has_user:
-            # read-write on purpose: a journal left by a killed import is rolled back on open
-            conn.execute("ATTACH DATABASE ? AS user", (str(user),))
-            has_user = bool(
-                conn.execute("SELECT 1 FROM user.sqlite_master WHERE type = 'table' AND name = 'meta'").fetchone()
-            )
+            try:
+                # read-write on purpose: a journal left by a killed import is rolled back on open
+                conn.execute("ATTACH DATABASE ? AS user", (str(user),))
+                has_user = bool(
+                    conn.execute(
+                        "SELECT 1 FROM user.sqlite_master WHERE type = 'table' AND name = 'meta'"
+                    ).fetchone()
+                )
+            except sqlite3.DatabaseError as exc:
+                raise InputError("catalog", f"is not a drivetrain catalog database ({exc})", str(user)) from None
             if has_user:
                 _check_user_version(conn, "user")
         yield Reader(conn, has_user)
@@ -389,11 +429,28 @@ class Reader:
                 out.setdefault(mid, []).append((speed, cont, peak))
         return out
 
+    def curve_sources(self, motor_id: str) -> list[str]:
+        """The ``source`` of each curve point of one motor."""
+        sql = f"SELECT source FROM ({self._union(CURVE.sql, 'motor_id, source')}) WHERE motor_id = ?"
+        return [str(r[0] or "") for r in self.conn.execute(sql, (motor_id,))]
+
     def rejected(self, rid: str) -> dict[str, str] | None:
         """The shipped data's reject record for ``rid`` (a row left out, with the reason), if any."""
         cursor = self.conn.execute("SELECT * FROM builtin.rejects WHERE id = ?", (rid,))
         row = cursor.fetchone()
         return None if row is None else dict(zip([d[0] for d in cursor.description], row, strict=True))
+
+    def history(self, rid: str | None = None) -> list[dict[str, Any]]:
+        """The user catalog's change log (oldest first), of one id or of all; empty without a user catalog."""
+        if not self.has_user:
+            return []
+        sql = f"SELECT {', '.join(HISTORY_COLUMNS)} FROM user.history"
+        params: tuple[Any, ...] = ()
+        if rid is not None:
+            sql += " WHERE id = ?"
+            params = (rid,)
+        cursor = self.conn.execute(sql + " ORDER BY rowid", params)
+        return [dict(zip(HISTORY_COLUMNS, r, strict=True)) for r in cursor]
 
     def count(self, spec: TableSpec, origin: str | None = None) -> int:
         dbs = [d for d in ("builtin", "user") if origin in (None, d) and (d == "builtin" or self.has_user)]
