@@ -22,6 +22,9 @@ def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every sub-command."""
     parser = argparse.ArgumentParser(prog="drivetrain", description="Size and analyse servo axes.")
     parser.add_argument("--version", action="store_true", help="print the version and exit")
+    parser.add_argument("--catalog", dest="user_catalog", metavar="FILE.sqlite",
+                        help="your catalog file, e.g. one a team shares (default: $DRIVETRAIN_CATALOG, else "
+                             "user.sqlite in the data folder); the shipped data is read beside it")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
     p = sub.add_parser("size", help="duty cycle at the motor shaft, motor checks and selection")
@@ -337,6 +340,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     from drivetrain.errors import InputError
 
     try:
+        if getattr(args, "user_catalog", None):
+            from drivetrain.catalog.cli import use_catalog
+
+            use_catalog(args.user_catalog)
         return handler(args)
     except InputError as exc:
         print(f"error: {exc}", file=sys.stderr)

@@ -9,9 +9,13 @@ Queries see both and return arrays (SI, NaN where a value is unknown)::
     m.rated_torque, m.rotor_inertia, m.ids        # [N m], [kg m^2], ids
     catalog.get("SGM7J-04A")                      # one row as a dict, with source and notes
     catalog.import_file("my_motors.csv")          # validated, one transaction
+    catalog.import_file("my_motors.csv", replace=True)  # update your rows of the same ids
+    catalog.update("MY-1", {"rated_torque": 1.3})  # edit one of your rows
+    catalog.remove(["MY-1"]); catalog.history()   # remove rows; every change is logged
     catalog.export("motors.json", "motor", "json")
 
-The data folder is ``$DRIVETRAIN_DATA_DIR`` or the platform's user data folder.
+The data folder is ``$DRIVETRAIN_DATA_DIR`` or the platform's user data folder; the user catalog is
+``$DRIVETRAIN_CATALOG`` when set (a file a team can share), else ``user.sqlite`` in that folder.
 """
 
 from __future__ import annotations
@@ -37,10 +41,12 @@ from drivetrain.errors import InputError
 
 if TYPE_CHECKING:
     from drivetrain.catalog.importer import ImportReport, export, import_file
+    from drivetrain.catalog.manage import history, remove, update
     from drivetrain.catalog.tables import DriveTable, GearboxTable, MotorTable
 
 _LAZY = {"ImportReport": "importer", "export": "importer", "import_file": "importer", "DriveTable": "tables",
-         "GearboxTable": "tables", "MotorTable": "tables"}
+         "GearboxTable": "tables", "MotorTable": "tables", "history": "manage", "remove": "manage",
+         "update": "manage"}
 
 
 def __getattr__(name: str) -> Any:
@@ -61,8 +67,11 @@ __all__ = [
     "export",
     "gearboxes",
     "get",
+    "history",
     "import_file",
     "motors",
+    "remove",
+    "update",
 ]
 
 VOLTAGE_TOLERANCE = 0.15

@@ -430,8 +430,9 @@ class Reader:
         return out
 
     def curve_sources(self, motor_id: str) -> list[str]:
-        """The ``source`` of each curve point of one motor."""
-        sql = f"SELECT source FROM ({self._union(CURVE.sql, 'motor_id, source')}) WHERE motor_id = ?"
+        """The ``source`` of each curve point of one motor, by speed (as :meth:`curves` orders them)."""
+        cols = "motor_id, speed_rad_s, source"
+        sql = f"SELECT source FROM ({self._union(CURVE.sql, cols)}) WHERE motor_id = ? ORDER BY speed_rad_s"
         return [str(r[0] or "") for r in self.conn.execute(sql, (motor_id,))]
 
     def rejected(self, rid: str) -> dict[str, str] | None:
