@@ -303,10 +303,14 @@ def _print_candidates(console: Any, result: Any) -> None:
         if not c["ok"]:
             worst = min((ch for ch in c["checks"] if not ch["ok"]), key=lambda ch: ch["margin"] or 0.0)
             why = f"{worst['name']} {worst['margin'] * 100:+.0f} %"
-        t.add_row(str(c["rank"]) if c.get("rank") else "-", c["motor"], c.get("gearbox") or "direct",
+        t.add_row(str(c["rank"]) if c.get("rank") else "-", c["motor"] + (" †" if c.get("unverified") else ""),
+                  c.get("gearbox") or "direct",
                   f"{c['ratio']:.4g}", f"{c['inertia_ratio']:.3g}", f"{checks['peak_torque']['margin'] * 100:+.0f} %",
                   f"{checks['rms_torque']['margin'] * 100:+.0f} %", why)
     console.print(t)
+    if any(c.get("unverified") for c in result.candidates):
+        console.print("† unverified catalog data (not traced to a vendor document, or a derived rating): "
+                      "see unverified_reason in --json, or `drivetrain catalog show ID`")
     if sel.get("selected"):
         pick = sel["selected"]
         console.print(f"selected: {pick['motor']} ({pick['vendor']})"

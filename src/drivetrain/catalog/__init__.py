@@ -266,7 +266,8 @@ def sources(
         if not any(row.get(c) is not None for c in columns):
             out[group] = "no values"
             continue
-        out[group] = str(row.get(f"{group}_source") or default)
+        own = row.get(f"{group}_source")
+        out[group] = f"{own} [{doc}]" if own and doc else str(own or default)
     if spec is MOTOR:
         if not points:
             out["curve"] = "none: the envelope is derived from the ratings (approximate)"

@@ -33,6 +33,9 @@ from drivetrain.catalog.schema import (
     DATA_VERSION,
     GEARBOX,
     HISTORY_COLUMNS,
+    DOCUMENT_FIELDS,
+    MOTOR,
+    MOTOR_DOCUMENTS_FILE,
     REJECTS_FILE,
     ROW_TABLES,
     SCHEMA_VERSION,
@@ -95,7 +98,7 @@ def shipped_text(filename: str) -> str:
 def build_stamp() -> str:
     """Identifies the shipped data: DATA_VERSION, schema version and a hash of the files."""
     digest = hashlib.sha256()
-    for name in [f.filename for f in SHIPPED_FILES] + [REJECTS_FILE]:
+    for name in [f.filename for f in SHIPPED_FILES] + [REJECTS_FILE, MOTOR_DOCUMENTS_FILE]:
         digest.update(name.encode())
         digest.update(shipped_text(name).encode())
     return f"{DATA_VERSION}/schema-{SCHEMA_VERSION}/{digest.hexdigest()[:16]}"
@@ -187,6 +190,7 @@ def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
     """Every shipped file converted and validated; a problem is a packaging bug, so it raises."""
     from drivetrain.catalog.records import parse_rows, read_csv
 
+    documents = motor_documents()
     for shipped in SHIPPED_FILES:
         raw = read_csv(shipped_text(shipped.filename), shipped.filename)
         parsed = parse_rows(
@@ -195,6 +199,9 @@ def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
         if parsed.errors:
             raise RuntimeError(f"shipped catalog data is invalid:\n{InputErrors(parsed.errors)}")
         for row in parsed.rows:
+            if shipped.table is MOTOR and row.id in documents:
+                for name, value in documents.pop(row.id).items():
+                    row.values[name] = value
             if shipped.unverified and row.values.get("verified") != 1:
                 row.values["verified"] = 0
                 row.values.setdefault("unverified_reason", _reason_of(row.values, shipped.unverified))
@@ -205,6 +212,26 @@ def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
                 # right-angle series end in R (GPBR, GPDR, GPVR, GPER; data/SOURCES.md)
                 row.values["right_angle"] = int(str(row.values.get("series", "")).endswith("R"))
         yield shipped, parsed.rows
+    if documents:
+        raise RuntimeError(f"{MOTOR_DOCUMENTS_FILE} names motors that are not shipped: {', '.join(documents)}")
+
+
+def motor_documents() -> dict[str, dict[str, Any]]:
+    """The vendor documents of shipped motors by id (MOTOR_DOCUMENTS_FILE), ``verified`` as 1/0."""
+    import csv
+    import io
+
+    out: dict[str, dict[str, Any]] = {}
+    reader = csv.DictReader(io.StringIO(shipped_text(MOTOR_DOCUMENTS_FILE)))
+    if reader.fieldnames is None or set(reader.fieldnames) != {"id", *DOCUMENT_FIELDS}:
+        raise RuntimeError(f"{MOTOR_DOCUMENTS_FILE}: columns must be id and {', '.join(DOCUMENT_FIELDS)}")
+    for r in reader:
+        values: dict[str, Any] = {k: v.strip() for k, v in r.items() if k != "id" and v and v.strip()}
+        if values.get("verified") not in ("yes", "no"):
+            raise RuntimeError(f"{MOTOR_DOCUMENTS_FILE}: {r['id']}: verified must be yes or no")
+        values["verified"] = int(values["verified"] == "yes")
+        out[r["id"]] = values
+    return out
 
 
 def _reason_of(values: dict[str, Any], default: str) -> str:

@@ -318,6 +318,13 @@ SHIPPED_FILES: tuple[ShippedFile, ...] = (
     ShippedFile("drives.csv", DRIVE, "servo_drive"),
 )
 REJECTS_FILE = "rejects.csv"
+MOTOR_DOCUMENTS_FILE = "motor_documents.csv"
+"""Vendor documents of shipped motors, by id: the document, section, page, URL, ``verified`` and the
+source of each field group; it fills those fields of the motor rows (data/SOURCES.md)."""
+DOCUMENT_FIELDS = (
+    "source_document", "source_section", "source_page", "source_url", "verified", "ratings_source",
+    "mechanical_source", "electrical_source",
+)
 
 FIELD_GROUPS: dict[str, tuple[str, ...]] = {
     "ratings": (

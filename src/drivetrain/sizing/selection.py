@@ -413,8 +413,17 @@ def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable |
         "inertia_ratio": float(d.inertia_ratio[0]), "rms_torque_Nm": float(d.rms_torque[0]),
         "peak_torque_Nm": float(d.peak_torque[0]), "rated_power_W": float(motors.rated_power[m]),
         "ok": not bad, "failed": failed, "approximate_envelope": bool(~motors.has_curve[m]),
-        "rated_torque_derived": bool(motors.approx_rated[m]), "checks": checks,
+        "rated_torque_derived": bool(motors.approx_rated[m]), **_trace(motors, m, gb, g), "checks": checks,
     }
+
+
+def _trace(motors: MotorTable, m: int, gb: GearboxTable | None, g: int) -> dict[str, Any]:
+    """``unverified`` and its reason: the motor's or the gearbox's catalog row is not traced to a vendor
+    document, or a rating the sizing uses was derived (catalog.schema.trace)."""
+    reasons = [f"motor: {motors.unverified_reason[m]}"] if motors.unverified[m] else []
+    if gb is not None and g >= 0 and gb.unverified[g]:
+        reasons.append(f"gearbox: {gb.unverified_reason[g]}")
+    return {"unverified": bool(reasons), "unverified_reason": "; ".join(reasons) or None}
 
 
 def _next_smaller(c: Candidates, motors: MotorTable, gb: GearboxTable | None, best: int) -> dict[str, Any] | None:
