@@ -56,6 +56,8 @@ class ImportReport:
     database: str
 
     def __str__(self) -> str:
+        if self.table == "curve":
+            return f"imported {self.curve_points} curve point(s) from {self.path} into {self.database}"
         points = f" and {self.curve_points} curve point(s)" if self.curve_points else ""
         return f"imported {self.rows} {self.table} row(s){points} from {self.path} into {self.database}"
 
