@@ -190,8 +190,9 @@ def test_samples_fields() -> None:
          {"dwell": 0.5, "holding": "brake"}],
         "linear",
     )
-    s = cycle.sample(8)  # rounded up to 9 per segment
-    assert isinstance(s, Samples) and len(s.t) == 9 * len(cycle.segments)
+    s = cycle.sample(8)  # rounded up to 9 per segment, and one breakaway sample where each move starts
+    assert isinstance(s, Samples) and len(s.t) == 9 * len(cycle.segments) + 2
+    assert s.breakaway is not None and list(s.step[s.breakaway]) == [0, 2] and not s.weights[s.breakaway].any()
     assert s.weights.sum() == pytest.approx(cycle.period, rel=1e-14)
     assert set(s.direction[s.step == 0]) == {1} and set(s.direction[s.step == 2]) == {-1}
     assert set(s.direction[s.step == 1]) == {0}
@@ -387,7 +388,9 @@ def test_weights_and_continuity(raw: list[dict[str, Any]]) -> None:
     cycle = parse_profile(raw, "linear")
     s = cycle.sample(7)
     assert s.weights.sum() == pytest.approx(cycle.period, rel=1e-12)
-    assert np.all(s.weights > 0) and np.isfinite(np.c_[s.x, s.v, s.a, s.j]).all()
+    assert s.breakaway is not None
+    assert np.all(s.weights[~s.breakaway] > 0) and np.all(s.weights[s.breakaway] == 0.0)
+    assert np.isfinite(np.c_[s.x, s.v, s.a, s.j]).all()
     xs, vs, _, _ = _scales(cycle)
     left = np.flatnonzero(np.diff(s.segment))  # last sample of a segment, then first of the next
     np.testing.assert_allclose(s.t[left], s.t[left + 1], rtol=0, atol=1e-12 * cycle.period)

@@ -217,6 +217,34 @@ def test_pdf_report_pages_are_drawn_and_carry_the_numbers(ball: Any, tmp_path: P
     assert f"page {len(pages)} of {len(pages)}" in text
 
 
+SECTION_HEADING = re.compile(r"^(\d+ (The axis|Motion profile|Motor shaft: speed and torque|Speed-torque plane|"
+                             r"Selection and ratio|Inputs|Formulas and sources)|Notes)$")
+
+
+def _page_texts(path: Path) -> list[str]:
+    info = subprocess.run(["pdfinfo", str(path)], capture_output=True, text=True, check=True, timeout=60).stdout
+    m = re.search(r"^Pages:\s+(\d+)", info, re.M)
+    assert m, info
+    return [subprocess.run(["pdftotext", "-layout", "-f", str(k), "-l", str(k), str(path), "-"], capture_output=True,
+                           text=True, check=True, timeout=60).stdout for k in range(1, int(m.group(1)) + 1)]
+
+
+@needs_poppler
+@pytest.mark.skipif(shutil.which("pdfinfo") is None, reason="poppler-utils not installed (make browser)")
+@pytest.mark.parametrize("example", ["ball_screw", "rotary"])  # both left section headings at page bottoms
+def test_pdf_section_headings_are_never_the_last_text_on_a_page(example: str, ball: Any, tmp_path: Path) -> None:
+    result = ball if example == "ball_screw" else drivetrain.size(EXAMPLES / f"{example}.yaml")
+    pages = _page_texts(render_pdf(result, tmp_path / f"{example}.pdf"))
+    headings_seen = 0
+    for k, text in enumerate(pages, start=1):
+        lines = [line.strip() for line in text.splitlines() if line.strip()]
+        body = [line for line in lines if f"page {k} of {len(pages)}" not in line]  # the running footer
+        headings_seen += sum(1 for line in body if SECTION_HEADING.match(line))
+        assert body, f"page {k} is empty"
+        assert not SECTION_HEADING.match(body[-1]), f"page {k} ends with the heading {body[-1]!r}"
+    assert headings_seen >= 7, headings_seen  # the headings are found at all (the pattern matches them)
+
+
 # --------------------------------------------------------------------------- units
 
 

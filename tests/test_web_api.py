@@ -8,6 +8,7 @@ import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
+from urllib.parse import quote
 
 import numpy as np
 import pytest
@@ -336,6 +337,25 @@ def test_form_description_covers_every_mechanism_and_transmission(client: TestCl
     assert screw["lead"]["kind"] == "quantity" and screw["lead"]["unit"] == "m" and screw["lead"]["required"]
 
 
+
+def test_form_description_gives_every_profile_key_a_field(client: TestClient) -> None:
+    from drivetrain.motion.profiles import VALID_KEYS, parse_profile
+
+    profile = client.get("/api/form").json()["profile"]
+    columns = {c["key"]: c for c in profile["columns"]}
+    assert set(columns) | {"dwell"} == set(VALID_KEYS)
+    kinds = {k["kind"]: k["keys"] for k in profile["kinds"]}
+    assert set().union(*kinds.values()) == set(VALID_KEYS)
+    assert columns["law"]["options"][1:] == ["cycloidal", "modified_sine", "modified_trapezoid", "poly345"]
+    values = {"move": "200 mm", "speed": "0.4 m/s", "time": "0.5 s", "accel": "0.1 s", "decel": "0.1 s",
+              "shape": "trapezoid", "max_speed": "1 m/s", "max_accel": "10 m/s^2", "max_jerk": "500 m/s^3",
+              "law": "cycloidal", "thrust": "5 N", "dwell": "0.2 s", "holding": "brake"}
+    for kind, keys in kinds.items():  # each kind's keys (bar the s-curve's jerk options) make a step the engine takes
+        step = {k: values[k] for k in keys if k in values}
+        cycle = parse_profile([step], "linear")
+        assert cycle.period > 0, kind
+
+
 # ---------------------------------------------------------------------------------- catalog
 
 
@@ -367,6 +387,21 @@ WEB-B1,Webtest,W,1.3,4.5,3000,6000,3.7e-5
 WEB-B2,Webtest,W,-1,4.5,3000,6000,3.7e-5
 WEB-B3,Webtest,W,1.3,lots,3000,6000,3.7e-5
 """
+
+
+def test_catalog_ids_with_a_slash_are_found(client: TestClient) -> None:
+    page = client.get("/api/catalog/motors", params={"q": "/", "limit": 5}).json()
+    slashed = [m["id"] for m in page["items"] if "/" in m["id"]]
+    assert slashed, "the shipped catalog has ids with a slash (FANUC)"
+    for motor_id in slashed:
+        quoted = quote(motor_id, safe="")
+        item = client.get(f"/api/catalog/items/{quoted}")
+        assert item.status_code == 200 and item.json()["id"] == motor_id, item.text
+        envelope = client.get(f"/api/catalog/motors/{quoted}/envelope")
+        assert envelope.status_code == 200 and envelope.json()["name"] == motor_id, envelope.text
+    missing = assert_error(client.get("/api/catalog/items/no%2Fsuch"), 404)
+    assert missing["field"] == "item_id"
+    assert assert_error(client.get("/api/catalog/motors/no%2Fsuch/envelope"), 404)["field"] == "motor_id"
 
 
 def test_catalog_import_reports_every_bad_row_and_writes_nothing(client: TestClient, data_dir: Path) -> None:

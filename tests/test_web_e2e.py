@@ -348,3 +348,176 @@ def test_yaml_pane_and_form_stay_in_sync(page: Any) -> None:
     page.fill("#f-mechanism-lead", "5 mm")
     wait_until(page, "() => document.querySelector('#yaml-text').value.includes('lead: 5 mm')")
     assert page.locator("#yaml-error").is_hidden()
+
+
+# ---------------------------------------------------------------------------------- the editor, as a new user tries it
+
+
+def test_a_new_axis_shows_no_error_before_the_first_edit(page: Any) -> None:
+    wait_sized(page)
+    assert page.locator("#axis-form .field-error").count() == 0
+    assert page.locator("#error-summary").is_hidden()
+    assert "Fill in the mechanism" in page.inner_text("#result-banner")
+    set_field(page, "mechanism.load.mass", "10 kg")  # the first edit: what is still missing is shown
+    wait_sized(page)
+    assert page.locator(".field[data-field='mechanism.lead'] .field-error").inner_text().endswith("is required")
+
+
+def test_ticking_motor_starts_a_catalog_selection_without_an_error(page: Any) -> None:
+    page.select_option("#example-select", "ball_screw")
+    wait_sized(page)
+    page.uncheck("#f-motor-on")
+    wait_sized(page)
+    assert "motor" not in yaml_pane(page)
+    page.check("#f-motor-on")
+    wait_sized(page)
+    assert yaml_pane(page)["motor"] == {"select": {}}
+    assert page.is_checked("#f-motor-select-on"), "select from the catalog is the first choice"
+    assert page.locator("#axis-form .field-error").count() == 0
+    assert page.locator("#error-summary").is_hidden()
+    assert "Selected motor:" in page.inner_text("#result-banner")
+
+    page.check("#f-motor-given-on")  # a given motor: no error before the user types anything
+    wait_sized(page)
+    assert "select" not in yaml_pane(page)["motor"]
+    assert page.locator("#axis-form .field-error").count() == 0
+    assert page.locator("#error-summary").is_hidden()
+    assert "Fill in the motor" in page.inner_text("#result-banner")
+    set_field(page, "motor.inertia", "0.3 kg*cm^2")  # the first edit: what is still missing is named
+    wait_sized(page)
+    assert "rated_torque" in page.inner_text("fieldset[data-path='motor']")
+    assert "problem" in page.inner_text("#result-banner")
+    page.check("#f-motor-select-on")
+    wait_sized(page)
+    assert yaml_pane(page)["motor"] == {"inertia": "0.3 kg*cm^2", "select": {}}
+    assert page.locator("#axis-form .field-error").count() == 0
+
+
+def test_changing_the_mechanism_type_keeps_what_applies_and_says_what_it_cleared(page: Any) -> None:
+    page.select_option("#example-select", "ball_screw")
+    wait_sized(page)
+    before = yaml_pane(page)["mechanism"]
+    set_field(page, "mechanism.type", "lead_screw")  # the same model: everything applies
+    wait_until(page, "() => document.querySelector('#yaml-text').value.includes('lead_screw')")
+    assert yaml_pane(page)["mechanism"] == {**before, "type": "lead_screw"}
+    assert page.input_value("#f-mechanism-lead") == "10 mm"
+    assert page.input_value("#f-mechanism-length") == "800 mm"
+    assert page.locator(".type-notice").count() == 0
+
+    set_field(page, "mechanism.type", "rack_pinion")  # a screw's diameter is not a pinion's
+    wait_until(page, "() => document.querySelector('#yaml-text').value.includes('rack_pinion')")
+    after = yaml_pane(page)["mechanism"]
+    assert after == {"type": "rack_pinion", "efficiency": 0.9, "incline": "90 deg", "load": before["load"]}
+    assert page.input_value("#f-mechanism-diameter") == ""
+    notice = page.inner_text(".type-notice")
+    for name in ("lead", "diameter", "length", "material"):
+        assert name in notice.split("cleared")[1].split("kept")[0], notice
+    assert "load" in notice.split("kept")[1]
+    set_field(page, "mechanism.diameter", "40 mm")  # the user's next edit there retires the notice
+    assert page.locator(".type-notice").count() == 0
+    wait_sized(page)
+    assert "Selected motor:" in page.inner_text("#result-banner")
+
+    set_field(page, "mechanism.type", "rotary")  # a rotary load is another model: the linear load goes
+    wait_until(page, "() => document.querySelector('#yaml-text').value.includes('rotary')")
+    assert "load" not in yaml_pane(page)["mechanism"]
+    assert "load" in page.inner_text(".type-notice").split("cleared")[1].split("kept")[0]
+
+
+def test_every_profile_option_has_a_field(page: Any) -> None:
+    page.select_option("#example-select", "ball_screw")
+    wait_sized(page)
+    kinds = page.eval_on_selector("#f-profile-0--kind", "s => [...s.options].map(o => o.value)")
+    assert set(kinds) == {"move", "speed", "optimal", "cam", "dwell"}
+    page.select_option("#f-profile-0--kind", "optimal")
+    wait_until(page, "() => document.querySelector('#f-profile-0-max-speed') !== null")
+    set_field(page, "profile[0].max_speed", "0.5 m/s")
+    set_field(page, "profile[0].max_accel", "5 m/s^2")
+    set_field(page, "profile[0].max_jerk", "200 m/s^3")
+    wait_until(page, "() => document.querySelector('#yaml-text').value.includes('max_jerk')")
+    assert yaml_pane(page)["profile"][0] == {"move": "200 mm", "max_speed": "0.5 m/s", "max_accel": "5 m/s^2",
+                                              "max_jerk": "200 m/s^3"}
+    assert page.locator("input.other").count() == 0, "no option is left to an 'Other keys' box"
+    wait_sized(page)
+    assert "problem" not in page.inner_text("#result-banner")
+    expected = size(yaml_pane(page))
+    wait_until(page, "t => document.querySelector('.metrics-table').innerText.includes(t)",
+               f"{sig4(expected.metrics['rms_torque_Nm']):g}")
+
+    page.select_option("#f-profile-0--kind", "cam")
+    wait_until(page, "() => document.querySelector('#f-profile-0-law') !== null")
+    set_field(page, "profile[0].law", "modified_sine")
+    set_field(page, "profile[0].time", "0.5 s")
+    wait_until(page, "() => document.querySelector('#yaml-text').value.includes('modified_sine')")
+    assert yaml_pane(page)["profile"][0] == {"move": "200 mm", "time": "0.5 s", "law": "modified_sine"}
+
+    page.select_option("#f-profile-0--kind", "speed")
+    wait_until(page, "() => document.querySelector('#f-profile-0-speed') !== null")
+    set_field(page, "profile[0].speed", "24 m/min")
+    set_field(page, "profile[0].accel", "0.1 s")
+    wait_until(page, "() => document.querySelector('#yaml-text').value.includes('24 m/min')")
+    assert yaml_pane(page)["profile"][0] == {"speed": "24 m/min", "time": "0.5 s", "accel": "0.1 s"}
+    page.select_option("#f-profile-0--kind", "move")
+    set_field(page, "profile[0].move", "200 mm")
+    set_field(page, "profile[0].shape", "s_curve")
+    page.wait_for_selector("#f-profile-0-jerk")
+    wait_sized(page)
+    assert "problem" not in page.inner_text("#result-banner")
+
+
+def test_unit_hints_show_the_unit_the_user_writes(page: Any) -> None:
+    page.select_option("#example-select", "rotary")
+    wait_sized(page)
+    unit = "() => document.querySelector(\"[data-field='mechanism.incline'] .unit\")?.innerText"
+    set_field(page, "mechanism.incline", "30 deg")
+    wait_until(page, f"() => ({unit})() === '[deg]'")
+    set_field(page, "mechanism.incline", "0.5")  # a bare number is read in SI
+    wait_until(page, f"() => ({unit})() === '[rad]'")
+    set_field(page, "mechanism.incline", "")  # empty: the unit a user is likely to type
+    wait_until(page, f"() => ({unit})() === '[deg]'")
+    shown = page.evaluate("() => [...document.querySelectorAll('.field .unit')].map(u => u.innerText)")
+    assert "[rad]" not in shown and "[rad/s]" not in shown, shown
+
+
+def test_the_catalog_opens_on_industrial_servos_in_engineering_numbers(page: Any) -> None:
+    page.click("#tab-catalog")
+    page.wait_for_selector(".catalog-table tbody tr")
+    assert page.input_value("#flt-kind") == "ac_servo"
+    text = page.inner_text(".catalog-table tbody")
+    assert not re.search(r"\d\.\d+e[-+]?\d", text), "no scientific notation"
+    shown = page.evaluate("""() => [...document.querySelectorAll('.catalog-table tbody tr')].map(r =>
+        [...r.querySelectorAll('td')].map(c => c.innerText))""")
+    inertia = [float(r[7]) for r in shown if r[7] not in ("–", "")]
+    assert inertia and all(0.001 <= v < 1e6 for v in inertia), inertia  # kg·cm², plain numbers
+    assert page.evaluate("() => import('/static/results.js').then(m => [m.fmt(1.2e-5), m.fmt(0.54), m.fmt(1.27), "
+                         "m.fmt(2.4e7), m.fmt(999999.9)])") == ["12e-6", "0.54", "1.27", "24e6", "1e6"]
+    slashed = page.locator(".catalog-table tbody th button", has_text="/").first  # FANUC's "beta 0.2/5000is"
+    name = slashed.inner_text()
+    slashed.click()
+    wait_until(page, "t => document.querySelector('#catalog-detail h3')?.innerText === t", name)
+    assert name in page.inner_text("#plot-envelope")
+
+
+def test_candidate_columns_fit_or_scroll_with_the_motor_in_view(page: Any) -> None:
+    page.select_option("#example-select", "ball_screw")
+    wait_sized(page)
+    page.wait_for_selector(".candidates-table")
+    geometry = page.evaluate("""() => {
+        const wrap = document.querySelector('.candidates-wrap'), results = document.querySelector('.results');
+        const first = document.querySelector('.candidates-table tbody th');
+        const r = results.getBoundingClientRect(), w = wrap.getBoundingClientRect();
+        return {fits: wrap.scrollWidth <= wrap.clientWidth, overflow: getComputedStyle(wrap).overflowX,
+                sticky: getComputedStyle(first).position, wrapRight: w.right, resultsRight: r.right,
+                first: first.innerText};
+    }""")
+    assert geometry["wrapRight"] <= geometry["resultsRight"] + 0.5, geometry  # nothing cut by the pane
+    assert geometry["fits"] or (geometry["overflow"] in ("auto", "scroll") and geometry["sticky"] == "sticky"), geometry
+    page.evaluate("() => { document.querySelector('.candidates-wrap').scrollLeft = 10000; }")
+    visible = page.evaluate("""() => {
+        const wrap = document.querySelector('.candidates-wrap').getBoundingClientRect();
+        const first = document.querySelector('.candidates-table tbody th').getBoundingClientRect();
+        const last = document.querySelector('.candidates-table thead th:last-child').getBoundingClientRect();
+        return {first: first.left >= wrap.left - 0.5 && first.right <= wrap.right + 0.5,
+                last: last.right <= wrap.right + 0.5};
+    }""")
+    assert visible == {"first": True, "last": True}, visible

@@ -103,6 +103,8 @@ def _cmd_size(args: argparse.Namespace) -> int:
         print(json.dumps(_jsonable(result.to_dict()), indent=2))
         return 0
     _print_table(result)
+    for warning in result.extras.get("warnings", []):
+        print(f"warning: {warning}")
     if explanation:
         print(explanation)
     if args.csv:
@@ -130,6 +132,12 @@ def _cmd_modes(args: argparse.Namespace) -> int:
             {"excitation": c.excitation, "order": c.order, "speed_rpm": c.speed_rad_s * 60 / (2 * math.pi),
              "natural_frequency_Hz": c.frequency_hz}
             for c in critical_speeds(out["natural_frequencies_Hz"], 0.0, top, excitation_orders())]
+    if axis.spec.profile and "chain" not in (axis.spec.dynamics or {}):
+        from drivetrain.dynamics.mechanism_modes import modes_across_stroke
+
+        across = modes_across_stroke(axis, dyn.stages, dyn.motor_inertia)
+        if across is not None:
+            out["modes"] = across
     if args.json:
         print(json.dumps(_jsonable(out), indent=2))
         return 0
@@ -137,6 +145,8 @@ def _cmd_modes(args: argparse.Namespace) -> int:
 
     console = Console(width=None if sys.stdout.isatty() else 120)
     console.print(f"[bold]{axis.name}[/] with motor {dyn.motor}: {len(dyn.chain.inertia)} inertias at the motor shaft")
+    if "modes" in out:
+        _print_modes_across(console, out["modes"])
     if not out["natural_frequencies_Hz"]:
         console.print("rigid drive train: no stiffness given (add stiffness to a coupling, gearbox or belt, or "
                       "a dynamics.chain), so there is no resonance to report")
@@ -147,6 +157,21 @@ def _cmd_modes(args: argparse.Namespace) -> int:
         console.print(f"critical speed: {c['excitation']} crosses {c['natural_frequency_Hz']:.1f} Hz at "
                       f"{c['speed_rpm']:.0f} rpm")
     return 0
+
+
+def _print_modes_across(console: Any, modes: dict[str, Any]) -> None:
+    from rich.table import Table
+
+    console.print(f"with the mechanism's stiffness: lowest first mode {modes['f1_min_Hz']:.1f} Hz at position "
+                  f"{modes['worst_position_m'] * 1e3:.0f} mm; weakest link: {modes['weakest_link']}")
+    rows = modes["f1_by_position"]
+    t = Table(title="first natural frequency across the stroke")
+    for col in ("position", "f1", "mechanism stiffness"):
+        t.add_column(col, justify="right")
+    for r in rows[:: max(1, len(rows) // 10)] + ([rows[-1]] if (len(rows) - 1) % max(1, len(rows) // 10) else []):
+        t.add_row(f"{r['position_m'] * 1e3:.0f} mm", f"{r['f1_Hz']:.1f} Hz",
+                  f"{r['axial_stiffness_N_per_m'] / 1e6:.3g} N/um")
+    console.print(t)
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
@@ -266,8 +291,13 @@ def _print_table(result: Any) -> None:
     for k, v in rows:
         t.add_row(k, v)
     console.print(t)
+    mech = result.extras.get("mechanism_checks")
+    if mech:
+        _print_checks(console, f"mechanism {result.axis.mechanism.type}",
+                      {"ok": all(c["ok"] for c in mech), "checks": mech})
     if result.motor is not None:
         _print_checks(console, f"motor {result.motor['name']}", result.motor)
+        _print_electrical(console, result)
     if result.candidates:
         _print_candidates(console, result)
 
@@ -287,6 +317,37 @@ def _print_checks(console: Any, title: str, block: dict[str, Any]) -> None:
         console.print(f"inertia ratio J_L/J_M = {block['inertia_ratio']:.3g} "
                       f"(lecture: below 5:1 recommended, 1:1 ideal); "
                       f"t_am = {block['min_accel_time_s']:.4g} s, t_dm = {block['min_decel_time_s']:.4g} s")
+
+
+def _print_electrical(console: Any, result: Any) -> None:
+    """The electrical half of a given motor: supply, envelope source, currents, winding, drive, regen."""
+    m = result.motor
+    if "rms_current_A" not in m:
+        return
+    bus = m.get("dc_bus_voltage_V")
+    supply = m.get("supply_voltage_V")
+    where = (f"supply {supply:.0f} V, DC bus {bus:.0f} V" if supply and bus else
+             (f"DC bus {bus:.0f} V" if bus else "supply voltage not given"))
+    console.print(f"{where}; envelope: {m['envelope_source']}")
+    console.print(f"motor current: RMS {m['rms_current_A']:.4g} A, peak {m['peak_current_A']:.4g} A "
+                  f"(Kt {m['torque_constant_NmA']:.4g} N*m/A)")
+    rise = m.get("winding_temperature_rise_K")
+    if rise is not None:
+        console.print(f"winding temperature rise {rise:.4g} K (allowed {m['winding_allowed_rise_K']:.4g} K at "
+                      f"{m['ambient_degC']:g} degC, {m['altitude_m']:g} m)")
+    drive = result.extras.get("drive")
+    if drive is not None:
+        _print_checks(console, f"drive {drive['id']}", drive)
+    rg = result.extras.get("regen")
+    if rg is not None:
+        window = (f", resistance {rg['resistor_min_ohm'] or 0:.4g} to {rg['resistor_max_ohm']:.4g} ohm"
+                  if rg.get("resistor_max_ohm") is not None else "")
+        builtin = {True: "; built-in resistor suffices", False: "; built-in resistor does NOT suffice",
+                   None: ""}[rg["builtin_resistor_sufficient"]]
+        console.print(f"regeneration into the bus {rg['energy_per_cycle_J']:.4g} J per cycle, capacitors "
+                      f"{rg['capacitor_absorbed_J']:.4g} J; braking resistor {rg['resistor_energy_per_cycle_J']:.4g} J "
+                      f"per cycle, peak {rg['resistor_peak_power_W']:.4g} W, average "
+                      f"{rg['resistor_average_power_W']:.4g} W{window}{builtin}")
 
 
 def _print_candidates(console: Any, result: Any) -> None:

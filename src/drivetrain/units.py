@@ -54,6 +54,13 @@ QUANTITIES: dict[str, tuple[str, str]] = {
     "current": ("A", "[current]"),
     "frequency": ("Hz", "1/[time]"),
     "dimensionless": ("", ""),
+    "resistance": ("ohm", "[mass]*[length]^2/[time]^3/[current]^2"),
+    "inductance": ("H", "[mass]*[length]^2/[time]^2/[current]^2"),
+    "capacitance": ("F", "[current]^2*[time]^4/[mass]/[length]^2"),
+    "torque_constant": ("N*m/A", "[mass]*[length]^2/[time]^2/[current]"),
+    "back_emf_constant": ("V*s", "[mass]*[length]^2/[time]^2/[current]"),
+    "celsius": ("degC", "[temperature]"),
+    "temperature_difference": ("K", "[temperature]"),
 }
 
 _ROTATIONAL_SPEED = re.compile(r"(rpm|rps|r/min|rev|revolution|turn)")

@@ -13,17 +13,29 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import Field, ValidationError, model_validator
 
+from drivetrain.axis.electrical import (
+    DriveData,
+    DriveSpec,
+    Environment,
+    EnvironmentSpec,
+    MotorElectrical,
+    MotorElectricalSpec,
+    drive_data,
+    environment,
+    motor_electrical,
+)
 from drivetrain.axis.resolve import resolve_transmission
 from drivetrain.errors import InputError
 from drivetrain.fields import (
     Acceleration,
+    ComponentInertia,
     ForcePos,
-    Inertia,
-    InertiaPos,
     Length,
     LengthAny,
+    RotorInertia,
     Spec,
     SpeedPos,
+    Time,
     TorquePos,
     Voltage,
     input_error_from_pydantic,
@@ -74,12 +86,14 @@ class SelectSpec(Spec):
     top: int = Field(default=10, ge=1, le=1000)
 
 
-class MotorSpec(Spec):
-    """``motor:``: a given motor by its parameters or catalog id, or a catalog selection."""
+class MotorSpec(MotorElectricalSpec):
+    """``motor:``: a given motor by its parameters or catalog id, or a catalog selection.
+
+    The electrical keys (kt, ke, resistance, ..., see ``drivetrain.axis.electrical``) are optional."""
 
     name: str | None = None
     id: str | None = None
-    inertia: InertiaPos | None = None
+    inertia: RotorInertia | None = None
     rated_torque: TorquePos | None = None
     stall_torque: TorquePos | None = None
     peak_torque: TorquePos | None = None
@@ -116,6 +130,16 @@ class GuideSpec(Spec):
     rated_pitch_moment: TorquePos | None = None
     rated_roll_moment: TorquePos | None = None
     rated_yaw_moment: TorquePos | None = None
+    # Rolling-contact life of the carriages (docs/axis-file.md, "Mechanism limits"): checked when C is given.
+    dynamic_rating: ForcePos | None = None
+    static_rating: ForcePos | None = None
+    rating_distance: Length = 50e3
+    rolling: Literal["ball", "roller"] = "ball"
+    carriages: int = Field(default=1, ge=1, le=16)
+    load_factor: float = Field(default=1.0, ge=1.0, le=10.0)
+    moment_factors: dict[Literal["pitch", "roll", "yaw"], float] | None = None
+    required_life: Time = 20_000.0 * 3600.0
+    static_safety: float = Field(default=1.0, ge=1.0, le=10.0)
 
 
 class AxisSpec(Spec):
@@ -130,7 +154,9 @@ class AxisSpec(Spec):
     motor: MotorSpec | None = None
     guide: GuideSpec | None = None
     dynamics: dict[str, Any] | None = None
-    extra_inertia: Inertia = 0.0
+    extra_inertia: ComponentInertia = 0.0
+    drive: DriveSpec | None = None
+    environment: EnvironmentSpec | None = None
 
 
 @dataclass(frozen=True)
@@ -164,6 +190,9 @@ class Axis:
     spec: AxisSpec
     motor: MotorData | None = None
     raw: dict[str, Any] = field(default_factory=dict, compare=False)
+    electrical: MotorElectrical | None = None
+    drive: DriveData | None = None
+    environment: Environment = field(default_factory=Environment)
 
     @property
     def stages(self) -> tuple[Stage, ...]:
@@ -204,8 +233,16 @@ def parse_axis(data: Any) -> Axis:
     except InputError as exc:
         raise exc.at("") from None
     motor = _motor_data(spec.motor) if spec.motor is not None else None
+    electrical = None
+    if spec.motor is not None and spec.motor.select is None:
+        try:
+            electrical = motor_electrical(spec.motor, spec.motor.id)
+        except InputError as exc:
+            raise exc.at("") from None
     return Axis(name=spec.axis, gravity=spec.gravity, efficiency_model=spec.efficiency_model,
-                mechanism=mechanism, transmission=stages, spec=spec, motor=motor, raw=data)
+                mechanism=mechanism, transmission=stages, spec=spec, motor=motor, raw=data,
+                electrical=electrical, drive=None if spec.drive is None else drive_data(spec.drive),
+                environment=environment(spec.environment))
 
 
 def _motor_data(m: MotorSpec) -> MotorData | None:

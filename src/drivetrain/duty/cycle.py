@@ -114,12 +114,15 @@ def duty_from_samples(axis: Axis, cycle: Cycle, samples: Samples) -> DutyCycle:
     thrust_override = np.asarray(samples.thrust, dtype=float)
     mech = axis.mechanism
     default_thrust = mech.load.thrust if isinstance(mech.load, LinearLoad) else mech.load.torque
+    # The thrust as written, move by move; the load applies its thrust_mode (against the motion, or
+    # signed) and nothing in a dwell, which holds gravity and springs only (physics.loads.process_thrust).
     thrust = np.where(np.isnan(thrust_override), default_thrust, thrust_override)
-    # Thrust is a process force of the moves; a dwell holds gravity and springs only.
-    thrust = np.where(direction == 0.0, 0.0, thrust)
+    breakaway = getattr(samples, "breakaway", None)
+    if breakaway is None:
+        breakaway = np.zeros(v.shape, dtype=bool)
 
     stage = mech.stage
-    t_ext_in = mech.external_torque(x, v, direction, thrust, axis.gravity)
+    t_ext_in = mech.external_torque(x, v, direction, thrust, axis.gravity, breakaway)
     # The mechanism's "output" torque is the load force F (or load torque): F / i = F r.
     t_out = t_ext_in * stage.ratio
     ext_out = t_out
@@ -168,6 +171,7 @@ class _Const:
         self.direction = np.array([np.sign(v)])
         self.thrust = np.array([np.nan])
         self.braked = np.zeros(1, dtype=bool)
+        self.breakaway = np.zeros(1, dtype=bool)
         self.holding = np.zeros(1, dtype=bool)
         self.weights = np.ones(1)
         self.phase = np.zeros(1, dtype=int)
@@ -271,6 +275,32 @@ def gearbox_peak_torque(motor_peak_torque: float, motor_inertia: float, reflecte
     """
     k = gearbox_torque_split(motor_inertia, reflected_load_inertia)
     return (1.0 - k) * (motor_peak_torque - load_torque) + load_torque
+
+
+def gearbox_split_at_motor_peak(axis: Axis, duty: DutyCycle, motor_inertia: float, motor_peak_torque: float,
+                                run_torque: float) -> dict[str, Any]:
+    """The lecture's gearbox torque split for the first gearbox from the motor, if any.
+
+    Lecture, Dynamic Loading and Gearbox Sizing: k = J_M / (J_M + J_LR); at the motor's peak only
+    T_GR = (1 - k)(T_M - T_L) + T_L passes the gearbox (motor side), so the gearbox need not be sized
+    to the motor's peak. Everything that turns before the gearbox's gear mesh is on the motor's side of
+    the split, reflected to the motor shaft: the rotor, ``extra_inertia`` (it turns with the rotor),
+    every element before the gearbox and the gearbox's own input inertia (J / i^2 through the stages in
+    front of it). At the gearbox output the torque is T_GR times the ratio and efficiency of every
+    stage up to and including the gearbox. Torques [N m], inertias [kg m^2] at the motor shaft.
+    """
+    for k, st in enumerate(axis.transmission):
+        if st.kind != "gearbox":
+            continue
+        j_before = axis.spec.extra_inertia + chain_inertia(list(axis.transmission[: k + 1]))
+        j_motor_side = motor_inertia + j_before
+        j_lr = duty.load_inertia - j_before
+        t_gr = gearbox_peak_torque(motor_peak_torque, j_motor_side, j_lr, run_torque)
+        through = math.prod(s.ratio * s.efficiency for s in axis.transmission[: k + 1])
+        return {"gearbox_torque_split_k": gearbox_torque_split(j_motor_side, j_lr),
+                "gearbox_output_torque_at_motor_peak_Nm": t_gr * through,
+                "gearbox_output_peak_torque_Nm": float(np.max(np.abs(duty.stage_torque[k])))}
+    return {}
 
 
 def phase_table(duty: DutyCycle, torque: Array) -> list[dict[str, Any]]:

@@ -292,6 +292,11 @@ class Samples:
     and right limit) and an odd number of points; ``weights`` [s] are composite Simpson weights
     per segment, so ``sum(weights * f)`` integrates ``f`` over one period, exactly for
     piecewise cubic ``f`` (e.g. the square of a piecewise-linear torque).
+
+    ``breakaway`` marks one extra sample where each move starts from rest: a copy of the move's first
+    sample with zero quadrature weight. Static friction acts there (an instant: it counts in the
+    peak, never in an integral, so the RMS does not depend on the number of points); at every other
+    sample, the start and the arrival at rest included, friction slides.
     """
 
     t: FloatArray
@@ -307,6 +312,7 @@ class Samples:
     braked: npt.NDArray[np.bool_]
     thrust: FloatArray
     weights: FloatArray
+    breakaway: npt.NDArray[np.bool_] | None = None
 
     def integral(self, y: npt.ArrayLike) -> float:
         """Integral of the sampled ``y`` over one period [unit of y times s]."""
@@ -389,11 +395,25 @@ class Cycle:
         holding = np.array([steps[i].holding == "motor" for i in step_of], dtype=bool)
         braked = np.array([steps[i].holding == "brake" for i in step_of], dtype=bool)
         thrust = np.array([math.nan if steps[i].thrust is None else steps[i].thrust for i in step_of])
-        return Samples(
-            t=t.ravel(), x=kin.x, v=kin.v, a=kin.a, j=kin.j,
-            direction=direction[seg], step=step_of[seg], phase=phase_of[seg], segment=seg,
-            holding=holding[seg], braked=braked[seg], thrust=thrust[seg], weights=weights.ravel(),
-        )
+        cols: dict[str, Any] = {
+            "t": t.ravel(), "x": kin.x, "v": kin.v, "a": kin.a, "j": kin.j,
+            "direction": direction[seg], "step": step_of[seg], "phase": phase_of[seg], "segment": seg,
+            "holding": holding[seg], "braked": braked[seg], "thrust": thrust[seg], "weights": weights.ravel(),
+            "breakaway": np.zeros(seg.size, dtype=bool),
+        }
+        # Where a move starts from rest: one more sample, a copy of its first, with zero weight (breakaway).
+        first_seg: dict[int, int] = {}
+        for k, sg in enumerate(self.segments):
+            if steps[sg.step].kind == "move" and steps[sg.step].direction != 0:
+                first_seg.setdefault(sg.step, k)
+        starts = np.array(sorted(k * n for k in first_seg.values()), dtype=np.intp)
+        starts = starts[cols["v"][starts] == 0.0] if starts.size else starts
+        if starts.size:
+            copies = {key: col[starts] for key, col in cols.items()}
+            copies["weights"] = np.zeros(starts.size)
+            copies["breakaway"] = np.ones(starts.size, dtype=bool)
+            cols = {key: np.insert(col, starts, copies[key]) for key, col in cols.items()}
+        return Samples(**cols)
 
 
 # --------------------------------------------------------------------------- building pieces

@@ -44,19 +44,32 @@ def rms_force(force: Array, weights: Array, period: float) -> float:
 
 
 def guide_report(axis: Any, duty: Any) -> dict[str, Any]:
-    """Forces and moments on the carriage of a linear axis, checked against the guide's ratings."""
+    """Forces and moments on the carriage of a linear axis, checked against the guide's ratings.
+
+    The actuator force is the lecture's F_actuator = (W_L / g) a + F_applied + F_friction (+ F_gravity
+    on a slope or vertical): the moving mass times the acceleration plus the load's whole external
+    force along the travel (process force by its thrust_mode, friction mu W_L, gravity, springs).
+    Its RMS over the cycle is F_T,RMS. The carriage moments use F_x = m a + F_applied.
+    """
+    from drivetrain.physics.loads import process_thrust
+
     spec = axis.spec.guide
     load = axis.mechanism.load
     s = duty.samples
     a = np.asarray(s.a, dtype=float)
+    direction = np.asarray(s.direction, dtype=float)
     thrust = np.asarray(s.thrust, dtype=float)
-    f_proc = np.where(np.isnan(thrust), load.thrust, thrust)
-    f_proc = np.where(np.asarray(s.direction) == 0, 0.0, f_proc)
+    f_given = np.where(np.isnan(thrust), load.thrust, thrust)
+    f_proc = process_thrust(f_given, direction, load.thrust_mode)
     f_x = load.mass * a + f_proc
     weight = load.mass * axis.gravity
     mom = carriage_moments(f_x, weight, spec.l_x, spec.l_y, spec.l_z, spec.d_p, spec.d_r, spec.orientation)
+    breakaway = getattr(s, "breakaway", None)
+    f_actuator = load.moving_mass * a + load.force(np.asarray(s.x, dtype=float), np.asarray(s.v, dtype=float),
+                                                   direction, f_given, axis.gravity, breakaway)
     out: dict[str, Any] = {
-        "actuator_rms_force_N": rms_force(f_x + weight * math.sin(load.incline), duty.weights, duty.period),
+        "actuator_rms_force_N": rms_force(f_actuator, duty.weights, duty.period),
+        "actuator_peak_force_N": float(np.max(np.abs(f_actuator))),
         "peak_thrust_N": float(np.max(np.abs(f_x))),
     }
     checks = []

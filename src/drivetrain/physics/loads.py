@@ -10,6 +10,7 @@ Forces in [N], torques in [N m], speeds in [m/s] or [rad/s].
 from __future__ import annotations
 
 import math
+from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -35,18 +36,43 @@ def normal_force(mass: float, incline: float, g: float = G_STANDARD) -> float:
 
 
 def coulomb_friction(normal: float, mu_sliding: float, mu_static: float, speed: ArrayLike,
-                     direction: ArrayLike) -> Array:
+                     direction: ArrayLike, breakaway: ArrayLike | None = None) -> Array:
     """Dry (Coulomb) friction force opposing motion [N], with sticktion at breakaway.
 
-    F = mu_sl F_N sign(v) while moving; at zero speed inside a move (the breakaway instant)
-    mu_st F_N in the move's ``direction``; zero in a dwell (friction holds nothing on the safe
-    side). Lecture, "Friction (dry)": F = mu M g, with separate sticktion mu_st and slip mu_sl.
+    F = mu_sl F_N sign(v) while moving, and at zero speed inside a move (the limit from the moving
+    side: the start and the arrival at rest) mu_sl F_N in the move's ``direction``; zero in a dwell
+    (``direction`` 0: friction holds nothing, the safe side). Breakaway mu_st F_N in the move's
+    direction acts only where motion starts: at the samples marked ``breakaway`` (the profile's
+    zero-weight sample at the start of each move). Without a mask (``None``) every zero-speed sample
+    inside a move is taken as a start (a standstill query, e.g. the breakaway torque of the dynamics).
+    Lecture, "Friction (dry)": F = mu M g, with separate sticktion mu_st and slip mu_sl.
     """
     v = np.asarray(speed, dtype=float)
-    d = np.asarray(direction, dtype=float)
-    moving = np.sign(v) * mu_sliding * normal
-    breakaway = np.sign(d) * mu_static * normal
-    return np.asarray(np.where(v != 0.0, moving, breakaway), dtype=float)
+    d = np.sign(np.asarray(direction, dtype=float))
+    sliding = np.where(v != 0.0, np.sign(v), d) * mu_sliding * normal
+    static = d * mu_static * normal
+    start = (v == 0.0) if breakaway is None else np.asarray(breakaway, dtype=bool)
+    return np.asarray(np.where(start, static, sliding), dtype=float)
+
+
+ThrustMode = Literal["against_motion", "signed"]
+THRUST_MODES: tuple[str, ...] = ("against_motion", "signed")
+
+
+def process_thrust(thrust: ArrayLike, direction: ArrayLike, mode: ThrustMode = "against_motion") -> Array:
+    """The process force (or torque) acting on the load over the samples [N or N m], positive resisting
+    positive motion; zero in a dwell (``direction`` 0): a process force belongs to the moves.
+
+    ``against_motion`` (default): F = F_thrust sign(direction), the thrust resists the motion in all four
+    quadrants, as the ServoSoft quadrant pages of the lecture write it (+T_Thrust in quadrants 1 and 2,
+    -T_Thrust in quadrants 3 and 4; also the belt, screw and conveyor pages). ``signed``: an external force
+    of fixed direction (a constant push, a web tension) that keeps its sign on the return move.
+    """
+    t = np.asarray(thrust, dtype=float)
+    d = np.sign(np.asarray(direction, dtype=float))
+    if mode == "signed":
+        return np.asarray(np.where(d == 0.0, 0.0, t), dtype=float)
+    return np.asarray(t * d, dtype=float)
 
 
 def viscous(coefficient: float, speed: ArrayLike) -> Array:
@@ -101,17 +127,21 @@ def linear_load_force(
     spring_rate: float = 0.0,
     spring_preload: float = 0.0,
     extra_normal: float = 0.0,
+    thrust_mode: ThrustMode = "against_motion",
+    breakaway: ArrayLike | None = None,
 ) -> Array:
     """External force on a linear load along its travel, positive resisting positive motion [N].
 
     F = (M - M_C) g sin(alpha) + F_fr + F_thrust + B v + K x, with the friction on the guides
     F_fr = mu (M g cos(alpha) + F_press) by the direction of motion (ERRATA: gravity is not scaled
     by mu; the counterweight hangs apart from the guides, so it adds inertia (M + M_C) but no
-    friction). Thrust [N] is the process force the load pushes against. Vectorised over samples.
+    friction). Thrust [N] is the process force the load pushes against, applied by ``thrust_mode``
+    (``process_thrust``); ``breakaway`` marks where motion starts (``coulomb_friction``).
+    Vectorised over samples.
     """
     normal = normal_force(mass, incline, g) + extra_normal
-    f = gravity_force(mass - counterweight, incline, g) + np.asarray(thrust, dtype=float)
-    f = f + coulomb_friction(normal, mu, mu_static, speed, direction)
+    f = gravity_force(mass - counterweight, incline, g) + process_thrust(thrust, direction, thrust_mode)
+    f = f + coulomb_friction(normal, mu, mu_static, speed, direction, breakaway)
     if viscous_coefficient:
         f = f + viscous(viscous_coefficient, speed)
     if spring_rate or spring_preload:

@@ -18,8 +18,8 @@ from drivetrain.errors import InputError
 from drivetrain.fields import (
     BackEfficiency,
     Backlash,
+    ComponentInertia,
     Efficiency,
-    Inertia,
     LengthNonNeg,
     MassNonNeg,
     Ratio,
@@ -101,7 +101,7 @@ class GearboxSpec(_Compliance):
     circular_spline_teeth: int | None = Field(default=None, gt=0)
     efficiency: Efficiency | None = None
     back_efficiency: BackEfficiency | None = None
-    inertia: Inertia = 0.0
+    inertia: ComponentInertia = 0.0
     catalog: str | None = None
     rated_torque: TorqueNonNeg | None = None
     max_torque: TorqueNonNeg | None = None
@@ -199,8 +199,8 @@ class GearPairSpec(_Compliance):
     type: Literal["gear_pair"]
     drive_teeth: int = Field(gt=0)
     driven_teeth: int = Field(gt=0)
-    drive_inertia: Inertia = 0.0
-    driven_inertia: Inertia = 0.0
+    drive_inertia: ComponentInertia = 0.0
+    driven_inertia: ComponentInertia = 0.0
     efficiency: Efficiency = GEAR_PAIR_EFFICIENCY
     back_efficiency: BackEfficiency | None = None
 
@@ -221,8 +221,8 @@ class ChainStageSpec(_Compliance):
     drive_teeth: int = Field(gt=0)
     driven_teeth: int = Field(gt=0)
     pitch: LengthNonNeg = 0.0
-    drive_inertia: Inertia = 0.0
-    driven_inertia: Inertia = 0.0
+    drive_inertia: ComponentInertia = 0.0
+    driven_inertia: ComponentInertia = 0.0
     chain_mass: MassNonNeg = 0.0
     efficiency: Efficiency = CHAIN_EFFICIENCY
     back_efficiency: BackEfficiency | None = None
@@ -247,7 +247,7 @@ class CouplingSpec(_Compliance):
     """``{type: coupling, inertia: 0.2 kg*cm^2, stiffness: ..., backlash: ...}`` (ratio 1, lossless)."""
 
     type: Literal["coupling"]
-    inertia: Inertia = 0.0
+    inertia: ComponentInertia = 0.0
 
     def build(self, index: int) -> Stage:
         """Coupling as a rigid or compliant Stage of ratio 1."""
@@ -258,7 +258,7 @@ class ClutchBrakeSpec(Spec):
     """``{type: brake | clutch, inertia: ..., holding_torque: ...}`` (ratio 1, lossless)."""
 
     type: Literal["brake", "clutch"]
-    inertia: Inertia = 0.0
+    inertia: ComponentInertia = 0.0
     holding_torque: TorqueNonNeg | None = None
 
     def build(self, index: int) -> Stage:

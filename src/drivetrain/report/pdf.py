@@ -28,6 +28,8 @@ if TYPE_CHECKING:
 PAGE_W, PAGE_H = 8.27, 11.69  # A4 [in]
 MARGIN_L, MARGIN_R, MARGIN_T, MARGIN_B = 0.62, 0.62, 0.55, 0.75
 CONTENT_W = PAGE_W - MARGIN_L - MARGIN_R
+HEADING_H = 0.52
+"""Height a section heading takes [in]: kept on one page with its section's first block."""
 
 INK = "#1d2733"
 MUTED = "#5b6673"
@@ -55,6 +57,7 @@ class _Doc:
         self.pages: list[Figure] = []
         self.head = running_head
         self.cur: _Cursor | None = None
+        self.pending: tuple[str, float] | None = None  # a heading waiting for its first block
 
     # -- pages and primitives
     def new_page(self) -> _Cursor:
@@ -77,6 +80,17 @@ class _Doc:
         return PAGE_H - MARGIN_B - self.c.y
 
     def need(self, height: float) -> None:
+        """Room for a block ``height`` tall, on a new page if this one has too little.
+
+        A heading waiting for its first block (see ``heading``) goes down with it: on this page
+        if both fit, else both on the next, so a heading never ends a page.
+        """
+        if self.pending is not None:
+            text, keep = self.pending
+            self.pending = None
+            if self.cur is None or HEADING_H + max(height, keep) > self.room():
+                self.new_page()
+            self._draw_heading(text)
         if self.cur is None or height > self.room():
             self.new_page()
 
@@ -135,11 +149,20 @@ class _Doc:
         self.c.y = y + 0.2
 
     def heading(self, text: str, keep: float = 1.6) -> None:
-        self.need(0.5 + keep)
+        """A section heading, drawn with the section's first block (at least ``keep`` inches of it)."""
+        self.flush()
+        self.pending = (text, keep)
+
+    def flush(self) -> None:
+        """Draw a heading still waiting for a block (a section that drew nothing)."""
+        if self.pending is not None:
+            self.need(0.0)
+
+    def _draw_heading(self, text: str) -> None:
         y = self.c.y + 0.28
         self.text(MARGIN_L, y, text, size=13, color=ACCENT, weight="bold")
         self.hline(y + 0.08, ACCENT, lw=1.2)
-        self.c.y = y + 0.24
+        self.c.y = y + HEADING_H - 0.28
 
     def paragraph(self, text: str, size: float = 8.5, color: str = INK, style: str = "normal",
                   gap: float = 0.08) -> None:
@@ -297,6 +320,7 @@ class _Doc:
         import matplotlib
         from matplotlib.backends.backend_pdf import PdfPages
 
+        self.flush()
         n = len(self.pages)
         for k, fig in enumerate(self.pages, start=1):
             self.cur = _Cursor(fig, 0.0)

@@ -50,8 +50,10 @@ class SizingResult:
 
     @property
     def ok(self) -> bool:
-        """True when the axis's own checks pass (slip, guide, brake) and the given motor or a candidate does."""
-        own = [self.extras[k]["ok"] for k in ("slip_check", "guide", "brake_check") if k in self.extras]
+        """True when the axis's own checks (slip, guide, brake, mechanism, drive) and the given motor or a
+        candidate pass."""
+        own = [self.extras[k]["ok"] for k in ("slip_check", "guide", "brake_check", "drive") if k in self.extras]
+        own += [c["ok"] for c in self.extras.get("mechanism_checks", [])]
         if not all(own):
             return False
         if self.motor is not None:
@@ -184,6 +186,21 @@ def motor_result(axis: Axis, duty: DutyCycle, motor: MotorData) -> dict[str, Any
     first = _first_move_ramp_times(duty)
     checks: list[Check] = fit.checks(0)
     gearbox = _gearbox_split(axis, motor, duty, run)
+    from drivetrain.sizing.electrical import electrical_answer
+
+    elec = electrical_answer(axis, duty, motor, margins)
+    checks = checks + elec.checks
+    ok = bool(fit.ok[0]) and all(c.ok for c in elec.checks)
+    failed = fit.first_failure(0) or next((f"{c.name}: required {c.required:.4g} {c.unit} > available "
+                                           f"{c.available:.4g} {c.unit} ({c.margin * 100:.1f} %)"
+                                           for c in elec.checks if not c.ok), "")
+    extra: dict[str, Any] = dict(elec.motor)
+    if elec.curve is not None:
+        extra["supply_curve"] = elec.curve
+    if elec.drive is not None:
+        extra["_drive"] = elec.drive
+    if elec.regen is not None:
+        extra["_regen"] = elec.regen
     return {
         "name": motor.name,
         "source": motor.source,
@@ -204,31 +221,20 @@ def motor_result(axis: Axis, duty: DutyCycle, motor: MotorData) -> dict[str, Any
         "operation_power_W": operation_power(n, run),
         "acceleration_power_W": acceleration_power(n, duty.load_inertia, first) if first > 0 else None,
         **gearbox,
-        "ok": bool(fit.ok[0]),
-        "failed": fit.first_failure(0),
+        **extra,
+        "ok": ok,
+        "failed": failed,
         "checks": [c.to_dict() for c in checks],
         "segments": with_rotor["segments"],
     }
 
 
 def _gearbox_split(axis: Axis, motor: MotorData, duty: DutyCycle, run_torque: float) -> dict[str, Any]:
-    """The lecture's gearbox torque split for the first gearbox from the motor, if any.
+    """The lecture's gearbox torque split for the first gearbox from the motor, if any
+    (``duty.cycle.gearbox_split_at_motor_peak``)."""
+    from drivetrain.duty.cycle import gearbox_split_at_motor_peak
 
-    k = J_M / (J_M + J_LR); at the motor's peak torque only (1 - k)(T_M - T_L) + T_L passes the
-    gearbox (motor side), times i eta at its output: the gearbox need not be sized to the motor's peak.
-    """
-    from drivetrain.duty.cycle import gearbox_peak_torque, gearbox_torque_split
-
-    for k, st in enumerate(axis.transmission):
-        if st.kind != "gearbox":
-            continue
-        j_before = sum(s.inertia for s in axis.transmission[: k + 1])
-        j_lr = duty.load_inertia - j_before
-        t_gb = gearbox_peak_torque(motor.peak_torque, motor.inertia + j_before, j_lr, run_torque)
-        return {"gearbox_torque_split_k": gearbox_torque_split(motor.inertia + j_before, j_lr),
-                "gearbox_output_torque_at_motor_peak_Nm": t_gb * st.ratio * st.efficiency,
-                "gearbox_output_peak_torque_Nm": float(np.max(np.abs(duty.stage_torque[k])))}
-    return {}
+    return gearbox_split_at_motor_peak(axis, duty, motor.inertia, motor.peak_torque, run_torque)
 
 
 def _brake_check(axis: Axis, duty: DutyCycle) -> dict[str, Any] | None:
@@ -265,6 +271,9 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64) -
     duty = duty_cycle(axis, points_per_phase)
     metrics = load_metrics(duty)
     result = SizingResult(axis=axis, duty=duty, metrics=metrics)
+    from drivetrain.duty.sanity import sanity_warnings
+
+    result.extras["warnings"] = sanity_warnings(axis, duty)
     if axis.spec.guide is not None and axis.mechanism.motion == "linear":
         from drivetrain.physics.guides import guide_report
 
@@ -275,11 +284,25 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64) -
         incline = getattr(axis.mechanism.load, "incline", 0.0)
         result.extras["slip_check"] = slip_check(np.asarray(duty.samples.a), axis.mechanism.slip_limit, incline,
                                                  axis.gravity)
+    from drivetrain.sizing.mechanism_checks import mechanism_checks
+
+    checks = mechanism_checks(axis, duty)
+    if checks:
+        result.extras["mechanism_checks"] = checks
     brake = _brake_check(axis, duty)
     if brake is not None:
         result.extras["brake_check"] = brake
     if axis.motor is not None:
         result.motor = motor_result(axis, duty, axis.motor)
+        for key in ("drive", "regen"):  # the electrical half's blocks sit beside the motor's
+            block = result.motor.pop(f"_{key}", None)
+            if block is not None:
+                result.extras[key] = block
+    elif axis.drive is not None:
+        from drivetrain.errors import InputError
+
+        raise InputError("drive", "a given drive needs a given motor (motor: {id: ...} or its parameters); "
+                         "catalog selection with drives is not available yet", has_value=False)
     elif axis.spec.motor is not None and axis.spec.motor.select is not None:
         from drivetrain.sizing.selection import select
 

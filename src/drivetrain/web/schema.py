@@ -1,6 +1,6 @@
 """The axis file's JSON schema for the API, and the form description the page builds its editor from.
 
-Both come from ``drivetrain.axis.model.AxisSpec``, the model the CLI validates files with, so the form
+Both come from ``drivetrain.axis.AxisSpec``, the model the CLI validates files with, so the form
 offers every mechanism and transmission type the engine knows, and the API's schema describes
 exactly what the engine accepts. Quantity fields take a number (SI) or a string with units
 ("10 mm"); the schema says so and names the quantity (``x-quantity``) and its SI unit
@@ -46,10 +46,38 @@ PROFILE_COLUMNS: tuple[dict[str, Any], ...] = (
     {"key": "decel", "label": "Decel time", "quantity": "time", "hint": "= accel"},
     {"key": "shape", "label": "Shape", "options": ["", "trapezoid", "triangle", "s_curve"]},
     {"key": "jerk_fraction", "label": "Jerk fraction", "quantity": "dimensionless", "hint": "0.5"},
+    {"key": "jerk", "label": "Jerk", "quantity": "jerk", "hint": "50 m/s^3 (or rad/s^3)"},
+    {"key": "speed", "label": "Speed", "quantity": "speed", "hint": "15 m/min (or rpm; distance = movement amount)"},
+    {"key": "max_speed", "label": "Max speed", "quantity": "speed", "hint": "1 m/s (or rpm)"},
+    {"key": "max_accel", "label": "Max accel", "quantity": "acceleration", "hint": "10 m/s^2 (or rad/s^2)"},
+    {"key": "max_jerk", "label": "Max jerk", "quantity": "jerk", "hint": "500 m/s^3 (optional)"},
+    {"key": "law", "label": "Cam law", "options": ["", "cycloidal", "modified_sine", "modified_trapezoid", "poly345"]},
     {"key": "thrust", "label": "Thrust", "quantity": "force", "hint": "0 N"},
     {"key": "holding", "label": "Holding", "options": ["", "motor", "brake"]},
 )
-"""Columns of the profile table; a dwell row keeps its duration in the Time column (key ``dwell``)."""
+"""Fields of a profile step, one per key of the axis file's steps (``drivetrain.motion.profiles.VALID_KEYS``);
+a dwell row keeps its duration in the Time column (key ``dwell``), a move given by speed its speed
+in the Distance column (key ``speed``)."""
+
+STEP_KINDS: tuple[dict[str, Any], ...] = (
+    {"kind": "move", "label": "move", "hint": "a move: distance and time (ramps, shape)",
+     "keys": ["move", "time", "accel", "decel", "shape", "jerk_fraction", "jerk", "thrust"]},
+    {"kind": "speed", "label": "by speed", "hint": "a move given by its speed and time (distance = movement amount)",
+     "keys": ["speed", "time", "accel", "decel", "shape", "jerk_fraction", "jerk", "thrust"]},
+    {"kind": "optimal", "label": "optimal", "hint": "a time-optimal move: distance, max speed, max accel (max jerk)",
+     "keys": ["move", "max_speed", "max_accel", "max_jerk", "thrust"]},
+    {"kind": "cam", "label": "cam law", "hint": "a move along a cam law: distance, time and law",
+     "keys": ["move", "time", "law", "thrust"]},
+    {"kind": "dwell", "label": "dwell", "hint": "a dwell: its time (motor or brake holding)",
+     "keys": ["dwell", "holding"]},
+)
+"""The kinds of profile step and the keys each takes (as ``drivetrain.motion.profiles`` parses them)."""
+
+TYPE_INDEPENDENT: frozenset[str] = frozenset({"efficiency", "back_efficiency", "incline", "load", "gravity"})
+"""Fields that mean the same for every mechanism (or transmission) type that has them: kept when the
+type changes (an object field only when the new type's model of it is the same). Any other field
+(diameter, length, lead, ...) describes the part of one type and is cleared on a change to a type
+of another model (a screw's diameter is not a pinion's pitch diameter)."""
 
 
 def _quantity_of(function: Any) -> dict[str, Any] | None:
@@ -189,6 +217,7 @@ def _object(node: dict[str, Any], defs: dict[str, Any]) -> dict[str, Any]:
 @lru_cache(maxsize=1)
 def form_description() -> dict[str, Any]:
     """What the page needs to build the axis editor: the axis fields, profile columns, type lists."""
+    from drivetrain.motion.cams import CAM_LAWS
     from drivetrain.motion.profiles import HOLDING, SHAPES, VALID_KEYS
     from drivetrain.physics.mechanisms import MECHANISM_TYPES
     from drivetrain.physics.transmission import TRANSMISSION_TYPES
@@ -205,10 +234,16 @@ def form_description() -> dict[str, Any]:
             c["options"] = ["", *SHAPES]
         elif c["key"] == "holding":
             c["options"] = ["", *HOLDING]
+        elif c["key"] == "law":
+            c["options"] = ["", *CAM_LAWS]
+    missing = set(VALID_KEYS) - {c["key"] for c in columns} - {"dwell"}
+    if missing:  # every step key has a field
+        raise RuntimeError(f"profile keys without a form field: {sorted(missing)}")
     return {
         "axis": axis,
         "mechanism_types": list(MECHANISM_TYPES),
         "transmission_types": list(TRANSMISSION_TYPES),
-        "profile": {"columns": columns, "keys": list(VALID_KEYS)},
+        "profile": {"columns": columns, "keys": list(VALID_KEYS), "kinds": [dict(k) for k in STEP_KINDS]},
+        "type_independent": sorted(TYPE_INDEPENDENT),
         "example_units": EXAMPLE_UNITS,
     }

@@ -31,11 +31,21 @@ from drivetrain.fields import (
     MassNonNeg,
     Spec,
     Torque,
+    TorqueNonNeg,
     TorsionalDamping,
     TorsionalStiffnessNonNeg,
     Turbulent,
 )
-from drivetrain.physics.loads import coulomb_friction, gravity_force, linear_load_force, spring, turbulent, viscous
+from drivetrain.physics.loads import (
+    ThrustMode,
+    coulomb_friction,
+    gravity_force,
+    linear_load_force,
+    process_thrust,
+    spring,
+    turbulent,
+    viscous,
+)
 from drivetrain.physics.stage import Stage
 
 Array = NDArray[np.float64]
@@ -56,6 +66,7 @@ class LinearLoad:
     spring: float = 0.0
     spring_preload: float = 0.0
     press_force: float = 0.0
+    thrust_mode: ThrustMode = "against_motion"
 
     @property
     def moving_mass(self) -> float:
@@ -63,14 +74,19 @@ class LinearLoad:
         return self.mass + self.counterweight
 
     def force(self, position: ArrayLike, speed: ArrayLike, direction: ArrayLike, thrust: ArrayLike | None,
-              g: float) -> Array:
-        """External force [N], positive resisting positive motion, vectorised over samples."""
+              g: float, breakaway: ArrayLike | None = None) -> Array:
+        """External force [N], positive resisting positive motion, vectorised over samples.
+
+        ``thrust`` is the process force as written (None: the load's), applied by ``thrust_mode``;
+        ``breakaway`` marks the samples where motion starts (``loads.coulomb_friction``).
+        """
         f_thrust = self.thrust if thrust is None else thrust
         return linear_load_force(
             mass=self.mass, counterweight=self.counterweight, incline=self.incline, mu=self.friction,
             mu_static=self.static_friction, thrust=f_thrust, speed=speed, position=position,
             direction=direction, g=g, viscous_coefficient=self.viscous, spring_rate=self.spring,
-            spring_preload=self.spring_preload, extra_normal=self.press_force,
+            spring_preload=self.spring_preload, extra_normal=self.press_force, thrust_mode=self.thrust_mode,
+            breakaway=breakaway,
         )
 
 
@@ -95,16 +111,21 @@ class RotaryLoad:
     viscous: float = 0.0
     turbulent: float = 0.0
     spring: float = 0.0
+    thrust_mode: ThrustMode = "against_motion"
 
     def torque_at(self, angle: ArrayLike, omega: ArrayLike, direction: ArrayLike, thrust: ArrayLike | None,
-                  g: float) -> Array:
-        """External torque [N m], positive resisting positive rotation, vectorised over samples."""
+                  g: float, breakaway: ArrayLike | None = None) -> Array:
+        """External torque [N m], positive resisting positive rotation, vectorised over samples.
+
+        The process torque (``thrust``, None: the load's ``torque``) acts by ``thrust_mode``
+        (``loads.process_thrust``); ``breakaway`` marks where motion starts.
+        """
         t_thrust = self.torque if thrust is None else thrust
         phi = np.asarray(angle, dtype=float)
-        t = np.asarray(t_thrust, dtype=float) + self.unbalance_mass * g * self.unbalance_radius * np.sin(
-            phi + self.unbalance_angle) * math.sin(self.incline)
+        t = process_thrust(t_thrust, direction, self.thrust_mode) + self.unbalance_mass * g * self.unbalance_radius \
+            * np.sin(phi + self.unbalance_angle) * math.sin(self.incline)
         t = t + coulomb_friction(1.0, self.friction_torque, self.static_friction_torque or self.friction_torque,
-                                 omega, direction)
+                                 omega, direction, breakaway)
         if self.viscous:
             t = t + viscous(self.viscous, omega)
         if self.turbulent:
@@ -138,15 +159,16 @@ class Mechanism:
         return 1.0 / self.stage.ratio
 
     def external_torque(self, position: ArrayLike, speed: ArrayLike, direction: ArrayLike,
-                        thrust: ArrayLike | None, g: float) -> Array:
+                        thrust: ArrayLike | None, g: float, breakaway: ArrayLike | None = None) -> Array:
         """External load torque at the mechanism's input, before its losses [N m].
 
         ``position``, ``speed`` are the load's [m, m/s] or [rad, rad/s]. T = F r for a linear
-        load (lecture: T = F / (2 pi p) for a screw, T = F r for a belt or pinion).
+        load (lecture: T = F / (2 pi p) for a screw, T = F r for a belt or pinion). ``breakaway``
+        marks the samples where motion starts (static friction); None: every zero speed in a move.
         """
         if isinstance(self.load, LinearLoad):
-            return self.load.force(position, speed, direction, thrust, g) * self.lever
-        return self.load.torque_at(position, speed, direction, thrust, g)
+            return self.load.force(position, speed, direction, thrust, g, breakaway) * self.lever
+        return self.load.torque_at(position, speed, direction, thrust, g, breakaway)
 
     def holding_torque(self, g: float) -> float:
         """External torque at the input at standstill, gravity only [N m]."""
@@ -165,6 +187,7 @@ class LinearLoadSpec(Spec):
     friction: Coefficient = 0.0
     static_friction: Coefficient | None = None
     thrust: Force = 0.0
+    thrust_mode: ThrustMode = "against_motion"
     viscous: LinearDamping = 0.0
     spring: LinearStiffness = 0.0
     spring_preload: Force = 0.0
@@ -176,7 +199,7 @@ class LinearLoadSpec(Spec):
         return LinearLoad(mass=self.mass, counterweight=self.counterweight, incline=incline,
                           friction=self.friction, static_friction=mu_st, thrust=self.thrust,
                           viscous=self.viscous, spring=self.spring, spring_preload=self.spring_preload,
-                          press_force=press_force + self.normal_force)
+                          press_force=press_force + self.normal_force, thrust_mode=self.thrust_mode)
 
 
 class RotaryLoadSpec(Spec):
@@ -186,11 +209,12 @@ class RotaryLoadSpec(Spec):
     mass: MassNonNeg = 0.0
     diameter: LengthNonNeg = 0.0
     torque: Torque = 0.0
+    thrust_mode: ThrustMode = "against_motion"
     unbalance_mass: MassNonNeg = 0.0
     unbalance_radius: LengthNonNeg = 0.0
     unbalance_angle: Angle = 0.0
-    friction_torque: Torque = 0.0
-    static_friction_torque: Torque | None = None
+    friction_torque: TorqueNonNeg = 0.0
+    static_friction_torque: TorqueNonNeg | None = None
     viscous: TorsionalDamping = 0.0
     turbulent: Turbulent = 0.0
     spring: TorsionalStiffnessNonNeg = 0.0

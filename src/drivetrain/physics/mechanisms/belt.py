@@ -12,10 +12,11 @@ from __future__ import annotations
 
 from typing import Literal
 
-from drivetrain.fields import Angle, BackEfficiency, Coefficient, Efficiency, Length, MassNonNeg, Spec
+from drivetrain.fields import BackEfficiency, Coefficient, Efficiency, Incline, Length, MassNonNeg, Spec
 from drivetrain.physics.inertia import linear_mass_reflected
 from drivetrain.physics.loads import slip_limit_acceleration
 from drivetrain.physics.mechanisms.base import LinearLoadSpec, Mechanism, WheelSpec
+from drivetrain.physics.mechanisms.limits import BeltDriveSpec
 from drivetrain.physics.stage import Stage
 
 
@@ -30,9 +31,10 @@ class BeltSpec(Spec):
     belt_mass: MassNonNeg = 0.0
     efficiency: Efficiency = 1.0
     back_efficiency: BackEfficiency | None = None
-    incline: Angle = 0.0
+    incline: Incline = 0.0
     carrier_friction: Coefficient | None = None
     load: LinearLoadSpec
+    belt: BeltDriveSpec | None = None
 
     def build(self, g: float) -> Mechanism:
         """The belt as a Stage: drive pulley outside its losses; load, belt, idlers, driven pulley inside."""

@@ -17,10 +17,10 @@ from numpy.typing import ArrayLike
 from pydantic import Field
 
 from drivetrain.fields import (
-    Angle,
     BackEfficiency,
     Coefficient,
     Efficiency,
+    Incline,
     Length,
     MassNonNeg,
     Spec,
@@ -39,11 +39,11 @@ class ChainLoad(LinearLoad):
     loop_friction: float = 1.0
 
     def force(self, position: ArrayLike, speed: ArrayLike, direction: ArrayLike, thrust: ArrayLike | None,
-              g: float) -> Array:
+              g: float, breakaway: ArrayLike | None = None) -> Array:
         """Carried-load force plus mu_loop m_Loop g cos(alpha) against the motion [N]."""
         drag = coulomb_friction(normal_force(self.loop_mass, self.incline, g), self.loop_friction,
-                                self.loop_friction, speed, direction)
-        return np.asarray(super().force(position, speed, direction, thrust, g) + drag, dtype=float)
+                                self.loop_friction, speed, direction, breakaway)
+        return np.asarray(super().force(position, speed, direction, thrust, g, breakaway) + drag, dtype=float)
 
 
 class ChainSpec(Spec):
@@ -56,7 +56,7 @@ class ChainSpec(Spec):
     passive_sprockets: list[WheelSpec] = []
     loop_mass: MassNonNeg = 0.0
     loop_friction: Coefficient = 1.0
-    incline: Angle = 0.0
+    incline: Incline = 0.0
     efficiency: Efficiency = 1.0
     back_efficiency: BackEfficiency | None = None
     load: LinearLoadSpec | None = None

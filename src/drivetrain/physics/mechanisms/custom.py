@@ -35,7 +35,7 @@ class CustomSpec(Spec):
             friction_torque=spec.friction_torque,
             static_friction_torque=spec.friction_torque if spec.static_friction_torque is None
             else spec.static_friction_torque,
-            viscous=spec.viscous, turbulent=spec.turbulent, spring=spec.spring,
+            viscous=spec.viscous, turbulent=spec.turbulent, spring=spec.spring, thrust_mode=spec.thrust_mode,
         )
         stage = Stage(name="custom", kind="custom", ratio=1.0, inertia_inside=self.inertia + j_load + j_unb,
                       efficiency=self.efficiency,

@@ -9,9 +9,10 @@ from __future__ import annotations
 
 from typing import Literal
 
-from drivetrain.fields import Angle, BackEfficiency, Density, Efficiency, Inertia, Length, LengthNonNeg, Spec
+from drivetrain.fields import BackEfficiency, Density, Efficiency, Incline, Inertia, Length, LengthNonNeg, Spec
 from drivetrain.physics.inertia import linear_mass_reflected
 from drivetrain.physics.mechanisms.base import LinearLoadSpec, Mechanism, part_inertia
+from drivetrain.physics.mechanisms.limits import RackSpec
 from drivetrain.physics.stage import Stage
 
 
@@ -26,8 +27,9 @@ class RackPinionSpec(Spec):
     inertia: Inertia | None = None
     efficiency: Efficiency = 1.0
     back_efficiency: BackEfficiency | None = None
-    incline: Angle = 0.0
+    incline: Incline = 0.0
     load: LinearLoadSpec
+    rack: RackSpec | None = None
 
     def build(self, g: float) -> Mechanism:
         """Pinion inertia outside the losses, the load's M r^2 inside."""

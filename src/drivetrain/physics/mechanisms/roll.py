@@ -61,9 +61,10 @@ class RollSpec(Spec):
                                            self.density, self.material, "mechanism")
         mu_st = self.load.friction if self.load.static_friction is None else self.load.static_friction
         # The nip force is the normal force on the material: friction mu P (lecture's T_L); the
-        # fed mass (if any) lies flat, its weight adding to the normal force.
+        # fed mass (if any) lies flat, its weight adding to the normal force. The web tension pulls one
+        # way whatever the roll's direction: a signed force.
         load = LinearLoad(mass=self.load.mass, friction=self.load.friction, static_friction=mu_st,
-                          thrust=self.load.tension, press_force=self.load.press_force)
+                          thrust=self.load.tension, press_force=self.load.press_force, thrust_mode="signed")
         j_load = linear_mass_reflected(load.moving_mass, r)
         stage = Stage(name="roll", kind="roll", ratio=1.0 / r, inertia_in=j_roll, inertia_inside=j_load,
                       efficiency=self.efficiency,

@@ -10,10 +10,10 @@ from __future__ import annotations
 from typing import Literal
 
 from drivetrain.fields import (
-    Angle,
     BackEfficiency,
     Density,
     Efficiency,
+    Incline,
     Inertia,
     LengthNonNeg,
     MassNonNeg,
@@ -34,7 +34,7 @@ class RotarySpec(Spec):
     density: Density | None = None
     material: str | None = None
     inertia: Inertia | None = None
-    incline: Angle = 0.0
+    incline: Incline = 0.0
     efficiency: Efficiency = 1.0
     back_efficiency: BackEfficiency | None = None
     load: RotaryLoadSpec = RotaryLoadSpec()
@@ -52,7 +52,7 @@ class RotarySpec(Spec):
             friction_torque=spec.friction_torque,
             static_friction_torque=spec.friction_torque if spec.static_friction_torque is None
             else spec.static_friction_torque,
-            viscous=spec.viscous, turbulent=spec.turbulent, spring=spec.spring,
+            viscous=spec.viscous, turbulent=spec.turbulent, spring=spec.spring, thrust_mode=spec.thrust_mode,
         )
         stage = Stage(name="rotary", kind="rotary", ratio=1.0, inertia_in=0.0,
                       inertia_inside=j_disc + j_load + j_unb, efficiency=self.efficiency,

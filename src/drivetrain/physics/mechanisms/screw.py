@@ -14,12 +14,13 @@ from typing import Literal
 
 from drivetrain.errors import InputError
 from drivetrain.fields import (
-    Angle,
     BackEfficiency,
     Coefficient,
     Density,
     Efficiency,
+    Incline,
     Inertia,
+    Lead,
     Length,
     LengthNonNeg,
     Spec,
@@ -28,6 +29,7 @@ from drivetrain.fields import (
 from drivetrain.physics.inertia import cylinder_from_density, linear_mass_reflected
 from drivetrain.physics.materials import density as density_of
 from drivetrain.physics.mechanisms.base import LinearLoadSpec, Mechanism
+from drivetrain.physics.mechanisms.limits import NutSpec, ScrewLimitsSpec
 from drivetrain.physics.stage import Stage
 
 BALL_SCREW_EFFICIENCY = 0.9
@@ -82,7 +84,7 @@ class ScrewSpec(Spec):
     """``mechanism: {type: ball_screw | lead_screw, ...}``."""
 
     type: Literal["ball_screw", "lead_screw"]
-    lead: Length
+    lead: Lead
     diameter: Length | None = None
     length: LengthNonNeg | None = None
     density: Density | None = None
@@ -91,9 +93,11 @@ class ScrewSpec(Spec):
     efficiency: Efficiency | None = None
     back_efficiency: BackEfficiency | None = None
     thread_friction: Coefficient = 0.1
-    incline: Angle = 0.0
+    incline: Incline = 0.0
     friction_torque: TorqueNonNeg = 0.0
     load: LinearLoadSpec
+    screw: ScrewLimitsSpec | None = None
+    nut: NutSpec | None = None
 
     def build(self, g: float) -> Mechanism:
         """The screw as a Stage: screw inertia outside its losses, the load's (M + M_C) r^2 inside."""

@@ -78,6 +78,7 @@ async function onYamlInput() {
       if (seq !== state.yamlSeq) return;
       showYamlError(null);
       state.axis = res.axis;
+      form.pristine.clear(); // an edit in the YAML: every error shows
       form.render(res.axis);
       scheduleSize();
     } catch (err) {
@@ -89,7 +90,7 @@ async function onYamlInput() {
 
 function loadAxis(axis, text) {
   state.axis = axis;
-  form.render(axis);
+  form.load(axis);
   setYaml(text !== undefined ? text : toYaml(axis));
   state.lastSized = "";
   state.picks.clear();
@@ -157,7 +158,10 @@ function renderError(err) {
   $("result-body").classList.add("stale");
   if (err instanceof ApiError && err.status === 422) {
     const shown = form.showErrors(err.errors);
-    banner.textContent = `${shown.length} problem${shown.length === 1 ? "" : "s"} in the axis: fix the marked field${shown.length === 1 ? "" : "s"}.`;
+    banner.textContent = shown.length
+      ? `${shown.length} problem${shown.length === 1 ? "" : "s"} in the axis: fix the marked field${shown.length === 1 ? "" : "s"}.`
+      : waitingText(form.waitingFor);
+    if (!shown.length) banner.className = "banner";
     const box = $("error-summary");
     const list = el("ul");
     for (const e of shown) {
@@ -172,13 +176,25 @@ function renderError(err) {
       list.append(item);
     }
     box.replaceChildren(list);
-    box.hidden = false;
+    box.hidden = !shown.length;
+    if (!shown.length) {
+      setStatus(`waiting for the ${form.waitingFor.join(" and ")}`);
+      return;
+    }
   } else {
     form.clearErrors();
     $("error-summary").hidden = true;
     banner.textContent = err.message;
   }
   setStatus(err.message.split("\n")[0], true);
+}
+
+// What the axis waits for when every error lies in a section the user has not edited yet.
+function waitingText(sections) {
+  const parts = sections.map((p) => (p === "motor"
+    ? "the motor's data (inertia, rated and peak torque, max speed) or its catalog id"
+    : p === "mechanism" ? "the mechanism (its type, dimensions and load)" : `the ${p.replace(/[._]/g, " ")}`));
+  return `Fill in ${parts.join(" and ")} to size the axis.`;
 }
 
 function renderCandidatesAndCompare() {
@@ -395,6 +411,7 @@ function newProject() {
   $("project-name").value = "";
   history.replaceState(null, "", location.pathname);
   loadAxis(JSON.parse(JSON.stringify(BLANK)));
+  form.pristine.add("mechanism"); // a new axis: no error before the user has entered anything
   refreshProjects();
 }
 

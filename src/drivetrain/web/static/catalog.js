@@ -61,10 +61,18 @@ const GEARBOX_COLUMNS = [
 ];
 
 
-function selectOf(id, labelText, name, options, blank) {
+// The motors the browser opens on: industrial AC servos (not the small DC motors).
+const DEFAULT_KIND = "ac_servo";
+const KIND_LABELS = { ac_servo: "AC servo (industrial)", small_dc: "small DC" };
+
+function selectOf(id, labelText, name, options, blank, value = "") {
   const select = el("select", { id, name });
   select.append(el("option", { value: "", text: blank }));
-  for (const o of options) select.append(el("option", { value: String(o), text: String(o) }));
+  for (const o of options) {
+    const [v, text] = Array.isArray(o) ? o : [o, o];
+    select.append(el("option", { value: String(v), text: String(text) }));
+  }
+  select.value = value;
   return el("div", { class: "filter" }, el("label", { for: id, text: labelText }), select);
 }
 
@@ -123,7 +131,8 @@ export class CatalogView {
       box.replaceChildren(
         inputOf("flt-q", "Search", "q", "id, model or series"),
         selectOf("flt-vendor", "Vendor", "vendor", f.motor_vendors, "all vendors"),
-        selectOf("flt-kind", "Kind", "kind", f.motor_kinds, "all kinds"),
+        selectOf("flt-kind", "Kind", "kind", f.motor_kinds.map((k) => [k, KIND_LABELS[k] || k]), "all kinds",
+          f.motor_kinds.includes(DEFAULT_KIND) ? DEFAULT_KIND : ""),
         selectOf("flt-voltage", "Voltage class", "voltage", f.motor_voltages.map((v) => `${v} V`), "any voltage"),
         inputOf("flt-flange", "Flange", "flange", "e.g. 80 mm"),
         selectOf("flt-origin", "Rows", "origin", ["builtin", "user"], "shipped and yours"),

@@ -3,83 +3,13 @@
 // dotted field path of the axis file ("mechanism.load.mass", "transmission[0].ratio",
 // "profile[2].time"), so an error from the server is shown at the input that caused it.
 
-const NUMBER = /^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$/;
-const PROFILE_FIXED = ["move", "time", "dwell", "accel", "decel", "shape", "jerk_fraction", "thrust", "holding"];
+import { el, getAt, idFor, joinPath, label, parsePath, readText, setAt, show, unitHint, unitOf } from "./formkit.js";
+import { profileMethods } from "./profile.js";
+
+export { joinPath, parsePath } from "./formkit.js";
+
 const STEP_ORDER = ["move", "speed", "dwell", "time", "max_speed", "max_accel", "max_jerk", "accel", "decel", "shape", "law",
   "jerk_fraction", "jerk", "thrust", "holding"];
-
-export function parsePath(path) {
-  const parts = [];
-  const re = /([^.[\]]+)|\[(\d+)\]/g;
-  let m;
-  while ((m = re.exec(path)) !== null) parts.push(m[2] !== undefined ? Number(m[2]) : m[1]);
-  return parts;
-}
-
-export function joinPath(prefix, name) {
-  if (typeof name === "number") return `${prefix}[${name}]`;
-  return prefix ? `${prefix}.${name}` : name;
-}
-
-function getAt(obj, parts) {
-  let node = obj;
-  for (const p of parts) {
-    if (node === null || typeof node !== "object") return undefined;
-    node = node[p];
-  }
-  return node;
-}
-
-function setAt(obj, parts, value) {
-  let node = obj;
-  for (let k = 0; k < parts.length - 1; k++) {
-    const p = parts[k];
-    if (node[p] === null || typeof node[p] !== "object") node[p] = typeof parts[k + 1] === "number" ? [] : {};
-    node = node[p];
-  }
-  const last = parts[parts.length - 1];
-  if (value === undefined) {
-    if (Array.isArray(node)) node[last] = null;
-    else delete node[last];
-  } else {
-    node[last] = value;
-  }
-}
-
-function idFor(path) {
-  return "f-" + path.replace(/[^A-Za-z0-9]+/g, "-");
-}
-
-function el(tag, attrs = {}, ...children) {
-  const node = document.createElement(tag);
-  for (const [k, v] of Object.entries(attrs)) {
-    if (v === undefined || v === null || v === false) continue;
-    if (k === "text") node.textContent = v;
-    else if (k === "dataset") Object.assign(node.dataset, v);
-    else if (k in node && typeof v !== "string") node[k] = v;
-    else node.setAttribute(k, v === true ? "" : v);
-  }
-  for (const c of children) if (c !== null && c !== undefined) node.append(c);
-  return node;
-}
-
-function show(value) {
-  if (value === undefined || value === null) return "";
-  if (typeof value === "object") return JSON.stringify(value);
-  return String(value);
-}
-
-function readText(text, numeric) {
-  const t = text.trim();
-  if (t === "") return undefined;
-  if (numeric && NUMBER.test(t)) return Number(t);
-  return t;
-}
-
-function label(text) {
-  const s = text.replace(/_/g, " ");
-  return s.charAt(0).toUpperCase() + s.slice(1);
-}
 
 export class AxisForm {
   constructor(root, desc, onChange) {
@@ -87,6 +17,13 @@ export class AxisForm {
     this.desc = desc;
     this.onChange = onChange;
     this.axis = {};
+    this.rendering = false;
+    // Paths of sections the form just created empty (a given motor): their "is required" errors
+    // wait until the user edits something inside.
+    this.pristine = new Set();
+    this.waitingFor = [];
+    // The last type change's notice: {path, text}, shown in that section until the next edit.
+    this.notice = null;
     root.addEventListener("input", (e) => this.onInput(e));
     root.addEventListener("change", (e) => this.onInput(e));
     root.addEventListener("submit", (e) => e.preventDefault());
@@ -120,11 +57,24 @@ export class AxisForm {
     return out;
   }
 
+  // A new axis (a project, an example, a file): nothing is pristine, no notice.
+  load(axis) {
+    this.pristine.clear();
+    this.notice = null;
+    this.render(axis);
+  }
+
   render(axis) {
     this.axis = JSON.parse(JSON.stringify(axis || {}));
     const focused = document.activeElement && this.root.contains(document.activeElement) ? document.activeElement.id : null;
     const open = new Set([...this.root.querySelectorAll("details[open]")].map((d) => d.dataset.key));
-    this.root.replaceChildren(this.objectFields(this.desc.axis.fields, this.axis, ""));
+    // Removing a focused input fires its change event: an old value must not come back from it.
+    this.rendering = true;
+    try {
+      this.root.replaceChildren(this.objectFields(this.desc.axis.fields, this.axis, ""));
+    } finally {
+      this.rendering = false;
+    }
     for (const d of this.root.querySelectorAll("details")) if (open.has(d.dataset.key)) d.open = true;
     if (focused) {
       const again = document.getElementById(focused);
@@ -138,17 +88,24 @@ export class AxisForm {
   }
 
   onInput(event) {
+    if (this.rendering) return;
     const input = event.target;
     if (!input.dataset || input.dataset.path === undefined) return;
-    if (input.dataset.role === "toggle" || input.dataset.role === "type" || input.dataset.role === "step-kind") {
+    if (["toggle", "type", "step-kind", "motor-mode"].includes(input.dataset.role)) {
       if (event.type !== "change") return;
     }
     const path = input.dataset.path;
     const parts = parsePath(path);
     const role = input.dataset.role;
+    if (role !== "motor-mode") this.touch(path);
     if (role === "toggle") {
-      setAt(this.axis, parts, input.checked ? {} : undefined);
+      // A new motor starts as a catalog selection: nothing to fill in before it sizes.
+      setAt(this.axis, parts, input.checked ? (path === "motor" ? { select: {} } : {}) : undefined);
       this.changed(true);
+      return;
+    }
+    if (role === "motor-mode") {
+      this.setMotorMode(input.value);
       return;
     }
     if (role === "type") {
@@ -164,6 +121,7 @@ export class AxisForm {
       this.onChange(this.value());
       return;
     }
+    if (input.dataset.kind === "quantity") this.showUnit(input);
     let value;
     if (input.type === "checkbox") value = input.checked;
     else if (input.tagName === "SELECT") value = input.value === "" ? undefined : input.value;
@@ -171,6 +129,35 @@ export class AxisForm {
     setAt(this.axis, parts, value);
     if (input.dataset.structural === "1" && event.type === "change") this.changed(true);
     else this.onChange(this.value());
+  }
+
+  // An edit at ``path``: the sections holding it are no longer pristine; a type notice goes.
+  touch(path) {
+    for (const p of [...this.pristine]) if (path === p || path.startsWith(p + ".") || path.startsWith(p + "[")) this.pristine.delete(p);
+    if (this.notice && (path === this.notice.path || path.startsWith(this.notice.path + ".") || path.startsWith(this.notice.path + "["))) {
+      this.notice = null;
+      for (const n of this.root.querySelectorAll(".type-notice")) n.remove();
+    }
+  }
+
+  // The motor: "catalog" (motor.select, the default) or "given" (its data or a catalog id).
+  setMotorMode(mode) {
+    const motor = getAt(this.axis, ["motor"]) || {};
+    const next = {};
+    for (const [k, v] of Object.entries(motor)) if (k !== "select") next[k] = v;
+    if (mode === "catalog") next.select = motor.select || {};
+    else if (!Object.keys(next).some((k) => k !== "margins")) this.pristine.add("motor");
+    setAt(this.axis, ["motor"], next);
+    this.changed(true);
+  }
+
+  // The unit beside a quantity input: the one the user writes (see unitOf).
+  showUnit(input) {
+    const span = input.closest(".field") && input.closest(".field").querySelector(".unit");
+    if (!span) return;
+    const f = { quantity: input.dataset.quantity, unit: input.dataset.unitSi, example_unit: input.dataset.exampleUnit,
+      default: input.dataset.default === undefined ? undefined : Number(input.dataset.default) };
+    span.textContent = `[${unitOf(f, input.value)}]`;
   }
 
   // ---------------------------------------------------------------- objects and fields
@@ -224,21 +211,23 @@ export class AxisForm {
     } else if (f.default !== undefined && f.default !== null) {
       placeholder = `default ${show(f.default)}`;
     }
+    const quantity = f.kind === "quantity";
     const input = el("input", {
       id, type: "text", value: show(value), placeholder, "data-path": path, "data-kind": f.kind,
       "data-numeric": numeric ? "1" : "0", inputmode: f.kind === "integer" ? "numeric" : undefined,
       "aria-required": f.required ? "true" : undefined, spellcheck: "false",
+      "data-quantity": quantity ? f.quantity : undefined, "data-unit-si": quantity ? f.unit || "" : undefined,
+      "data-example-unit": quantity ? f.example_unit || "" : undefined,
+      "data-default": quantity && typeof f.default === "number" ? String(f.default) : undefined,
     });
-    const unitText = f.kind === "quantity" ? (f.unit ? `[${f.unit}]` : "[-]") : "";
-    const unitHint = f.kind === "quantity"
-      ? `${f.quantity.replace(/_/g, " ")}: a bare number is in ${f.unit || "SI"}; or type a unit, e.g. 2 ${f.example_unit || f.unit}`
-      : f.help || "";
+    const unitText = quantity ? `[${unitOf(f, value)}]` : "";
+    const hint = quantity ? unitHint(f) : f.help || "";
     const wrap = el("div", { class: "field", "data-field": path },
       el("label", { for: id, text: label(f.label) + (f.required ? " *" : "") }),
       input,
-      el("span", { class: "unit", text: unitText, title: unitHint }),
+      el("span", { class: "unit", text: unitText, title: hint }),
     );
-    if (unitHint) input.title = unitHint;
+    if (hint) input.title = hint;
     return wrap;
   }
 
@@ -273,19 +262,34 @@ export class AxisForm {
     } else {
       fs.append(el("legend", { text: label(f.label) }));
     }
-    if (path === "motor" && value && value.select) {
-      // A catalog selection: the given-motor fields do not apply; keep them out of the way.
-      const main = f.fields.filter((x) => x.name === "select" || x.name === "margins");
-      const given = f.fields.filter((x) => !main.includes(x));
-      fs.append(this.objectFields(main, value, path));
-      const details = el("details", { class: "more", dataset: { key: "motor:given" } },
-        el("summary", { text: "A given motor instead (untick Select to use it)" }));
-      details.append(this.objectFields(given, value, path));
-      fs.append(details);
+    if (path === "motor") {
+      fs.append(this.motorFields(f, value || {}, path));
       return fs;
     }
     fs.append(this.objectFields(f.fields, value || {}, path));
     return fs;
+  }
+
+  // The motor: first the choice (select from the catalog, the default; or a given motor), then
+  // the fields of that choice and the margins.
+  motorFields(f, value, path) {
+    const box = el("div", { class: "fields" });
+    const catalog = value.select !== undefined && value.select !== null;
+    const radio = (mode, id, text, checked) => {
+      const r = el("input", { type: "radio", id, name: "motor-mode", value: mode, "data-path": path, "data-role": "motor-mode" });
+      r.checked = checked;
+      return el("label", { class: "choice", for: id }, r, ` ${text}`);
+    };
+    box.append(el("div", { class: "motor-mode", role: "radiogroup", "aria-label": "Motor" },
+      radio("catalog", "f-motor-select-on", "Select from the catalog (ranks motors and gearboxes)", catalog),
+      radio("given", "f-motor-given-on", "A given motor (its data, or a catalog id)", !catalog)));
+    const select = f.fields.find((x) => x.name === "select");
+    const margins = f.fields.filter((x) => x.name === "margins");
+    const given = f.fields.filter((x) => x.name !== "select" && x.name !== "margins");
+    if (catalog) box.append(this.objectField({ ...select, nullable: false, label: "Selection" }, value.select, joinPath(path, "select")));
+    else box.append(this.objectFields(given, value, path));
+    box.append(this.objectFields(margins, value, path));
+    return box;
   }
 
   unionField(f, value, path, extra = null) {
@@ -300,6 +304,7 @@ export class AxisForm {
     for (const t of types) select.append(el("option", { value: t, text: t }));
     select.value = current;
     fs.append(el("div", { class: "field", "data-field": joinPath(path, f.tag) }, el("label", { for: id, text: "Type" }), select, el("span", { class: "unit" })));
+    if (this.notice && this.notice.path === path) fs.append(el("p", { class: "type-notice", role: "status", text: this.notice.text }));
     const variant = f.variants[current];
     if (variant) fs.append(this.objectFields(variant.fields, value, path));
     return fs;
@@ -312,15 +317,31 @@ export class AxisForm {
     return [...known.filter((t) => variants.includes(t)), ...variants.filter((t) => !known.includes(t))];
   }
 
+  // A new type keeps what applies to it and clears the rest, saying which: every field when both
+  // types share one model (ball_screw and lead_screw); otherwise only the fields that mean the same
+  // for every type (efficiency, incline, the load when its model is the same). A screw's diameter
+  // is not a pinion's pitch diameter.
   changeType(parts, type, unionName) {
     const old = getAt(this.axis, parts) || {};
     const spec = this.findUnion(parts, unionName);
     const variant = spec ? spec.variants[type] : null;
+    const before = spec && old.type !== undefined ? spec.variants[old.type] : null;
+    const shared = new Set(this.desc.type_independent || []);
     const next = { type };
-    if (variant) {
-      const names = new Set(variant.fields.map((v) => v.name));
-      for (const [k, v] of Object.entries(old)) if (k !== "type" && names.has(k)) next[k] = v;
+    const cleared = [];
+    for (const [k, v] of Object.entries(old)) {
+      if (k === "type" || v === undefined) continue;
+      const now = variant ? variant.fields.find((x) => x.name === k) : null;
+      const was = before ? before.fields.find((x) => x.name === k) : null;
+      const sameModel = variant && before && variant.title && variant.title === before.title;
+      const sameMeaning = now && shared.has(k) && (!was || now.kind !== "object" || now.title === was.title);
+      if (now && (sameModel || sameMeaning)) next[k] = v;
+      else cleared.push(k);
     }
+    const path = parts.map((p, i) => (typeof p === "number" ? `[${p}]` : (i ? "." : "") + p)).join("");
+    this.notice = cleared.length
+      ? { path, text: `Changed to ${type}: cleared ${cleared.join(", ")} (${old.type ? `they belong to the ${old.type}` : "they do not apply"}); kept ${Object.keys(next).filter((k) => k !== "type").join(", ") || "nothing else"}.` }
+      : null;
     setAt(this.axis, parts, next);
     this.changed(true);
   }
@@ -408,108 +429,15 @@ export class AxisForm {
     return fs;
   }
 
-  // ---------------------------------------------------------------- profile table
-
-  profileField(f, value, path) {
-    const steps = Array.isArray(value) ? value : [];
-    const columns = this.desc.profile.columns;
-    const main = columns.filter((c) => ["move", "time", "accel", "decel", "shape"].includes(c.key));
-    const extra = columns.filter((c) => !main.includes(c));
-    const fs = el("fieldset", { class: "group profile", "data-path": path, "data-field": path });
-    fs.append(el("legend", { text: "Profile: moves and dwells (the cycle repeats)" }));
-    if (!steps.length) fs.append(el("p", { class: "muted", text: "No steps yet: add a move (distance and time) and a dwell." }));
-    const table = el("table", { class: "profile-table", hidden: steps.length === 0 });
-    const head = el("tr", {}, el("th", { scope: "col", text: "#" }), el("th", { scope: "col", text: "Step" }));
-    for (const c of main) head.append(el("th", { scope: "col", text: c.label, title: c.hint || "" }));
-    head.append(el("th", { scope: "col" }, el("span", { class: "sr-only", text: "Actions" })));
-    table.append(el("thead", {}, head));
-    steps.forEach((step, k) => table.append(this.profileRows(step || {}, k, steps.length, path, main, extra)));
-    fs.append(el("div", { class: "table-wrap" }, table));
-    fs.append(el("div", { class: "row add" },
-      this.button("Add move", "Add a move step", () => this.addItem(path, { move: "", time: "" })),
-      this.button("Add dwell", "Add a dwell step", () => this.addItem(path, { dwell: "" }))));
-    return fs;
-  }
-
-  stepInput(c, step, k, rowPath, isDwell) {
-    const key = c.key === "time" && isDwell ? "dwell" : c.key;
-    const cellPath = joinPath(rowPath, key);
-    let input;
-    if (c.options) {
-      input = el("select", {
-        id: idFor(cellPath), "data-path": cellPath, "aria-label": `Step ${k + 1} ${c.label}`,
-        "data-structural": c.key === "shape" ? "1" : undefined,
-      });
-      for (const o of c.options) input.append(el("option", { value: o, text: o || "—" }));
-      input.value = step[key] === undefined ? "" : String(step[key]);
-    } else {
-      input = el("input", {
-        id: idFor(cellPath), type: "text", value: show(step[key]), "data-path": cellPath, "data-numeric": "1",
-        "aria-label": `Step ${k + 1} ${c.label}`, placeholder: c.hint.split(" (")[0], spellcheck: "false",
-      });
-    }
-    return input;
-  }
-
-  profileRows(step, k, n, path, main, extra) {
-    const rowPath = joinPath(path, k);
-    const isDwell = step.dwell !== undefined;
-    const group = el("tbody", { class: "step", "data-path": rowPath, "data-field": rowPath });
-    const tr = el("tr");
-    tr.append(el("th", { scope: "row", rowspan: "2", text: String(k + 1) }));
-    const kind = el("select", { id: idFor(rowPath) + "-kind", "data-path": rowPath, "data-role": "step-kind", "aria-label": `Step ${k + 1} kind` },
-      el("option", { value: "move", text: "move" }), el("option", { value: "dwell", text: "dwell" }));
-    kind.value = isDwell ? "dwell" : "move";
-    tr.append(el("td", {}, kind));
-    for (const c of main) {
-      const applies = !isDwell || c.key === "time";
-      tr.append(el("td", {}, applies ? this.stepInput(c, step, k, rowPath, isDwell) : ""));
-    }
-    tr.append(el("td", { class: "row-buttons" },
-      this.button("↑", `Move step ${k + 1} up`, () => this.moveItem(path, k, -1), k === 0),
-      this.button("↓", `Move step ${k + 1} down`, () => this.moveItem(path, k, 1), k === n - 1),
-      this.button("✕", `Remove step ${k + 1}`, () => this.removeItem(path, k))));
-    group.append(tr);
-    const more = el("div", { class: "step-more" });
-    for (const c of extra) {
-      const applies = isDwell ? c.key === "holding" : c.key !== "holding";
-      if (!applies) continue;
-      if (c.key === "jerk_fraction" && step.shape !== "s_curve" && step.jerk_fraction === undefined) continue;
-      const input = this.stepInput(c, step, k, rowPath, isDwell);
-      more.append(el("label", { for: input.id, text: c.label }), input);
-    }
-    const known = new Set(PROFILE_FIXED);
-    const other = Object.entries(step).filter(([key]) => !known.has(key));
-    const otherId = idFor(joinPath(rowPath, "_other"));
-    more.append(el("label", { for: otherId, text: "Other keys" }), el("input", {
-      id: otherId, type: "text", value: other.map(([a, b]) => `${a}: ${show(b)}`).join("; "),
-      "data-path": rowPath, "data-role": "other", placeholder: "e.g. speed: 1 m/s", spellcheck: "false", class: "other",
-      title: "any other step keys as key: value; … (speed, max_speed, max_accel, max_jerk, law, jerk)",
-    }));
-    group.append(el("tr", { class: "step-extra" }, el("td", { colspan: String(main.length + 2) }, more)));
-    return group;
-  }
-
-  changeStepKind(parts, kind) {
-    const step = getAt(this.axis, parts) || {};
-    let next;
-    if (kind === "dwell") next = { dwell: step.time !== undefined ? step.time : "" };
-    else next = { move: "", time: step.dwell !== undefined ? step.dwell : "" };
-    setAt(this.axis, parts, next);
-    this.changed(true);
-  }
-
-  setOtherKeys(parts, text) {
-    const step = getAt(this.axis, parts) || {};
-    for (const key of Object.keys(step)) if (!PROFILE_FIXED.includes(key)) delete step[key];
-    for (const piece of text.split(";")) {
-      const m = /^\s*([A-Za-z_][A-Za-z0-9_]*)\s*:\s*(.*?)\s*$/.exec(piece);
-      if (m && m[2] !== "") step[m[1]] = readText(m[2], true);
-    }
-    setAt(this.axis, parts, step);
-  }
-
   // ---------------------------------------------------------------- errors
+
+  // The section (a path) holding an error the user has not edited yet (it waits for the first
+  // edit there), else null.
+  waiting(field) {
+    if (field === undefined || field === null) return null;
+    for (const p of this.pristine) if (field === p || field.startsWith(p + ".") || field.startsWith(p + "[")) return p;
+    return null;
+  }
 
   clearErrors() {
     for (const node of this.root.querySelectorAll(".field-error")) node.remove();
@@ -526,7 +454,7 @@ export class AxisForm {
     const esc = (p) => (window.CSS && CSS.escape ? CSS.escape(p) : p.replace(/"/g, '\\"'));
     let p = path;
     const profileKey = /^(profile\[\d+\])\.(\w+)$/.exec(path);
-    if (profileKey && !PROFILE_FIXED.includes(profileKey[2])) {
+    if (profileKey && !this.root.querySelector(`[data-path="${esc(path)}"]`)) {
       const other = this.root.querySelector(`[data-role="other"][data-path="${esc(profileKey[1])}"]`);
       if (other) return other;
     }
@@ -545,7 +473,13 @@ export class AxisForm {
   showErrors(errors) {
     this.clearErrors();
     const shown = [];
+    this.waitingFor = [];
     errors.forEach((err, k) => {
+      const section = this.waiting(err.field);
+      if (section) {
+        if (!this.waitingFor.includes(section)) this.waitingFor.push(section);
+        return;
+      }
       const node = this.target(err.field);
       if (!node) {
         shown.push({ ...err, element: null });
@@ -591,3 +525,5 @@ export class AxisForm {
     return shown;
   }
 }
+
+Object.assign(AxisForm.prototype, profileMethods);

@@ -3,12 +3,23 @@
 
 import { el } from "./dom.js";
 
+// A number for reading: up to ``sig`` significant digits, plain between 0.001 and 1e6
+// (1.27, 0.54, 3000), else in engineering notation, the exponent a multiple of 3 (12.5e-6, 2.4e6).
 export function fmt(value, sig = 4) {
   if (value === null || value === undefined || Number.isNaN(value)) return "–";
   if (typeof value !== "number") return String(value);
   if (value === 0) return "0";
-  const a = Math.abs(value);
-  if (a >= 1e6 || a < 1e-3) return value.toExponential(sig - 1);
+  if (!Number.isFinite(value)) return value > 0 ? "∞" : "-∞";
+  const a = Math.abs(Number(value.toPrecision(sig)));
+  if (a >= 1e6 || a < 1e-3) {
+    let exp = Math.floor(Math.log10(a) / 3) * 3;
+    let mantissa = Number((value / 10 ** exp).toPrecision(sig));
+    if (Math.abs(mantissa) >= 1000) {
+      exp += 3;
+      mantissa = Number((mantissa / 1000).toPrecision(sig));
+    }
+    return `${mantissa}e${exp}`;
+  }
   return String(Number(value.toPrecision(sig)));
 }
 
@@ -151,9 +162,9 @@ export function renderCandidates(node, result, picked, onToggle) {
     return {
       cls: c.ok ? "" : "fail",
       cells: [
+        c.motor,
         c.rank ? String(c.rank) : "–",
         box,
-        c.motor,
         c.gearbox ? `${c.gearbox} (i = ${fmt(c.ratio)})` : "direct",
         fmt(c.inertia_ratio, 3),
         pct(checks.peak_torque ? checks.peak_torque.margin : null),
@@ -164,8 +175,9 @@ export function renderCandidates(node, result, picked, onToggle) {
   });
   const s = result.selection || {};
   const intro = el("p", { class: "muted", text: `Best first by "${s.objective || "smallest"}"; rejected ones last, each with the check it fails. Tick 2–3 to compare.` });
-  node.replaceChildren(intro, el("div", { class: "table-wrap" },
-    table("Ranked candidates", ["rank", "compare", "motor", "gearbox", "J_L/J_M", "peak margin", "RMS margin", "result"], rows, "data candidates-table")));
+  // The motor stays in view (a sticky first column) while the table scrolls sideways.
+  node.replaceChildren(intro, el("div", { class: "table-wrap candidates-wrap" },
+    table("Ranked candidates", ["motor", "rank", "compare", "gearbox", "J_L/J_M", "peak margin", "RMS margin", "result"], rows, "data candidates-table")));
 }
 
 export function renderCompare(node, picks, onClear) {

@@ -1,0 +1,251 @@
+"""The electrical half of sizing a given motor: currents, the envelope at the supply voltage, the
+drive's current checks, regeneration and the braking resistor, and the winding temperature.
+
+Everything here is a thin orchestration of the formula modules in ``drivetrain.physics``
+(``motor_electrical``, ``drive_overload``, ``regen``, ``motor_thermal``), which carry the
+equations and their sources. Inputs come from the axis file (``drivetrain.axis.electrical``);
+what is missing is reported as missing (None), never guessed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from drivetrain.errors import InputError
+from drivetrain.physics import drive_overload, motor_electrical, motor_thermal, regen
+from drivetrain.sizing.checks import Check, margin_of
+
+if TYPE_CHECKING:
+    from drivetrain.axis.electrical import DriveData, MotorElectrical
+    from drivetrain.axis.model import Axis, Margins, MotorData
+    from drivetrain.duty.cycle import DutyCycle
+
+Array = np.ndarray
+
+
+@dataclass
+class ElectricalAnswer:
+    """What the electrical half adds to a given motor's result."""
+
+    motor: dict[str, Any] = field(default_factory=dict)
+    """keys joining the ``motor`` block (supply_voltage_V, envelope_source, rms_current_A, ...)"""
+    checks: list[Check] = field(default_factory=list)
+    """checks joining the motor's checks"""
+    drive: dict[str, Any] | None = None
+    regen: dict[str, Any] | None = None
+    curve: dict[str, Any] | None = None
+    """the T-n curve at the supply voltage (speeds, continuous and peak torque), for reports"""
+
+
+def _check(name: str, required: float, available: float, unit: str, note: str = "") -> Check:
+    m = float(margin_of(required, available))
+    return Check(name, float(required), float(available), unit, bool(m >= 0.0), m, False, note)
+
+
+def dc_bus(elec: MotorElectrical | None, drive: DriveData | None) -> tuple[float | None, float | None]:
+    """(AC supply [V] line-to-line rms or None, DC bus [V] or None): the drive's first, then the motor's keys."""
+    for src in (drive, elec):
+        if src is None:
+            continue
+        if src.dc_bus_voltage is not None:
+            return src.supply_voltage, src.dc_bus_voltage
+        if src.supply_voltage is not None:
+            return src.supply_voltage, float(motor_electrical.dc_bus_voltage(src.supply_voltage))
+    return None, None
+
+
+def continuous_current_at(elec: MotorElectrical, speed: float, rated_speed: float) -> float | None:
+    """Continuous current [A rms] at ``speed`` [rad/s]: I_0 at standstill falling linearly to I_N at rated speed.
+
+    The same shape as the derived continuous torque envelope (docs/checks.md, "The derived
+    envelope"): the stall current I_0 at standstill, the rated current I_N at the rated speed
+    and beyond; one of them alone is used as it is.
+    """
+    i0, i_n = elec.stall_current, elec.rated_current
+    if i0 is None or i_n is None:
+        return i0 if i0 is not None else i_n
+    frac = min(max(speed / rated_speed, 0.0), 1.0) if rated_speed > 0 else 1.0
+    return i0 + (i_n - i0) * frac
+
+
+def electrical_answer(axis: Axis, duty: DutyCycle, motor: MotorData, margins: Margins | None) -> ElectricalAnswer:
+    """The electrical figures, checks, drive block and regen block of a given motor on ``axis``.
+
+    Empty when the axis file gives neither electrical motor data nor a drive. A drive without the
+    motor's torque constant (kt or ke) is an input error naming ``motor.kt``.
+    """
+    elec = axis.electrical
+    drive = axis.drive
+    env = axis.environment
+    out = ElectricalAnswer()
+    has_elec = elec is not None and elec.any
+    envelope_source = "derived" if motor.approximate_envelope else "datasheet"
+    if not has_elec and drive is None:
+        out.motor = {"envelope_source": envelope_source}
+        return out
+    assert elec is not None or drive is not None
+    kt = None if elec is None else (elec.kt if elec.kt is not None else
+                                    (None if elec.ke is None else float(motor_electrical.kt_from_ke(elec.ke))))
+    if kt is None:
+        raise InputError("motor.kt", "the current checks need the motor's torque constant (give kt, or ke)",
+                         has_value=False)
+    assert elec is not None
+    torque_margin = margins.torque if margins is not None else 1.0
+    t_m = duty.motor_torque(motor.inertia)
+    w = duty.omega
+    sat = None
+    if elec.peak_current is not None:
+        sat = motor_electrical.Saturation(np.array(motor.rated_torque), np.array(motor.peak_torque),
+                                          np.array(elec.peak_current))
+    current = np.abs(motor_electrical.current_from_torque(t_m, kt, sat))
+    i_rms = float(drive_overload.rms_current(current, duty.weights, duty.period))
+    i_peak = float(current.max()) if current.size else 0.0
+    supply, bus = dc_bus(elec, drive)
+    derate = 1.0 if env.derating == "none" else float(motor_thermal.derating(env.ambient, env.altitude, env.derating))
+    out.motor = {
+        "supply_voltage_V": supply,
+        "dc_bus_voltage_V": bus,
+        "torque_constant_NmA": kt,
+        "rms_current_A": i_rms,
+        "peak_current_A": i_peak,
+        "derating_factor": derate,
+        "ambient_degC": env.ambient,
+        "altitude_m": env.altitude,
+        "electrical_sources": list(elec.sources),
+    }
+    # motor current checks
+    mean_speed = float(np.sum(duty.weights * np.abs(w)) / duty.period)
+    i_cont = continuous_current_at(elec, mean_speed, motor.rated_speed)
+    out.motor["continuous_current_A"] = i_cont
+    if i_cont is not None:
+        out.checks.append(_check("motor_rms_current", i_rms, i_cont * derate, "A",
+                                 f"continuous current at the mean speed x derating {derate:.3g} ({env.derating})"))
+    if elec.peak_current is not None:
+        out.checks.append(_check("motor_peak_current", i_peak, elec.peak_current, "A"))
+    # envelope at the supply voltage
+    if elec.has_voltage_model and bus is not None:
+        envelope_source = "electrical"
+        out.checks.append(_voltage_check(t_m, w, kt, elec, drive, bus, sat, torque_margin, motor.peak_torque, out))
+    out.motor["envelope_source"] = envelope_source
+    # winding temperature
+    out.motor.update(_thermal(duty, current, elec, derate, out))
+    if drive is not None:
+        out.drive = _drive_block(drive, duty, current, i_rms, i_peak)
+    out.regen = _regen_block(duty, t_m, current, elec, drive, bus)
+    return out
+
+
+def _voltage_check(t_m: Array, w: Array, kt: float, elec: MotorElectrical, drive: DriveData | None, bus: float,
+                   sat: motor_electrical.Saturation | None, torque_margin: float, motor_peak: float,
+                   out: ElectricalAnswer) -> Check:
+    """Every sample's torque (x margin) against the voltage- and current-limited curve at its speed."""
+    assert elec.ke is not None and elec.resistance is not None and elec.inductance is not None
+    assert elec.pole_pairs is not None
+    peaks = [x for x in (elec.peak_current, None if drive is None else drive.peak_current) if x is not None]
+    conts = [x for x in (elec.continuous_current, None if drive is None else drive.continuous_current) if x is not None]
+    i_p = min(peaks) if peaks else math.inf
+    i_c = min(conts) if conts else i_p
+    generating = t_m * w < 0.0
+    args = (kt, elec.ke, elec.resistance, elec.inductance, elec.pole_pairs, bus, i_c, i_p)
+    mot = motor_electrical.torque_speed_curve(np.abs(w), *args, saturation=sat).peak[0]
+    gen = motor_electrical.torque_speed_curve(np.abs(w), *args, saturation=sat, generating=True).peak[0]
+    # the datasheet peak torque stays a limit of its own (the curve knows only the current limits)
+    available = np.minimum(np.where(generating, gen, mot), motor_peak)
+    required = np.abs(t_m) * torque_margin
+    with np.errstate(divide="ignore", invalid="ignore"):
+        margins = np.where(required > 0, available / np.where(required > 0, required, 1.0) - 1.0, np.inf)
+    k = int(np.argmin(margins))
+    w_max = float(np.max(np.abs(w))) if w.size else 0.0
+    speeds = np.linspace(0.0, max(w_max, float(motor_electrical.no_load_speed(elec.ke, bus))) * 1.05, 101)
+    curve = motor_electrical.torque_speed_curve(speeds, *args, saturation=sat)
+    out.curve = {"speed_rad_s": speeds.tolist(),
+                 "continuous_torque_Nm": np.minimum(curve.continuous[0], motor_peak).tolist(),
+                 "peak_torque_Nm": np.minimum(curve.peak[0], motor_peak).tolist(), "dc_bus_voltage_V": bus}
+    out.motor["no_load_speed_rpm"] = float(motor_electrical.no_load_speed(elec.ke, bus)) * 60.0 / (2.0 * math.pi)
+    return _check("peak_torque_at_supply_voltage", float(required[k]), float(available[k]), "N*m",
+                  f"at {abs(float(w[k])) * 60.0 / (2.0 * math.pi):.0f} rpm, {bus:.0f} V DC bus")
+
+
+def _thermal(duty: DutyCycle, current: Array, elec: MotorElectrical, derate: float,
+             out: ElectricalAnswer) -> dict[str, Any]:
+    """Winding rise: periodic solution when R, tau, rated rise and I_0 are known; RMS rule without tau."""
+    keys: dict[str, Any] = {"winding_temperature_rise_K": None}
+    i0, rise_n, r = elec.continuous_current, elec.rated_rise, elec.resistance
+    if i0 is None or rise_n is None:
+        return keys
+    allowed = rise_n * derate**2
+    i_rms = float(drive_overload.rms_current(current, duty.weights, duty.period))
+    mean = float(motor_thermal.steady_rise(i_rms, i0, rise_n))
+    peak = mean
+    if r is not None and elec.thermal_time_constant is not None:
+        r_th = float(motor_thermal.thermal_resistance(rise_n, i0, r))
+        per = motor_thermal.periodic_rise(duty.t, np.asarray(regen.copper_loss(current, r)), r_th,
+                                          elec.thermal_time_constant)
+        mean, peak = float(per.mean), float(per.peak)
+        keys["winding_time_to_95_percent_s"] = float(per.time_to_95)
+    keys.update({"winding_temperature_rise_K": peak, "winding_mean_rise_K": mean,
+                 "winding_allowed_rise_K": allowed})
+    out.checks.append(_check("winding_temperature_rise", peak, allowed, "K",
+                             f"rated rise {rise_n:g} K x derating^2"))
+    return keys
+
+
+def _drive_block(drive: DriveData, duty: DutyCycle, current: Array, i_rms: float, i_peak: float) -> dict[str, Any]:
+    checks = [_check("drive_rms_current", i_rms, drive.continuous_current, "A"),
+              _check("drive_peak_current", i_peak, drive.peak_current, "A")]
+    block: dict[str, Any] = {"id": drive.name, "vendor": drive.vendor,
+                             "continuous_current_A": drive.continuous_current, "peak_current_A": drive.peak_current}
+    if drive.peak_time is not None:
+        setpoint = float(drive_overload.i2t_setpoint(drive.peak_current, drive.continuous_current, drive.peak_time))
+        per = drive_overload.i2t_periodic(duty.t, current, drive.continuous_current, setpoint)
+        block["i2t_setpoint_A2s"] = setpoint
+        block["i2t_peak_A2s"] = float(per.peak)
+        checks.append(_check("drive_i2t", float(per.peak), setpoint, "A^2*s",
+                             "Copley I2T accumulator, periodic steady state"))
+    block["ok"] = all(c.ok for c in checks)
+    block["checks"] = [c.to_dict() for c in checks]
+    return block
+
+
+def _regen_block(duty: DutyCycle, t_m: Array, current: Array, elec: MotorElectrical, drive: DriveData | None,
+                 bus: float | None) -> dict[str, Any]:
+    p_cu = regen.copper_loss(current, elec.resistance) if elec.resistance is not None else np.zeros_like(current)
+    e_c, basis = 0.0, "none"
+    if drive is not None and drive.absorbable_energy is not None:
+        e_c, basis = drive.absorbable_energy, "published"
+    elif drive is not None and None not in (drive.bus_capacitance, drive.bus_max_voltage) and bus is not None:
+        assert drive.bus_capacitance is not None and drive.bus_max_voltage is not None
+        e_c, basis = float(regen.capacitor_energy(drive.bus_capacitance, drive.bus_max_voltage, bus)), "capacitance"
+    r = regen.regen_cycle(duty.t, t_m * duty.omega, p_cu, e_c, weights=duty.weights, period=duty.period)
+    r_min = None if drive is None else drive.min_resistance
+    r_max = None
+    if drive is not None and drive.regen_on_voltage is not None:
+        r_max = float(regen.resistor_max_resistance(drive.regen_on_voltage, r.resistor_peak_power))
+    builtin = None
+    if (drive is not None and drive.builtin_average_power is not None and drive.builtin_resistance is not None
+            and drive.regen_on_voltage is not None):
+        builtin = bool(regen.builtin_resistor_sufficient(r.resistor_average_power, r.resistor_peak_power,
+                                                         drive.builtin_average_power, drive.builtin_resistance,
+                                                         drive.regen_on_voltage))
+    return {
+        "shaft_energy_per_cycle_J": r.shaft_energy,
+        "copper_loss_in_events_J": float(r.events.copper_energy.sum()),
+        "energy_per_cycle_J": r.energy,
+        "capacitor_energy_per_event_J": e_c,
+        "capacitor_basis": basis,
+        "capacitor_absorbed_J": r.capacitor_absorbed,
+        "resistor_energy_per_cycle_J": r.resistor_energy,
+        "resistor_peak_power_W": r.resistor_peak_power,
+        "resistor_average_power_W": r.resistor_average_power,
+        "resistor_min_ohm": r_min,
+        "resistor_max_ohm": None if r_max is None or math.isinf(r_max) else r_max,
+        "resistor_needed": r.resistor_energy > 0.0,
+        "builtin_resistor_sufficient": builtin,
+        "events": [{"t0_s": float(a), "t1_s": float(b), "energy_J": float(e), "resistor_J": float(q)}
+                   for a, b, e, q in zip(r.events.t_start, r.events.t_stop, r.events.bus_energy,
+                                         r.events.resistor_energy, strict=True)],
+    }

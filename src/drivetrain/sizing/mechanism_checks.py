@@ -1,0 +1,213 @@
+"""The mechanism's own checks over the duty cycle: screw limits and nut life, guide life, belt tension, rack force.
+
+``mechanism_checks(axis, duty)`` returns the ``mechanism_checks`` list of the sizing result, each
+entry shaped like the motor checks (name, required, available, margin, ok, unit) plus its
+``source``. A check runs only where the axis file gives the ratings it needs
+(docs/axis-file.md, "Mechanism limits"); the formulas live in ``drivetrain.physics``
+(screw_limits, rolling_life, belt_rack) with their sources, and docs/checks.md lists them.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from drivetrain.axis.model import Axis
+from drivetrain.duty.cycle import DutyCycle
+from drivetrain.errors import InputError
+from drivetrain.physics import belt_rack, rolling_life, screw_limits
+from drivetrain.physics.guides import carriage_moments
+from drivetrain.physics.mechanisms.base import LinearLoad
+
+Array = NDArray[np.float64]
+RPM = 60.0 / (2.0 * math.pi)
+"""[rpm per rad/s]: speed checks print in rpm like the motor's max_speed check."""
+
+SRC_THK_AXIAL = "THK General Catalog, Ball Screw, Permissible Axial Load, A15-30 eq. (5), (6)"
+SRC_THK_SPEED = "THK General Catalog, Ball Screw, Permissible Rotational Speed, A15-32 eq. (7)-(17)"
+SRC_NUT_LIFE = "MiSUMi 2025 Technical Data p. 1678; THK Studying the Service Life; Steinmeyer equivalent load"
+SRC_GUIDE = "THK LM Guide Calculating the Nominal Life and Static Safety Factor; ISO 14728-1"
+SRC_BELT = "Gates Mectrol Timing Belt Theory 3.1-3.3; ELATECH catalog p. 54 (F_Tmax = F_TV + F_U)"
+SRC_RACK = "Shigley ch. 13 mesh forces; vendor permissible feed force with application factor K_A"
+
+
+def _check(name: str, required: float, available: float, unit: str, source: str, note: str = "") -> dict[str, Any]:
+    margin = available / required - 1.0 if required > 0.0 else math.inf
+    return {"name": name, "required": float(required), "available": float(available), "margin": float(margin),
+            "ok": bool(margin >= 0.0), "unit": unit, "source": source, "approximate": False, "note": note}
+
+
+def axial_force(axis: Axis, duty: DutyCycle) -> Array:
+    """Force the mechanism transmits to the load along its travel over the cycle [N]: F_ext + M a."""
+    load = axis.mechanism.load
+    if not isinstance(load, LinearLoad):
+        raise TypeError("axial_force needs a linear mechanism")
+    s = duty.samples
+    x, v, a = (np.asarray(s.x, dtype=float), np.asarray(s.v, dtype=float), np.asarray(s.a, dtype=float))
+    direction = np.asarray(s.direction, dtype=float)
+    thrust = np.asarray(s.thrust, dtype=float)
+    thrust = np.where(np.isnan(thrust), load.thrust, thrust)
+    thrust = np.where(direction == 0.0, 0.0, thrust)
+    f = load.force(x, v, direction, thrust, axis.gravity) + load.moving_mass * a
+    return np.asarray(np.where(np.asarray(s.braked, dtype=bool), load.force(x, 0 * v, 0 * v, 0 * v, axis.gravity), f),
+                      dtype=float)
+
+
+def _stroke(duty: DutyCycle) -> tuple[float, float]:
+    x = np.asarray(duty.samples.x, dtype=float)
+    return float(x.min()), float(x.max())
+
+
+def nut_travel_positions(axis: Axis, duty: DutyCycle, points: int = 41) -> tuple[Array, float]:
+    """Nut positions [m] from the fixed bearing across the stroke, and the bearing span [m]."""
+    spec = axis.spec.mechanism
+    limits = getattr(spec, "screw", None)
+    if limits is None:
+        raise InputError("mechanism.screw", "is required for nut positions", has_value=False)
+    span = limits.unsupported_length or getattr(spec, "length", None)
+    if span is None:
+        raise InputError("mechanism.screw.unsupported_length", "is required when mechanism.length is not given",
+                         has_value=False)
+    lo, hi = _stroke(duty)
+    pos = limits.home_position + np.linspace(lo, hi, points)
+    if pos.min() < 0.0 or pos.max() > span:
+        raise InputError("mechanism.screw.home_position",
+                         f"puts the nut outside the screw over the stroke ({pos.min():.4g} to {pos.max():.4g} m "
+                         f"from the fixed bearing, span {span:g} m)", limits.home_position)
+    return np.clip(pos, 1e-6 * span, span * (1 - 1e-9) if limits.mounting == "fixed_fixed" else span), float(span)
+
+
+def _screw_checks(axis: Axis, duty: DutyCycle, force: Array) -> list[dict[str, Any]]:
+    spec = axis.spec.mechanism
+    limits = getattr(spec, "screw", None)
+    nut = getattr(spec, "nut", None)
+    out: list[dict[str, Any]] = []
+    lever = axis.mechanism.lever
+    omega = np.asarray(duty.samples.v, dtype=float) / lever
+    w_peak = float(np.max(np.abs(omega)))
+    f_peak = float(np.max(np.abs(force)))
+    if limits is not None:
+        pos, span = nut_travel_positions(axis, duty)
+        d1 = limits.root_diameter
+        buck = screw_limits.buckling_load(d1, screw_limits.buckling_length(pos, span, limits.mounting),
+                                          limits.mounting, limits.youngs_modulus)
+        out.append(_check("screw_buckling", f_peak, float(buck.min()), "N", SRC_THK_AXIAL,
+                          "largest axial load taken as compressive; worst nut position over the stroke"))
+        out.append(_check("screw_tensile_compressive", f_peak,
+                          screw_limits.permissible_tensile_compressive_load(d1), "N", SRC_THK_AXIAL))
+        crit = float(screw_limits.critical_speed(d1, span, limits.mounting, limits.youngs_modulus))
+        out.append(_check("screw_critical_speed", w_peak * RPM, crit * RPM, "rpm", SRC_THK_SPEED,
+                          f"unsupported length {span:g} m, {limits.mounting}"))
+        if limits.dn_limit is not None:
+            dcirc = limits.ball_circle_diameter or getattr(spec, "diameter", None)
+            if dcirc is None:
+                raise InputError("mechanism.screw.ball_circle_diameter", "is required for the DN check "
+                                 "(or give mechanism.diameter)", has_value=False)
+            out.append(_check("screw_dn_speed", w_peak * RPM, screw_limits.dn_speed_limit(dcirc, limits.dn_limit) * RPM,
+                              "rpm", SRC_THK_SPEED, f"DN {limits.dn_limit:g} mm/min at D = {dcirc * 1e3:g} mm"))
+    if nut is not None:
+        try:
+            lead = getattr(spec, "lead", lever * 2 * math.pi)
+            life = screw_limits.nut_life(nut.C_a, force, omega, duty.weights, lead, preload=nut.preload,
+                                         load_factor=nut.load_factor)
+        except InputError as exc:
+            raise exc.at("mechanism.nut") from None
+        out.append(_check("nut_life", nut.required_life / 3600.0, life.hours, "h", SRC_NUT_LIFE,
+                          f"F_m = {life.equivalent_load:.4g} N, L10 = {life.revolutions:.4g} rev = {life.km:.4g} km"))
+        if nut.C_0a is not None:
+            f_static = float(np.max(screw_limits.preloaded_nut_load(force, nut.preload)))
+            fs = nut.C_0a / f_static if f_static > 0 else math.inf
+            out.append(_check("nut_static_safety", nut.static_safety, fs, "-", SRC_THK_AXIAL + "; ISO 76 s0 = C0 / P0"))
+    return out
+
+
+def _guide_checks(axis: Axis, duty: DutyCycle, force: Array) -> list[dict[str, Any]]:
+    g = axis.spec.guide
+    if g is None or g.dynamic_rating is None:
+        return []
+    load = axis.mechanism.load
+    assert isinstance(load, LinearLoad)
+    mom = carriage_moments(force, load.mass * axis.gravity, g.l_x, g.l_y, g.l_z, g.d_p, g.d_r, g.orientation)
+    moments = {k.split("_")[0]: mom[k] for k in ("pitch_Nm", "roll_Nm", "yaw_Nm")}
+    note = ""
+    factors: dict[str, float] = {str(k): float(v) for k, v in (g.moment_factors or {}).items()}
+    used: dict[str, ArrayLike] = {k: m for k, m in moments.items() if k in factors}
+    if any(np.any(np.abs(m) > 0) for k, m in moments.items() if k not in factors):
+        note = "moments without moment_factors are not in the carriage load"
+    p = rolling_life.guide_equivalent_load(mom["normal_N"] / g.carriages, used, factors)
+    v = np.asarray(duty.samples.v, dtype=float)
+    travel = rolling_life.travel_weights(v, duty.weights)
+    out: list[dict[str, Any]] = []
+    if float(np.max(p)) <= 0.0:
+        return [_check("guide_life", g.required_life / 3600.0, math.inf, "h", SRC_GUIDE, "no load on the carriages")]
+    p_m = rolling_life.cubic_mean_load(p, travel, rolling_life.life_exponent(g.rolling))
+    life_m = float(rolling_life.guide_life(g.dynamic_rating, max(p_m, 1e-12), g.rating_distance, g.rolling,
+                                           f_w=g.load_factor))
+    hours = float(rolling_life.life_time(life_m, float(np.sum(travel)), duty.period)) / 3600.0
+    out.append(_check("guide_life", g.required_life / 3600.0, hours, "h", SRC_GUIDE,
+                      f"P_m = {p_m:.4g} N per carriage, L10 = {life_m / 1e3:.4g} km" + (f"; {note}" if note else "")))
+    if g.static_rating is not None:
+        fs = float(np.min(rolling_life.guide_static_safety_factor(g.static_rating, np.maximum(p, 1e-300))))
+        out.append(_check("guide_static_safety", g.static_safety, fs, "-", SRC_GUIDE))
+    return out
+
+
+def belt_positions(axis: Axis, duty: DutyCycle) -> Array:
+    """Carriage positions from the drive pulley over the cycle's samples [m] (``mechanism.belt``)."""
+    belt = getattr(axis.spec.mechanism, "belt", None)
+    if belt is None:
+        raise InputError("mechanism.belt", "is required for carriage positions", has_value=False)
+    return np.asarray(belt.home_position + np.asarray(duty.samples.x, dtype=float), dtype=float)
+
+
+def _belt_checks(axis: Axis, duty: DutyCycle, force: Array) -> list[dict[str, Any]]:
+    belt = getattr(axis.spec.mechanism, "belt", None)
+    if belt is None:
+        return []
+    pull = np.abs(force)
+    if belt.centre_distance is not None:
+        try:
+            lp, lo = belt_rack.linear_belt_spans(belt_positions(axis, duty), belt.centre_distance, belt.layout,
+                                                 belt.clamp_offset)
+        except InputError as exc:
+            raise InputError("mechanism.belt.home_position", f"the carriage leaves the belt over the stroke "
+                             f"({exc.rule})", belt.home_position) from None
+        # A force towards +x (away from the drive pulley) is pulled through the path round the idler
+        # (loop) or the far span (omega); a force towards the pulley through the direct span.
+        lp, lo = np.where(force >= 0.0, lo, lp), np.where(force >= 0.0, lp, lo)
+    else:
+        lp, lo = np.zeros_like(pull), np.ones_like(pull)  # worst case: all pull on one span
+    need = belt_rack.minimum_pretension(pull, lp, lo)
+    pre = belt.pretension if belt.pretension is not None else float(pull.max())
+    tight, slack = belt_rack.linear_belt_tensions(pull, pre, lp, lo)
+    out = [_check("belt_slack_side", need, pre, "N", SRC_BELT, "pretension needed to keep the slack span taut")]
+    permissible = belt.permissible_tension
+    if permissible is not None:
+        out.append(_check("belt_tension", float(tight.max()), permissible, "N", SRC_BELT,
+                          f"pretension {pre:.4g} N" + ("" if belt.pretension is not None else " (default: peak pull)")))
+    shaft = belt_rack.pulley_shaft_load(tight, slack, belt.wrap_angle)
+    out[-1]["note"] += f"; peak pulley shaft load {float(shaft.max()):.4g} N"
+    return out
+
+
+def _rack_checks(axis: Axis, duty: DutyCycle, force: Array) -> list[dict[str, Any]]:
+    rack = getattr(axis.spec.mechanism, "rack", None)
+    if rack is None or rack.permissible_force is None:
+        return []
+    ft = np.abs(force)
+    radial, _ = belt_rack.pinion_shaft_load(ft, rack.pressure_angle, rack.helix_angle)
+    c = _check("rack_feed_force", rack.application_factor * float(ft.max()), rack.permissible_force, "N", SRC_RACK,
+               f"K_A = {rack.application_factor:g}; peak radial load on the pinion shaft {float(radial.max()):.4g} N")
+    return [c]
+
+
+def mechanism_checks(axis: Axis, duty: DutyCycle) -> list[dict[str, Any]]:
+    """Every mechanism check the axis file has ratings for (empty if none, or for a rotary mechanism)."""
+    if axis.mechanism.motion != "linear":
+        return []
+    force = axial_force(axis, duty)
+    return [*_screw_checks(axis, duty, force), *_guide_checks(axis, duty, force), *_belt_checks(axis, duty, force),
+            *_rack_checks(axis, duty, force)]

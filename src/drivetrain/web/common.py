@@ -1,0 +1,215 @@
+"""What every route module shares: error answers, the axis body of a request, YAML in and out,
+the cache of encoded sizings, and ``Context`` (the store, the data folder and the work pools of
+one app, handed to each module's ``register``).
+"""
+
+from __future__ import annotations
+
+import re
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Protocol, TypeVar
+
+from fastapi import Request
+from fastapi.responses import JSONResponse
+
+from drivetrain.errors import InputError, InputErrors
+from drivetrain.web.models import check_unicode
+from drivetrain.web.store import Store
+
+T = TypeVar("T")
+
+
+class Runner(Protocol):
+    """Runs a blocking call off the event loop and awaits its result."""
+
+    async def __call__(self, fn: Callable[..., T], *args: Any) -> T: ...
+
+
+@dataclass(frozen=True)
+class Context:
+    """One app's state the routes need: its project store, sizing cache, data folder and runners.
+
+    ``blocking`` runs heavy work (sizing, reports, imports) on the app's bounded work pool;
+    ``light`` runs quick file and database calls on AnyIO's threads; ``temp_path`` makes a
+    temporary file inside the data folder (the caller removes it); ``size_payload`` is the
+    sizing behind ``/api/size`` (``drivetrain.web.payload.size_payload``, as ``create_app``
+    finds it in ``drivetrain.web.app`` when the app is built).
+    """
+
+    store: Store
+    cache: ResultCache
+    directory: Path
+    blocking: Runner
+    light: Runner
+    temp_path: Callable[[str], Path]
+    size_payload: Callable[[dict[str, Any]], dict[str, Any]]
+
+
+class SafeJSONResponse(JSONResponse):
+    """JSON with non-ASCII escaped: any text (even a lone surrogate echoed in a message) can be sent."""
+
+    def render(self, content: Any) -> bytes:
+        import json
+
+        return json.dumps(content, ensure_ascii=True, allow_nan=False, separators=(",", ":")).encode("ascii")
+
+
+class ApiError(Exception):
+    """An error answer with a status, a message and the field at fault."""
+
+    def __init__(self, status: int, detail: str, field: str | None = None) -> None:
+        super().__init__(detail)
+        self.status, self.detail, self.field = status, detail, field
+
+
+
+def error_body(err: InputError) -> dict[str, Any]:
+    """The JSON of a 422 for an InputError (or several)."""
+    errors = err.errors if isinstance(err, InputErrors) else [err]
+    items = [{"field": e.field or None, "message": e.message} for e in errors]
+    return {"detail": str(err), "field": err.field or None, "errors": items}
+
+
+def json_error(status: int, detail: str, field: str | None = None, headers: dict[str, str] | None = None,
+                errors: list[dict[str, Any]] | None = None) -> JSONResponse:
+    body = {"detail": detail or "error", "field": field,
+            "errors": errors if errors is not None else [{"field": field, "message": detail}]}
+    return SafeJSONResponse(body, status_code=status, headers=headers)
+
+
+def safe_filename(name: str, suffix: str) -> str:
+    """A download name made of [A-Za-z0-9._-] only, from a user-given axis name."""
+    stem = re.sub(r"[^A-Za-z0-9._-]+", "_", name).strip("._")[:80] or "axis"
+    return f"{stem}{suffix}"
+
+
+def attachment(filename: str) -> dict[str, str]:
+    return {"Content-Disposition": f'attachment; filename="{filename}"'}
+
+
+def report_module() -> Any | None:
+    try:
+        import drivetrain.report as report
+    except ImportError:
+        return None
+    return report if hasattr(report, "write_report") else None
+
+
+def catalog_available() -> bool:
+    try:
+        import drivetrain.catalog  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def dump_yaml(axis: dict[str, Any]) -> str:
+    """The axis as YAML text in the axis file's key order, short mappings on one line."""
+    import yaml
+
+    class _Dumper(yaml.SafeDumper):
+        pass
+
+    def represent_dict(dumper: yaml.SafeDumper, data: dict[str, Any]) -> yaml.Node:
+        flat = all(not isinstance(v, (dict, list)) for v in data.values())
+        return dumper.represent_mapping("tag:yaml.org,2002:map", data.items(), flow_style=flat and len(data) <= 8)
+
+    _Dumper.add_representer(dict, represent_dict)
+    text: str = yaml.dump(axis, Dumper=_Dumper, sort_keys=False, allow_unicode=True, width=110,
+                          default_flow_style=False)
+    return text
+
+
+def parse_axis_text(text: str, field: str = "yaml") -> dict[str, Any]:
+    """Axis YAML text to a mapping through the CLI's safe loader and limits."""
+    from drivetrain.axis.model import parse_yaml
+
+    try:
+        data = parse_yaml(text)
+    except InputError as exc:
+        raise InputError(field, exc.rule, exc.value, has_value=exc.has_value) from None
+    if not isinstance(data, dict):
+        raise InputError(field, "must be a mapping of axis keys (axis, mechanism, transmission, profile, motor)",
+                         type(data).__name__)
+    check_unicode(data, field)
+    return {str(k): v for k, v in data.items()}
+
+
+
+class ResultCache:
+    """The last sizings, keyed by the axis and the catalog files' state (an import invalidates them).
+
+    Sizing is a pure function of the axis and the catalog, and the page re-sends the same axis
+    often (undo, switching back a value, comparing candidates), so the encoded answers are kept.
+    """
+
+    def __init__(self, directory: Path, size: int = 64) -> None:
+        from collections import OrderedDict
+
+        self.directory, self.size = directory, size
+        self.data: OrderedDict[str, bytes] = OrderedDict()
+        self.lock = threading.Lock()
+
+    def key(self, kind: str, axis: dict[str, Any], *extra: Any) -> str:
+        import hashlib
+        import json
+
+        stamp = []
+        for name in ("catalog.sqlite", "user.sqlite", "user.sqlite-wal"):
+            try:
+                st = (self.directory / name).stat()
+                stamp.append((name, st.st_mtime_ns, st.st_size))
+            except OSError:
+                stamp.append((name, 0, 0))
+        text = json.dumps([kind, axis, extra, stamp], sort_keys=True, separators=(",", ":"), default=str)
+        return hashlib.sha256(text.encode()).hexdigest()
+
+    def get(self, key: str) -> bytes | None:
+        with self.lock:
+            value = self.data.get(key)
+            if value is not None:
+                self.data.move_to_end(key)
+            return value
+
+    def put(self, key: str, value: bytes) -> None:
+        with self.lock:
+            self.data[key] = value
+            self.data.move_to_end(key)
+            while len(self.data) > self.size:
+                self.data.popitem(last=False)
+
+
+
+def axis_body(description: str, complete: bool = True) -> dict[str, Any]:
+    schema = ({"$ref": "#/components/schemas/AxisSpec"} if complete else
+              {"type": "object", "description": "the axis as a JSON object; a draft need not be complete"})
+    return {"required": True, "description": description, "content": {"application/json": {"schema": schema}}}
+
+
+async def axis_from(request: Request) -> dict[str, Any]:
+    """The request's JSON body as an axis mapping (422 naming the problem otherwise)."""
+    import json
+
+    raw = await request.body()
+    if not raw.strip():
+        raise InputError("body", "must be the axis as a JSON object (axis, mechanism, transmission, profile, motor)",
+                         has_value=False)
+    try:
+        data = json.loads(raw)
+    except (ValueError, RecursionError) as exc:
+        raise InputError("body", f"is not valid JSON ({str(exc)[:120]})", has_value=False) from None
+    if not isinstance(data, dict):
+        raise InputError("body", "must be a JSON object with the axis keys (axis, mechanism, transmission, profile, "
+                         "motor)", type(data).__name__)
+    check_unicode(data, "")
+    return data
+
+
+
+def need_catalog() -> None:
+    """Refuse (503) when this installation has no catalog."""
+    if not catalog_available():
+        raise ApiError(503, "the catalog is not available in this installation (drivetrain.catalog is missing)")

@@ -1,0 +1,195 @@
+"""Routes of the catalog: filter and sort motors and gearboxes, one item, a motor's envelope, and
+importing the user's own rows; with the table queries behind them.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+import numpy as np
+from fastapi import FastAPI, File, Form, Query, UploadFile
+from fastapi import Path as PathParam
+
+from drivetrain.errors import InputError, InputErrors
+from drivetrain.web.common import ApiError, Context, need_catalog, safe_filename
+from drivetrain.web.models import CatalogPage, EnvelopeOut, FacetsOut, ImportOut
+from drivetrain.web.payload import engine, motor_envelope, plain
+
+MAX_UPLOAD_BYTES = 5_000_000
+"""Largest catalog import [bytes]."""
+_CATALOG_ID = Annotated[str, PathParam(min_length=1, max_length=200, description="catalog id")]
+"""A catalog id in a path: it may hold a slash (FANUC's "beta 0.2/5000is"), so the routes take the
+rest of the path (``{...:path}``) and the page sends it percent-encoded."""
+
+
+MotorSort = Literal["id", "vendor", "series", "rated_power", "rated_torque", "peak_torque", "rated_speed",
+                    "max_speed", "rotor_inertia", "mass", "flange", "voltage"]
+GearboxSort = Literal["id", "vendor", "series", "ratio", "stages", "rated_output_torque", "max_output_torque",
+                      "efficiency", "max_input_speed", "inertia_input", "backlash", "mass"]
+
+
+def _order(table: Any, sort: str, descending: bool) -> np.ndarray:
+    column = table.ids if sort == "id" else getattr(table, sort)
+    values = np.asarray(column)
+    if values.dtype.kind == "f":
+        key = np.where(np.isnan(values), np.inf, -values if descending else values)
+        order: np.ndarray = np.argsort(key, kind="stable")
+        return order
+    order = np.argsort(np.char.lower(values.astype(str)), kind="stable")
+    return order[::-1] if descending else order
+
+
+def _text_mask(table: Any, q: str | None) -> np.ndarray:
+    if not q:
+        return np.ones(len(table), dtype=bool)
+    needle = q.strip().lower()
+    hay = np.char.lower(np.char.add(np.char.add(table.ids.astype(str), " "), table.model.astype(str)))
+    hay = np.char.add(np.char.add(hay, " "), np.char.lower(table.series.astype(str)))
+    mask: np.ndarray = np.char.find(hay, needle) >= 0
+    return mask
+
+
+def _page(table: Any, mask: np.ndarray, sort: str, order: str, offset: int, limit: int) -> dict[str, Any]:
+    sub = table.take(np.flatnonzero(mask))
+    idx = _order(sub, sort, order == "desc")
+    page = idx[offset:offset + limit]
+    items = [plain(sub.row(int(i))) for i in page]
+    return {"total": len(sub), "offset": offset, "limit": limit, "items": items}
+
+
+def motors_page(vendor: str | None, kind: str | None, voltage: str | None, flange: str | None, q: str | None,
+                sort: str, order: str, offset: int, limit: int) -> dict[str, Any]:
+    from drivetrain import catalog
+
+    table = engine(lambda: catalog.motors(vendor=vendor or None, kind=kind or None, voltage=voltage or None,
+                                          flange=flange or None))
+    return _page(table, _text_mask(table, q), sort, order, offset, limit)
+
+
+def gearboxes_page(vendor: str | None, series: str | None, kind: str | None, ratio_min: float | None,
+                   ratio_max: float | None, q: str | None, sort: str, order: str, offset: int,
+                   limit: int) -> dict[str, Any]:
+    from drivetrain import catalog
+
+    table = catalog.gearboxes(vendor=vendor or None, series=series or None, kind=kind or None)
+    mask = _text_mask(table, q)
+    if ratio_min is not None:
+        mask &= table.ratio >= ratio_min
+    if ratio_max is not None:
+        mask &= table.ratio <= ratio_max
+    return _page(table, mask, sort, order, offset, limit)
+
+
+def facets() -> dict[str, Any]:
+    from drivetrain import catalog
+
+    m, g = catalog.motors(), catalog.gearboxes()
+    volts = sorted({float(v) for v in m.voltage if math.isfinite(v)})
+    return {"motor_vendors": sorted(set(m.vendor.tolist())), "motor_kinds": sorted(set(m.kind.tolist())),
+            "gearbox_vendors": sorted(set(g.vendor.tolist())), "gearbox_series": sorted(set(g.series.tolist()) - {""}),
+            "gearbox_kinds": sorted(set(g.kind.tolist())), "motor_voltages": volts}
+
+
+
+def rename_import_error(exc: InputError, tmp: str, shown: str) -> InputError:
+    errors = exc.errors if isinstance(exc, InputErrors) else [exc]
+    renamed = [InputError(e.field.replace(tmp, shown), e.rule.replace(tmp, shown), e.value, has_value=e.has_value)
+               for e in errors]
+    return renamed[0] if len(renamed) == 1 else InputErrors(renamed)
+
+
+def register(app: FastAPI, ctx: Context) -> None:
+    """Add the catalog routes to ``app``."""
+    blocking, temp_path, directory = ctx.blocking, ctx.temp_path, ctx.directory
+
+    @app.get("/api/catalog/facets", response_model=FacetsOut, tags=["catalog"])
+    async def catalog_facets() -> dict[str, Any]:
+        """Vendors, kinds, series and voltages present, for the filters."""
+        need_catalog()
+        return await blocking(facets)
+
+    @app.get("/api/catalog/motors", response_model=CatalogPage, tags=["catalog"])
+    async def catalog_motors(
+        vendor: Annotated[str | None, Query(max_length=100)] = None,
+        kind: Annotated[str | None, Query(max_length=40)] = None,
+        voltage: Annotated[str | None, Query(max_length=40, description="e.g. 400 V")] = None,
+        flange: Annotated[str | None, Query(max_length=40, description="e.g. 80 mm")] = None,
+        q: Annotated[str | None, Query(max_length=100, description="text in the id, model or series")] = None,
+        sort: MotorSort = "rated_torque",
+        order: Literal["asc", "desc"] = "asc",
+        offset: Annotated[int, Query(ge=0, le=1_000_000)] = 0,
+        limit: Annotated[int, Query(ge=1, le=500)] = 50,
+    ) -> dict[str, Any]:
+        """Motors of the shipped and user catalogs (SI, units in the keys), filtered and sorted."""
+        need_catalog()
+        return await blocking(motors_page, vendor, kind, voltage, flange, q, sort, order, offset, limit)
+
+    @app.get("/api/catalog/gearboxes", response_model=CatalogPage, tags=["catalog"])
+    async def catalog_gearboxes(
+        vendor: Annotated[str | None, Query(max_length=100)] = None,
+        series: Annotated[str | None, Query(max_length=100)] = None,
+        kind: Annotated[str | None, Query(max_length=40)] = None,
+        ratio_min: Annotated[float | None, Query(ge=0, le=1e6)] = None,
+        ratio_max: Annotated[float | None, Query(ge=0, le=1e6)] = None,
+        q: Annotated[str | None, Query(max_length=100)] = None,
+        sort: GearboxSort = "ratio",
+        order: Literal["asc", "desc"] = "asc",
+        offset: Annotated[int, Query(ge=0, le=1_000_000)] = 0,
+        limit: Annotated[int, Query(ge=1, le=500)] = 50,
+    ) -> dict[str, Any]:
+        """Gearboxes (one row per model and ratio), filtered and sorted."""
+        need_catalog()
+        return await blocking(gearboxes_page, vendor, series, kind, ratio_min, ratio_max, q, sort, order, offset,
+                              limit)
+
+    @app.get("/api/catalog/items/{item_id:path}", tags=["catalog"])
+    async def catalog_item(item_id: _CATALOG_ID) -> dict[str, Any]:
+        """One motor, gearbox or drive with its source and notes."""
+        need_catalog()
+        from drivetrain import catalog
+
+        try:
+            record: dict[str, Any] = plain(await blocking(catalog.get, item_id))
+        except InputError as exc:
+            raise ApiError(404, str(exc).replace("id:", "item_id:", 1), "item_id") from None
+        return record
+
+    @app.get("/api/catalog/motors/{motor_id:path}/envelope", response_model=EnvelopeOut, tags=["catalog"])
+    async def catalog_envelope(motor_id: _CATALOG_ID) -> dict[str, Any]:
+        """A motor's continuous and peak speed-torque envelope (from its curve, or derived from ratings)."""
+        need_catalog()
+        try:
+            return await blocking(motor_envelope, motor_id)
+        except InputError as exc:
+            raise ApiError(404, str(exc).replace("ids:", "motor_id:", 1), "motor_id") from None
+
+    @app.post("/api/catalog/import", response_model=ImportOut, tags=["catalog"])
+    async def catalog_import(
+        file: Annotated[UploadFile, File(description="a CSV or JSON file of motors, gearboxes, drives or curves")],
+        kind: Annotated[Literal["motor", "gearbox", "drive", "curve"] | None, Form()] = None,
+    ) -> dict[str, Any]:
+        """Import your own catalog rows: all rows are checked first; every bad cell is reported (422)."""
+        need_catalog()
+        from drivetrain import catalog
+
+        shown = safe_filename(Path(file.filename or "upload.csv").stem, "")
+        suffix = Path(file.filename or "").suffix.lower()
+        if suffix not in (".csv", ".json"):
+            suffix = ".csv"
+        data = await file.read(MAX_UPLOAD_BYTES + 1)
+        if len(data) > MAX_UPLOAD_BYTES:
+            raise InputError("file", f"is too large (at most {MAX_UPLOAD_BYTES} bytes)", has_value=False)
+        path = temp_path(suffix)
+        try:
+            path.write_bytes(data)
+            try:
+                rep = await blocking(lambda: catalog.import_file(path, kind, directory=directory))
+            except InputError as exc:
+                raise rename_import_error(exc, str(path), shown + suffix) from None
+        finally:
+            path.unlink(missing_ok=True)
+        message = str(rep).replace(str(path), shown + suffix)
+        return {"table": rep.table, "rows": rep.rows, "curve_points": rep.curve_points, "ids": list(rep.ids),
+                "message": message}
