@@ -31,9 +31,9 @@ from typing import TYPE_CHECKING, Any
 from drivetrain.catalog.schema import (
     CURVE,
     DATA_VERSION,
+    DOCUMENT_FIELDS,
     GEARBOX,
     HISTORY_COLUMNS,
-    DOCUMENT_FIELDS,
     MOTOR,
     MOTOR_DOCUMENTS_FILE,
     REJECTS_FILE,

@@ -76,12 +76,13 @@ def write_import(conn: sqlite3.Connection, spec: TableSpec, rows: Sequence[Row],
     if spec is CURVE:
         motors = list(dict.fromkeys(str(p.values.get("motor_id")) for p in rows))
         for mid in motors:
-            old = _points(conn, mid) if replace else []
-            if old:
+            before = _points(conn, mid) if replace else []
+            if before:
                 conn.execute(f"DELETE FROM main.{CURVE.sql} WHERE motor_id = ?", (mid,))
-            new = [p for p in rows if p.values.get("motor_id") == mid]
-            _log(conn, "replace curve" if old else "import curve", "curve", mid, str(new[0].values.get("source")),
-                 {"points": old} if old else None, {"points": [_si(CURVE, p) for p in new]})
+            given = [p for p in rows if p.values.get("motor_id") == mid]
+            _log(conn, "replace curve" if before else "import curve", "curve", mid,
+                 str(given[0].values.get("source")), {"points": before} if before else None,
+                 {"points": [_si(CURVE, p) for p in given]})
         write_rows(conn, spec, rows)
         return
     for row in rows:
