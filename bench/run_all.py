@@ -14,7 +14,7 @@ HERE = Path(__file__).parent
 # the web load test twice: clients re-sizing at the page's own pace (one request, the answer, the
 # page's 250 ms debounce, the next) and clients sending back to back (the server saturated)
 BENCHES: list[tuple[str, list[str]]] = [
-    ("bench_size.py", []), ("bench_select.py", []), ("bench_simulate.py", []),
+    ("bench_size.py", []), ("bench_select.py", []), ("bench_simulate.py", []), ("bench_study.py", []),
     ("bench_web_load.py", ["--workers", "2", "--think", "250"]), ("bench_web_load.py", ["--workers", "2"]),
 ]
 

@@ -70,7 +70,7 @@ def test_unstable_gain_set_is_a_clear_input_error() -> None:
     bad = loop.with_(velocity_kp=30 * loop.velocity_kp)
     with pytest.raises(InputError) as err:
         check_stable(BENCH, bad)
-    assert err.value.field == "dynamics.control"
+    assert err.value.field == "dynamics.loop"
     assert "unstable" in str(err.value) and "Hz" in str(err.value)
     assert not analyse_loop(BENCH, bad).stable
     check_stable(BENCH, loop)  # the tuned set passes
@@ -79,10 +79,10 @@ def test_unstable_gain_set_is_a_clear_input_error() -> None:
 def test_bad_loop_settings_name_the_field() -> None:
     with pytest.raises(InputError) as err:
         ServoLoop(velocity_kp=-1.0, velocity_ti=0.01, position_kv=10.0)
-    assert err.value.field == "dynamics.control.velocity_kp"
+    assert err.value.field == "dynamics.loop.velocity_kp"
     with pytest.raises(InputError) as err:
         ServoLoop(velocity_kp=1.0, velocity_ti=float("nan"), position_kv=10.0)
-    assert err.value.field == "dynamics.control.velocity_ti"
+    assert err.value.field == "dynamics.loop.velocity_ti"
 
 
 def test_notch_proposal_and_effect() -> None:

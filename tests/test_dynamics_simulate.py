@@ -197,7 +197,7 @@ def test_diverging_simulation_raises_a_clear_error() -> None:
     ref = move_reference(5.0, 50.0, 1000.0, dwell=0.2)
     with pytest.raises(InputError) as err:
         simulate(chain, bad, ref)
-    assert err.value.field == "dynamics.control"
+    assert err.value.field == "dynamics.loop"
     with pytest.raises(SimulationDivergedError) as div:
         simulate(chain, bad, ref, check_stability=False)
     assert "diverged at t =" in str(div.value) and "unstable" in str(div.value)

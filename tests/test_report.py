@@ -309,7 +309,7 @@ def test_reports_are_written_atomically(ball: Any, tmp_path: Path, monkeypatch: 
 
     with monkeypatch.context() as m:
         m.setattr(report.os, "replace", broken_replace)
-        with pytest.raises(OSError, match="disk full"):
+        with pytest.raises(InputError, match="--report: cannot be written"):
             write_report(ball, target)
     assert target.read_text(encoding="utf-8") == "previous report"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.html"]

@@ -51,7 +51,9 @@ def test_selected_passes_and_next_smaller_fails(family: str) -> None:
     ratio = best["ratio"]
     assert checks["inertia_ratio"]["required"] == pytest.approx(
         (res.duty.load_inertia / ratio**2 + (j_total - j_m)) / j_m, rel=1e-9)
-    assert checks["max_speed"]["required"] == pytest.approx(res.metrics["max_speed_rpm"] * ratio, rel=1e-9)
+    speed_margin = res.axis.spec.motor.margins.speed
+    assert checks["max_speed"]["required"] == pytest.approx(res.metrics["max_speed_rpm"] * ratio * speed_margin,
+                                                            rel=1e-9)
     nxt = sel.get("next_smaller")
     if nxt is not None:
         assert not nxt["ok"]
@@ -137,17 +139,20 @@ def test_datasheet_curve_replaces_the_derived_envelope() -> None:
 
 @pytest.mark.parametrize(("axis_file", "curves"), [
     (EXAMPLES / "ball_screw.yaml", False), (EXAMPLES / "lead_screw.yaml", False),
-    (Path(__file__).parent / "axes" / "lecture_two_inertias.yaml", False), (EXAMPLES / "ball_screw.yaml", True)])
+    (Path(__file__).parent / "axes" / "lecture_two_inertias.yaml", False), (EXAMPLES / "ball_screw.yaml", True),
+    (EXAMPLES / "belt_gantry.yaml", False)])
 def test_compiled_selection_matches_the_reference_checks(axis_file: Path, curves: bool) -> None:
     """Every candidate of the whole shipped catalog: the compiled pass equals fit_motors (numpy) per
-    gearbox group, the gearbox checks equal the lecture formulas, and each candidate's worst margin
-    and failure bits agree with its checks (relative tolerance 1e-9: the same operations in another
-    order). With ``curves``, every third motor gets speed-torque curve points (the datasheet path)."""
+    gearbox group, checks.mechanical_fit and checks.gearbox_ratings per pair, and each candidate's
+    worst margin, failure bits and unknown bits agree with its checks (relative tolerance 1e-9: the
+    same operations in another order). With ``curves``, every third motor gets speed-torque curve
+    points (the datasheet path)."""
     import dataclasses
 
     from drivetrain.axis.model import Margins
     from drivetrain.catalog.curves import Curve
     from drivetrain.duty.cycle import cubic_mean, duty_cycle
+    from drivetrain.sizing.checks import gearbox_ratings, mechanical_fit, shock_factor
     from drivetrain.sizing.motor_fit import MotorArrays, demand, fit_motors, scaled
     from drivetrain.sizing.selection import CHECK_UNITS, evaluate
 
@@ -169,20 +174,24 @@ def test_compiled_selection_matches_the_reference_checks(axis_file: Path, curves
                          stall_torque=motors.stall_torque, approximate=~motors.has_curve, curves=tuple(motors.curves))
     direction = np.asarray(duty.samples.direction, dtype=float)
     rows = c.gearbox(every)
-    eff = np.where(rows >= 0, np.nan_to_num(gb.efficiency[rows], nan=1.0), 1.0)
+    has_all = rows >= 0
+    g_all = np.where(has_all, rows, 0)
+    eff = np.where(has_all, np.nan_to_num(gb.efficiency[g_all], nan=1.0), 1.0)
     checked = np.zeros(len(c.motor), dtype=bool)
+    slow = np.zeros(len(c.motor), dtype=bool)
+    shock = shock_factor(duty.period, margins.gearbox_shock_factor)
     for ratio, e in {(float(r), float(x)) for r, x in zip(c.ratio(every), eff, strict=True)}:
         k = np.flatnonzero((c.ratio(every) == ratio) & (eff == e))
         g = rows[k]
+        has = g >= 0
+        gi = np.where(has, g, 0)
         stage = Stage("g", "gearbox", ratio=1.0, efficiency=e, back_efficiency=e)
         t_in, _ = torque_in(stage, duty.torque, duty.external, duty.omega, duty.alpha, direction,
                             axis.efficiency_model)
         dm = scaled(demand(duty.omega, duty.alpha, t_in, duty.weights, duty.period, duty.load_inertia), ratio)
-        j_g = np.where(g >= 0, np.nan_to_num(gb.inertia_input[g]), 0.0)
-        lim = np.where(g >= 0, np.nan_to_num(gb.max_input_speed[g], nan=np.inf), np.inf)
-        lim = np.where(np.isinf(lim) & (g >= 0), np.nan_to_num(gb.rated_input_speed[g], nan=np.inf), lim)
+        j_g = np.where(has, np.nan_to_num(gb.inertia_input[gi]), 0.0)
         ref = fit_motors(dm, arrays, torque_margin=margins.torque, rms_margin=margins.rms_torque or margins.torque,
-                         speed_margin=margins.speed, inertia_ratio_limit=margins.inertia_ratio, speed_limit=lim,
+                         speed_margin=margins.speed, inertia_ratio_limit=margins.inertia_ratio,
                          extra_inertia=j_g, index=c.motor[k].astype(np.intp))
         for name in ref.names:
             for got, want in ((d.required, ref.required), (d.available, ref.available), (d.margin, ref.margin)):
@@ -190,22 +199,46 @@ def test_compiled_selection_matches_the_reference_checks(axis_file: Path, curves
             np.testing.assert_array_equal(d.approximate[name][k], ref.approximate[name])
         np.testing.assert_allclose(d.rms_torque[k], ref.rms_torque, rtol=1e-9)
         np.testing.assert_allclose(d.peak_torque[k], ref.peak_torque, rtol=1e-9)
-        # gearbox checks (lecture, Dynamic Loading and Gearbox Sizing)
-        has = g >= 0
-        cubic = cubic_mean(duty.torque, duty.omega, duty.weights) * margins.torque
-        np.testing.assert_allclose(d.required["gearbox_rated_torque"][k], cubic, rtol=1e-12)
+        slow[k] = motors.max_speed[c.motor[k]] < dm.hull_speed[-1]
+        # mechanical fit of each geared pair (checks.mechanical_fit)
+        m = c.motor[k]
+        fit = mechanical_fit(motors.shaft_diameter[m], motors.flange[m], motors.pilot_diameter[m],
+                             gb.input_bore_max[gi], gb.input_bore_min[gi], gb.input_flange[gi], gb.input_pilot[gi])
+        np.testing.assert_allclose(d.margin["mechanical_fit"][k][has], fit[has], rtol=1e-12)
+        # gearbox ratings (checks.gearbox_ratings; the e-stop torque by the lecture's split)
         run_t = float(np.median(np.abs(duty.external)))
-        j = motors.rotor_inertia[c.motor[k]] + j_g
+        j = motors.rotor_inertia[m] + j_g
         split = j / (j + duty.load_inertia / ratio**2)
-        t_pass = ((1 - split) * (motors.peak_torque[c.motor[k]] - run_t / ratio) + run_t / ratio) * ratio * e
-        np.testing.assert_allclose(d.required["gearbox_peak_torque"][k][has], t_pass[has], rtol=1e-9)
-        assert np.all(d.margin["gearbox_peak_torque"][k][~has] == np.inf)
+        t_pass = ((1 - split) * (motors.peak_torque[m] - run_t / ratio) + run_t / ratio) * ratio * e
+        want_gb = gearbox_ratings(np.max(np.abs(duty.torque)), cubic_mean(duty.torque, duty.omega, duty.weights),
+                                  dm.max_speed, dm.mean_speed, t_pass, t2b=gb.max_output_torque[gi],
+                                  t2n=gb.rated_output_torque[gi], t2not=gb.emergency_stop_torque[gi],
+                                  n1max=gb.max_input_speed[gi], n1n=gb.rated_input_speed[gi],
+                                  torque_margin=margins.torque, speed_margin=margins.speed, shock=shock)
+        rpm = 60 / (2 * np.pi)
+        for name, (req, av, mar) in want_gb.items():
+            scale = rpm if CHECK_UNITS[name] == "rpm" else 1.0
+            np.testing.assert_allclose(d.required[name][k][has], np.broadcast_to(req * scale, k.shape)[has],
+                                       rtol=1e-9, err_msg=name)
+            np.testing.assert_allclose(d.available[name][k][has], np.broadcast_to(av * scale, k.shape)[has],
+                                       rtol=1e-9, err_msg=name)
+            np.testing.assert_allclose(d.margin[name][k][has], np.broadcast_to(mar, k.shape)[has], rtol=1e-9,
+                                       err_msg=name)
+            assert np.all(d.margin[name][k][~has] == np.inf)
+        assert np.all(d.margin["mechanical_fit"][k][~has] == np.inf)
         checked[k] = True
     assert checked.all()
     margin = np.stack([d.margin[n] for n in CHECK_UNITS])
-    np.testing.assert_array_equal(c.worst_margin, np.min(margin, axis=0))
-    bits = sum((~(margin[b] >= 0)).astype(np.uint8) << b for b in range(len(CHECK_UNITS)))
+    with np.errstate(invalid="ignore"):
+        worst = np.where(np.all(np.isnan(margin), axis=0), np.nan, np.nanmin(np.where(np.isnan(margin), np.inf,
+                                                                                        margin), axis=0))
+    np.testing.assert_array_equal(c.worst_margin, worst)
+    bits = sum((margin[b] < 0).astype(np.uint16) << b for b in range(len(CHECK_UNITS)))
     np.testing.assert_array_equal(c.failed, bits)
+    gaps = np.isnan(margin)
+    gaps[0] &= ~slow  # a motor too slow for the cycle is not judged on torque: its max_speed fails instead
+    np.testing.assert_array_equal(c.unknown, sum(gaps[b].astype(np.uint16) << b for b in range(len(CHECK_UNITS))))
+    assert np.all(c.failed[slow] & (1 << 2))
 
 
 @given(st.lists(st.tuples(st.floats(-50, 50), st.floats(-500, 500), st.floats(-5, 5)), min_size=1, max_size=60),
@@ -241,7 +274,7 @@ def test_closest_failing_equals_a_stable_sort_of_every_failure(worst: list, n: i
 
     w = np.array(worst)
     ok = w >= 0.0
-    c = SimpleNamespace(worst_margin=w, ok=ok, failed=(~ok).astype(np.uint8))
+    c = SimpleNamespace(worst_margin=w, ok=ok, rejected=(~ok).astype(np.uint8))
     failing = np.flatnonzero(~ok)
     want = failing[np.argsort(-w[failing], kind="stable")][:n]
     np.testing.assert_array_equal(_closest_failing(c, n), want)  # type: ignore[arg-type]

@@ -95,7 +95,7 @@ def test_size_example_matches_the_engine(client: TestClient) -> None:
         assert "torque_motor_Nm" in body["selected"]["series"]
 
 
-@pytest.mark.parametrize("name", ["ball_screw", "roll", "custom"])  # direct drive; two selections with a gearbox
+@pytest.mark.parametrize("name", ["ball_screw", "roll", "belt_gantry"])  # direct drive; two selections with a gearbox
 def test_selected_cycle_is_the_cycle_of_the_candidate_sized_again(client: TestClient, name: str) -> None:
     """The selected candidate's cycle on /api/size (the axis's cycle behind its gearbox, from the
     selection) is the cycle of the axis sized again with that motor and gearbox given (relative 1e-9)."""

@@ -41,4 +41,11 @@ def simulate(axis: Any, **kwargs: Any) -> Any:
     return simulate_axis(axis, **kwargs)
 
 
-__all__ = ["__version__", "load_axis", "simulate", "size"]
+def sweep(study: Any, **kwargs: Any) -> Any:
+    """Run a design-space study file (``drivetrain.study.sweep``: grid, Monte Carlo or optimisation)."""
+    from drivetrain.study import sweep as _sweep
+
+    return _sweep(study, **kwargs)
+
+
+__all__ = ["__version__", "load_axis", "simulate", "size", "sweep"]

@@ -1,7 +1,8 @@
 """Command line: ``drivetrain size AXIS``, ``drivetrain catalog ...``, ``drivetrain modes AXIS`` ...
 
 No physics here: each command calls the library and formats its result. Bad input prints one
-line naming the field and exits with status 2, without a traceback. Heavy modules are
+line naming the field and exits with status 2, without a traceback; ``size`` and ``select`` exit 0
+when the motor or the selection passes and 1 when the axis was sized but nothing passes. Heavy modules are
 imported inside the handlers so ``drivetrain --help`` stays fast.
 """
 
@@ -15,7 +16,12 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+EXIT_OK = 0
+"""``size``/``select``: the given motor, or the selection, passes every check."""
+EXIT_FAILS = 1
+"""``size``/``select``: sized, but the motor (or every candidate, or an axis check) fails; the answer is printed."""
 EXIT_INPUT = 2
+"""Bad input: one line naming the field, no traceback."""
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -35,6 +41,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--units", choices=["si", "imperial", "as-given"], default="si", help="units of the report")
     p.add_argument("--explain", metavar="MODEL", help="say why a catalog motor was accepted or rejected")
     p.add_argument("--points", type=int, default=64, help="samples per profile phase (default 64)")
+    p.add_argument("--all", action="store_true",
+                   help="list every passing motor-gearbox pair, not only the best configuration of each motor")
     p.set_defaults(handler=_cmd_size)
 
     p = sub.add_parser("select", help="same as size, with a catalog selection even if the axis names a motor")
@@ -59,6 +67,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     _optional_parser(sub, "drivetrain.catalog.cli")
     _optional_parser(sub, "drivetrain.web.cli")
+    _optional_parser(sub, "drivetrain.study.cli")
     return parser
 
 
@@ -75,23 +84,53 @@ def _optional_parser(sub: Any, module: str) -> None:
     mod.add_parser(sub)
 
 
-def _write_atomic(path: str, text: str) -> None:
-    """Write a file through a temporary sibling and rename, so a reader never sees half of it."""
-    target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = target.with_name(f".{target.name}.tmp")
-    tmp.write_text(text, encoding="utf-8")
-    tmp.replace(target)
+def _write_atomic(path: str, text: str, field: str = "--csv") -> None:
+    """Write a file through a unique temporary sibling and rename, so a reader never sees half of it."""
+    from drivetrain.report import write_atomic
+
+    def write(tmp: Path) -> None:
+        tmp.write_text(text, encoding="utf-8")
+
+    write_atomic(path, write, field)
+
+
+PLOT_SUFFIXES = (".png", ".svg", ".pdf")
+"""Figure formats ``simulate --plot`` writes, chosen by the file's suffix."""
+
+
+def _check_outputs(args: argparse.Namespace) -> None:
+    """Refuse an output path that cannot be written before the work that fills it."""
+    from drivetrain.report import REPORT_SUFFIXES, check_target
+
+    for name in ("csv", "report", "plot"):
+        path = getattr(args, name, None)
+        if path:
+            check_target(path, f"--{name}")
+    report = getattr(args, "report", None)
+    if report and Path(report).suffix.lower() not in REPORT_SUFFIXES:
+        from drivetrain.errors import InputError
+
+        raise InputError("--report", "must end in .html or .pdf", report)
+    plot = getattr(args, "plot", None)
+    if plot and Path(plot).suffix.lower() not in PLOT_SUFFIXES:
+        from drivetrain.errors import InputError
+
+        raise InputError("--plot", f"must end in {', '.join(PLOT_SUFFIXES)}", plot)
 
 
 def _cmd_size(args: argparse.Namespace) -> int:
+    from drivetrain.errors import InputError
     from drivetrain.sizing.result import size
 
     if args.points < 3 or args.points > 100_000:
-        from drivetrain.errors import InputError
-
         raise InputError("--points", "must be between 3 and 100000", args.points)
-    result = size(args.axis, points_per_phase=args.points)
+    _check_outputs(args)
+    try:
+        result = size(args.axis, points_per_phase=args.points, all_pairs=args.all)
+    except InputError as exc:
+        if exc.field == "points_per_phase":
+            raise InputError("--points", exc.rule, args.points) from None
+        raise
     explanation = result.explain(args.explain) if args.explain else ""
     if args.csv:
         _write_csv(args.csv, result.series())
@@ -101,7 +140,7 @@ def _cmd_size(args: argparse.Namespace) -> int:
         write_report(result, args.report, units=args.units)
     if args.json:
         print(json.dumps(_jsonable(result.to_dict()), indent=2))
-        return 0
+        return _exit_code(result)
     _print_table(result)
     for warning in result.extras.get("warnings", []):
         print(f"warning: {warning}")
@@ -111,7 +150,12 @@ def _cmd_size(args: argparse.Namespace) -> int:
         print(f"time series written to {args.csv}")
     if args.report:
         print(f"report written to {Path(args.report).resolve()}")
-    return 0
+    return _exit_code(result)
+
+
+def _exit_code(result: Any) -> int:
+    """0 when the given motor or the selection (and the axis's own checks) pass, 1 when not."""
+    return EXIT_OK if result.ok else EXIT_FAILS
 
 
 def _cmd_modes(args: argparse.Namespace) -> int:
@@ -178,6 +222,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from drivetrain.axis.model import load_axis
     from drivetrain.dynamics.axis_model import simulate_axis
 
+    _check_outputs(args)
     axis = load_axis(args.axis)
     res = simulate_axis(axis, cycles=args.cycles, velocity_bandwidth_hz=args.bandwidth)
     out = {"axis": axis.name, **res.to_dict()}
@@ -186,14 +231,13 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
         buf = io.StringIO()
         res.to_pandas().to_csv(buf)
-        _write_atomic(args.csv, buf.getvalue())
+        _write_atomic(args.csv, buf.getvalue(), "--csv")
     if args.plot:
+        from drivetrain.report import write_atomic
+
         fig = res.plot()
-        target = Path(args.plot)
-        target.parent.mkdir(parents=True, exist_ok=True)
-        tmp = target.with_name(f".{target.stem}.tmp{target.suffix}")
-        fig.savefig(tmp, dpi=120)
-        tmp.replace(target)
+        fmt = Path(args.plot).suffix.lower().lstrip(".")
+        write_atomic(args.plot, lambda tmp: fig.savefig(tmp, dpi=120, format=fmt), "--plot")
     if args.json:
         print(json.dumps(_jsonable(out), indent=2))
         return 0
@@ -229,7 +273,7 @@ def _cmd_select(args: argparse.Namespace) -> int:
         print(json.dumps(_jsonable(result.to_dict()), indent=2))
     else:
         _print_table(result)
-    return 0
+    return _exit_code(result)
 
 
 def _write_csv(path: str, cols: dict[str, Any]) -> None:
@@ -298,21 +342,40 @@ def _print_table(result: Any) -> None:
     if result.motor is not None:
         _print_checks(console, f"motor {result.motor['name']}", result.motor)
         _print_electrical(console, result)
+    gear = result.extras.get("gearbox_checks")
+    if gear:
+        _print_checks(console, "gearbox ratings (transmission)", gear)
     if result.candidates:
         _print_candidates(console, result)
+
+
+def _pct(margin: float | None) -> str:
+    if margin is None:
+        return "n/a"
+    p = margin * 100.0
+    return f"{p:+.2g} %" if p != 0.0 and abs(p) < 0.1 else f"{p:+.1f} %"
+
+
+def _value(x: float | None, unit: str) -> str:
+    return "n/a" if x is None else f"{x:.4g} {unit}"
 
 
 def _print_checks(console: Any, title: str, block: dict[str, Any]) -> None:
     from rich.table import Table
 
     t = Table(title=f"{title}: {'OK' if block['ok'] else 'FAILS'}")
-    for col in ("check", "required", "available", "margin", "ok"):
+    for col in ("check", "required", "available", "margin", "result"):
         t.add_column(col, justify="right" if col != "check" else "left")
     for c in block["checks"]:
         approx = " (approx. envelope)" if c.get("approximate") else ""
-        t.add_row(c["name"] + approx, f"{c['required']:.4g} {c['unit']}", f"{c['available']:.4g} {c['unit']}",
-                  f"{c['margin'] * 100:+.1f} %", "yes" if c["ok"] else "NO")
+        stage = f" [{c['stage']}]" if c.get("stage") else ""
+        status = c.get("status") or ("pass" if c["ok"] else "fail")
+        t.add_row(c["name"] + stage + approx, _value(c["required"], c["unit"]), _value(c["available"], c["unit"]),
+                  _pct(c["margin"]), {"pass": "yes", "fail": "NO"}.get(status, status))
     console.print(t)
+    for c in block["checks"]:
+        if c.get("note"):
+            console.print(f"  {c['name']}: {c['note']}")
     if "inertia_ratio" in block:
         console.print(f"inertia ratio J_L/J_M = {block['inertia_ratio']:.3g} "
                       f"(lecture: below 5:1 recommended, 1:1 ideal); "
@@ -350,35 +413,63 @@ def _print_electrical(console: Any, result: Any) -> None:
                       f"{rg['resistor_average_power_W']:.4g} W{window}{builtin}")
 
 
+def _mounting(c: dict[str, Any], sel: dict[str, Any]) -> str:
+    """How the motor drives the axis: a catalog gearbox, the axis's own gearbox, or direct."""
+    if c.get("gearbox"):
+        return f"{c['gearbox']} (i = {c['ratio']:.4g})"
+    if sel.get("transmission_gearbox"):
+        return "axis gearbox"
+    return "direct"
+
+
 def _print_candidates(console: Any, result: Any) -> None:
     from rich.table import Table
 
     sel = result.selection or {}
-    t = Table(title=f"candidates: {sel.get('passing', '?')} of {sel.get('evaluated', '?')} pass "
-                    f"(ranked by {sel.get('objective', '?')}; rejected ones below with the reason)")
-    for col in ("rank", "motor", "gearbox", "ratio", "J_L/J_M", "peak margin", "RMS margin", "ok / why not"):
+    per = "every passing pair" if sel.get("listing") == "all_pairs" else "best configuration of each motor"
+    t = Table(title=f"candidates: {sel.get('passing', '?')} of {sel.get('evaluated', '?')} configurations pass, "
+                    f"{sel.get('passing_motors', '?')} motors (ranked by {sel.get('objective', '?')}; {per}; "
+                    "rejected ones below with the reason)")
+    for col in ("rank", "motor", "vendor", "power", "flange", "gearbox", "J_L/J_M", "peak margin", "RMS margin",
+                "result / why not"):
         t.add_column(col, no_wrap=col in ("motor", "gearbox"))
     for c in result.candidates:
         checks = {ch["name"]: ch for ch in c["checks"]}
-        why = "yes"
-        if not c["ok"]:
-            worst = min((ch for ch in c["checks"] if not ch["ok"]), key=lambda ch: ch["margin"] or 0.0)
-            why = f"{worst['name']} {worst['margin'] * 100:+.0f} %"
-        t.add_row(str(c["rank"]) if c.get("rank") else "-", c["motor"] + (" †" if c.get("unverified") else ""),
-                  c.get("gearbox") or "direct",
-                  f"{c['ratio']:.4g}", f"{c['inertia_ratio']:.3g}", f"{checks['peak_torque']['margin'] * 100:+.0f} %",
-                  f"{checks['rms_torque']['margin'] * 100:+.0f} %", why)
+        if c["ok"]:
+            why = "yes" if not c.get("unknown") else "yes, unknown: " + ", ".join(c["unknown"])
+        else:
+            bad = sorted((ch for ch in c["checks"] if ch.get("status", "fail" if not ch["ok"] else "pass") == "fail"),
+                         key=lambda ch: (ch["name"] != "max_speed", ch["margin"] or 0.0))
+            why = "\n".join(f"{ch['name']} {_pct(ch['margin'])}" for ch in bad) or c["failed"]
+        power = c.get("rated_power_W")
+        flange = c.get("flange_mm")
+        motor = c["motor"] + (" †" if c.get("unverified") else "")
+        t.add_row(str(c["rank"]) if c.get("rank") else "-", motor, c.get("vendor", ""),
+                  "" if power is None or math.isnan(power) else f"{power:.0f} W",
+                  "" if flange is None else f"{flange:.0f} mm", _mounting(c, sel),
+                  f"{c['inertia_ratio']:.3g}", _pct(checks["peak_torque"]["margin"]),
+                  _pct(checks["rms_torque"]["margin"]), why)
     console.print(t)
     if any(c.get("unverified") for c in result.candidates):
         console.print("† unverified catalog data (not traced to a vendor document, or a derived rating): "
                       "see unverified_reason in --json, or `drivetrain catalog show ID`")
     if sel.get("selected"):
         pick = sel["selected"]
-        console.print(f"selected: {pick['motor']} ({pick['vendor']})"
-                      + (f" + {pick['gearbox']}" if pick.get("gearbox") else ", direct drive"))
+        how = (f" + {pick['gearbox']} ({pick.get('gearbox_vendor') or 'catalog'}, i = {pick['ratio']:.4g})"
+               if pick.get("gearbox") else (f", on the axis's {sel['transmission_gearbox']}"
+                                            if sel.get("transmission_gearbox") else ", direct drive"))
+        console.print(f"selected: {pick['motor']} ({pick['vendor']}){how}")
+        if pick.get("unknown"):
+            console.print("  not judged (the catalog lacks the data): "
+                          + "; ".join(f"{ch['name']}: {ch.get('note', '')}" for ch in pick["checks"]
+                                      if ch.get("status") == "unknown"))
+        if sel.get("unverified"):
+            console.print(f"  {sel['unverified']}")
         nxt = sel.get("next_smaller")
         if nxt:
-            console.print(f"next smaller motor {nxt['motor']} fails: {nxt['failed']}")
+            console.print(f"next smaller motor {nxt['motor']} fails:")
+            for line in nxt.get("failures") or [nxt["failed"]]:
+                console.print(f"  {line}")
         opt = sel.get("optimal_ratio")
         if opt:
             near = opt.get("nearest_catalog_ratio")
@@ -386,11 +477,12 @@ def _print_candidates(console: Any, result: Any) -> None:
                           f"{opt['inertia_match_ratio']:.3g} (inertia match)"
                           + (f", nearest catalog ratio {near:g}" if near else ""))
     elif sel.get("advice"):
-        console.print(f"[bold red]{sel['advice']}[/]")
+        for line in str(sel["advice"]).splitlines():
+            console.print(f"[bold red]{line}[/]")
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point: returns the exit status (0 ok, 2 bad input, 1 a check failed where asked)."""
+    """Entry point: returns the exit status (0 passes, 1 sized but nothing passes, 2 bad input)."""
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.version:

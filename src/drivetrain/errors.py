@@ -22,7 +22,7 @@ class InputError(ValueError):
 
     @property
     def message(self) -> str:
-        where = f"{self.field}: " if self.field else ""
+        where = f"{_printable(self.field)}: " if self.field else ""
         if self.has_value:
             return f"{where}{self.rule}, got {format_value(self.value)}"
         return f"{where}{self.rule}"
@@ -52,6 +52,27 @@ class InputErrors(InputError):
 
 
 def format_value(value: Any) -> str:
-    """Short, readable rendering of a user value for an error message."""
-    text = repr(value) if isinstance(value, str) and (not value or value != value.strip()) else str(value)
+    """Short, readable rendering of a user value for an error message.
+
+    Text that does not print as itself (NUL, control and bidi characters, lone surrogates, edge
+    spaces) is shown escaped, so the message can be printed and shows what is really there; an
+    integer too long to print is described by its size.
+    """
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 3000:
+        return f"an integer of about {int(value.bit_length() * 0.30103)} digits"
+    if isinstance(value, str):
+        value = value[:200]
+        text = value if value and value == value.strip() and value.isprintable() else ascii(value)
+    else:
+        try:
+            text = _printable(str(value))
+        except ValueError:  # e.g. an object whose text is too long to build
+            text = type(value).__name__
     return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _printable(text: str) -> str:
+    """``text`` itself when every character prints, else with the others escaped."""
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else ascii(c)[1:-1] for c in text)

@@ -99,6 +99,8 @@ def parse(value: Any, quantity: str, field: str, *, allow_zero: bool = True) -> 
         raise KeyError(f"unknown quantity {quantity!r}")
     if isinstance(value, bool) or value is None:
         raise InputError(field, f"must be a number or a quantity with units of {_describe(quantity)}", value)
+    if isinstance(value, int) and abs(value) > _MAX_MAGNITUDE:
+        raise InputError(field, f"magnitude is absurd (> {_MAX_MAGNITUDE:g} in SI)", value)
     if isinstance(value, (int, float)):
         result = float(value)
     elif isinstance(value, str):
@@ -133,6 +135,7 @@ def _parse_cached(text: str, quantity: str) -> float:
     "<number> <unit>" with a plain product of units is the number times the unit's SI factor, the
     factor remembered per unit: an engineer editing a value changes the number, not the unit.
     """
+    check_grammar(_normalise(text))
     m = _NUMBER_UNIT.fullmatch(text)
     if m is not None and _SIMPLE_UNIT.fullmatch(m.group(2)):
         try:
@@ -151,10 +154,137 @@ def _unit_factor(unit: str, quantity: str) -> tuple[float, float]:
     return _parse_string(f"1 {unit}", quantity, ""), _parse_string(f"0 {unit}", quantity, "")
 
 
+MAX_QUANTITY_TEXT = 100
+"""Longest quantity text accepted [characters]: "0.5 kg*cm^2" is 11, a vendor's longest unit about 30."""
+MAX_UNIT_POWER = 12
+"""Largest power of one unit in a quantity text (``m^3``, ``1/s^2``; nothing real goes past 4)."""
+_MAX_DIGITS = 40
+_MAX_PAREN_DEPTH = 3
+_TOKEN = re.compile(
+    r"\s*(?:(?P<num>(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)|(?P<name>[^\W\d][\w°]*|°)"
+    r"|(?P<pow>\*\*|\^)|(?P<op>[*/()])|(?P<sign>[-+])|(?P<pct>%))"
+)
+
+
+def check_grammar(text: str, field: str = "") -> None:
+    """Refuse quantity text that is not ``[sign] [number] [unit expression]``, before pint sees it.
+
+    A unit expression is unit names joined by ``*``, ``/`` or a space, each optionally raised to a
+    small literal power (``^2``, ``**-1``), grouped by at most three levels of parentheses; ``1``
+    may stand for a missing numerator (``1/min``). Nothing computes: no operator applies to the
+    number, no power is larger than ``MAX_UNIT_POWER`` once the groups are multiplied out, and the
+    text is at most ``MAX_QUANTITY_TEXT`` characters. pint's own parser evaluates arithmetic
+    (``9**9**9 mm`` would run for minutes), so every string goes through here first.
+    """
+    if len(text) > MAX_QUANTITY_TEXT:
+        raise InputError(field, f"quantity text is too long (over {MAX_QUANTITY_TEXT} characters)",
+                         text[:40] + "...")
+    tokens: list[tuple[str, str]] = []
+    pos = 0
+    stripped = text.rstrip()
+    while pos < len(stripped):
+        m = _TOKEN.match(stripped, pos)
+        if m is None or m.end() == pos:
+            raise InputError(field, f"is not a quantity: unexpected {stripped[pos:pos + 10]!r}", text)
+        kind = m.lastgroup or ""
+        tokens.append((kind, m.group(kind)))
+        pos = m.end()
+    _Grammar(tokens, text, field).quantity()
+
+
+class _Grammar:
+    """Recursive descent over the tokens of one quantity text (see ``check_grammar``)."""
+
+    def __init__(self, tokens: list[tuple[str, str]], text: str, field: str) -> None:
+        self.tokens = tokens
+        self.i = 0
+        self.text = text
+        self.field = field
+
+    def _peek(self) -> tuple[str, str]:
+        return self.tokens[self.i] if self.i < len(self.tokens) else ("end", "")
+
+    def _fail(self, rule: str) -> InputError:
+        return InputError(self.field, f"is not a quantity: {rule} (write a number and a unit, e.g. 10 mm)",
+                          self.text)
+
+    def quantity(self) -> None:
+        if self._peek()[0] == "sign":
+            self.i += 1
+        kind, tok = self._peek()
+        if kind == "num":
+            mantissa = re.split(r"[eE]", tok)
+            if len(mantissa[0]) > _MAX_DIGITS or (len(mantissa) > 1 and len(mantissa[1].lstrip("+-")) > 4):
+                raise self._fail(f"the number has more than {_MAX_DIGITS} digits")
+            self.i += 1
+            if self._peek()[0] == "pow":
+                raise self._fail("a number cannot be raised to a power")
+            if self._peek()[0] == "end":
+                return
+        elif kind == "end":
+            raise self._fail("the text is empty")
+        if self._peek()[0] == "pct" and self.i == len(self.tokens) - 1:
+            self.i += 1
+            return
+        powers: dict[str, float] = {}
+        self._product(powers, 1.0, 0)
+        if self.i != len(self.tokens):
+            raise self._fail(f"unexpected {self._peek()[1]!r}")
+        for name, p in powers.items():
+            if abs(p) > MAX_UNIT_POWER:
+                raise self._fail(f"the power of {name} is larger than {MAX_UNIT_POWER}")
+
+    def _product(self, powers: dict[str, float], scale: float, depth: int) -> None:
+        self._factor(powers, scale, depth)
+        while True:
+            kind, tok = self._peek()
+            if kind == "op" and tok in "*/":
+                self.i += 1
+                self._factor(powers, -scale if tok == "/" else scale, depth)
+            elif kind == "name" or (kind == "op" and tok == "("):
+                self._factor(powers, scale, depth)  # "N m": a space multiplies
+            else:
+                return
+
+    def _factor(self, powers: dict[str, float], scale: float, depth: int) -> None:
+        kind, tok = self._peek()
+        inner: dict[str, float] = {}
+        if kind == "name":
+            self.i += 1
+            inner[tok] = 1.0
+        elif kind == "num" and tok == "1":
+            self.i += 1
+        elif kind == "op" and tok == "(":
+            if depth >= _MAX_PAREN_DEPTH:
+                raise self._fail(f"more than {_MAX_PAREN_DEPTH} levels of parentheses")
+            self.i += 1
+            self._product(inner, 1.0, depth + 1)
+            if self._peek() != ("op", ")"):
+                raise self._fail("a parenthesis is not closed")
+            self.i += 1
+        else:
+            raise self._fail(f"expected a unit, got {tok!r}" if tok else "a unit is missing at the end")
+        power = 1.0
+        if self._peek()[0] == "pow":
+            self.i += 1
+            negative = False
+            if self._peek()[0] == "sign":
+                negative = self._peek()[1] == "-"
+                self.i += 1
+            kind, tok = self._peek()
+            if kind != "num" or not re.fullmatch(r"\d{1,2}(\.\d{1,3})?", tok):
+                raise self._fail("a unit's power must be a small number such as ^2 or ^-1")
+            self.i += 1
+            power = -float(tok) if negative else float(tok)
+            if self._peek()[0] == "pow":
+                raise self._fail("a power cannot be raised to a power")
+        for name, p in inner.items():
+            powers[name] = powers.get(name, 0.0) + p * power * scale
+
+
 def _parse_string(text: str, quantity: str, field: str) -> float:
-    if len(text) > 200:
-        raise InputError(field, "quantity text is too long (over 200 characters)", text[:40] + "...")
     norm = _normalise(text)
+    check_grammar(norm, field)
     try:
         number = float(norm)
     except ValueError:

@@ -6,6 +6,7 @@ See docs/axis-file.md for every key, with one example per mechanism. Bad input r
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -54,16 +55,28 @@ MAX_FILE_BYTES = 1_000_000
 MAX_ALIASES = 100
 """YAML aliases allowed: enough for shared blocks, far too few for an alias bomb."""
 MAX_NODES = 100_000
+"""Values a file may expand to, aliases included."""
+MAX_DEPTH = 100
+"""Deepest nesting of mappings and lists: a real axis file is under 8 levels deep."""
+MAX_DIGITS = 400
+"""Longest number written in a file [digits]: a float has 17 significant digits."""
 
 
 
 class Margins(Spec):
-    """Safety factors and limits the user sets: required x factor must not exceed the available."""
+    """Safety factors and limits: required x factor must not exceed the available.
 
-    torque: float = Field(default=1.0, ge=1.0, le=10.0)
+    Defaults as servo sizing guides use them (docs/checks.md, "Default margins"): torque and RMS
+    torque x 1.2, speed x 1.1, inertia ratio 5 (lecture: below 5:1). ``gearbox_shock_factor`` is
+    the vendor's fs on T2B above 1000 cycles/h, read from the vendor's chart; unset, T2B is then
+    unknown.
+    """
+
+    torque: float = Field(default=1.2, ge=1.0, le=10.0)
     rms_torque: float | None = Field(default=None, ge=1.0, le=10.0)
-    speed: float = Field(default=1.0, ge=1.0, le=10.0)
+    speed: float = Field(default=1.1, ge=1.0, le=10.0)
     inertia_ratio: float = Field(default=5.0, gt=0.0, le=1000.0)
+    gearbox_shock_factor: float | None = Field(default=None, ge=1.0, le=10.0)
 
 
 class SelectSpec(Spec):
@@ -71,7 +84,8 @@ class SelectSpec(Spec):
 
     ``gearbox``: ``auto`` tries every catalog gearbox ratio and direct drive, unless the axis's
     transmission already has a gearbox (then motors go direct onto it); ``none`` direct drive
-    only; ``only`` catalog gearboxes only.
+    only; ``only`` catalog gearboxes only. ``unknown``: a check the catalog cannot judge (a
+    rating or dimension missing) passes flagged (``flag``) or rejects the candidate (``fail``).
     """
 
     catalog: Literal["builtin", "user", "all"] = "all"
@@ -84,6 +98,7 @@ class SelectSpec(Spec):
     max_inertia_ratio: float | None = Field(default=None, gt=0.0)
     objective: Literal["smallest", "rms_utilisation", "inertia_match", "energy"] = "smallest"
     top: int = Field(default=10, ge=1, le=1000)
+    unknown: Literal["flag", "fail"] = "flag"
 
 
 class MotorSpec(MotorElectricalSpec):
@@ -223,6 +238,7 @@ def parse_axis(data: Any) -> Axis:
     if not isinstance(data, dict):
         raise InputError("", "an axis file must be a mapping of keys (axis, mechanism, transmission, profile, ...)",
                          type(data).__name__)
+    _check_text(data, "")
     try:
         spec = AxisSpec.model_validate(data)
     except ValidationError as exc:
@@ -306,29 +322,105 @@ def read_yaml(path: str | Path) -> Any:
 
 
 def parse_yaml(text: str, source: str = "<text>") -> Any:
-    """Parse YAML text with the safe loader and the same limits as files."""
+    """Parse YAML text with the safe loader and the same limits as files (one pass over the text)."""
     import yaml
 
     if len(text.encode("utf-8", "replace")) > MAX_FILE_BYTES:
         raise InputError("file", f"is too large (an axis file is at most {MAX_FILE_BYTES} bytes)", _src(source))
     try:
-        loader = yaml.SafeLoader(text)
+        loader = _loader_class()(text)
+    except yaml.YAMLError as exc:  # the reader refuses NUL and other special characters at once
+        raise InputError("file", f"is not valid YAML: {str(exc).splitlines()[0]}", _src(source)) from None
+    try:
         try:
             node = loader.get_single_node()
-        finally:
-            loader.dispose()
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
-        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        raise InputError("file", f"is not valid YAML{where}: {problem}", _src(source)) from None
-    if node is None:
-        raise InputError("file", "is empty", _src(source))
-    _check_graph(node, source)
+        except RecursionError:
+            raise InputError("file", f"is nested too deeply (over {MAX_DEPTH} levels)", _src(source)) from None
+        except yaml.YAMLError as exc:
+            mark = getattr(exc, "problem_mark", None)
+            where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
+            problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+            raise InputError("file", f"is not valid YAML{where}: {problem}", _src(source)) from None
+        if node is None:
+            raise InputError("file", "is empty", _src(source))
+        if loader.too_deep is not None:
+            raise InputError("file", f"is nested too deeply (over {MAX_DEPTH} levels) (line {loader.too_deep})",
+                             _src(source))
+        _check_graph(node, source)
+        try:
+            data = loader.construct_document(node)
+        except yaml.YAMLError as exc:
+            raise InputError("file", f"is not valid YAML: {exc}", _src(source)) from None
+        except (ValueError, OverflowError, RecursionError) as exc:  # e.g. an integer past Python's digit limit
+            raise InputError("file", f"holds a value that cannot be read ({exc})", _src(source)) from None
+    finally:
+        loader.dispose()
+    return data
+
+
+@functools.cache
+def _loader_class() -> Any:
+    """``yaml.SafeLoader`` whose composer stops descending past ``MAX_DEPTH`` levels.
+
+    The scanner and parser are iterative; the composer recurses once per level, so a file nested
+    500 levels deep would end in RecursionError. Past the limit the rest of the nesting is
+    skipped as events (no recursion) and the depth is reported once the document is read.
+    """
+    import yaml
+
+    class Loader(yaml.SafeLoader):
+        too_deep: int | None = None
+        _depth = 0
+
+        def compose_node(self, parent: Any, index: Any) -> Any:
+            if self._depth >= MAX_DEPTH and self.check_event(yaml.CollectionStartEvent):
+                if self.too_deep is None:
+                    self.too_deep = self.peek_event().start_mark.line + 1
+                self._skip_collection()
+                return yaml.ScalarNode("tag:yaml.org,2002:null", "")
+            self._depth += 1
+            try:
+                return super().compose_node(parent, index)
+            finally:
+                self._depth -= 1
+
+        def _skip_collection(self) -> None:
+            level = 0
+            while True:
+                event = self.get_event()
+                if isinstance(event, yaml.CollectionStartEvent):
+                    level += 1
+                elif isinstance(event, yaml.CollectionEndEvent):
+                    level -= 1
+                    if level == 0:
+                        return
+
+    return Loader
+
+
+def _check_text(data: Any, path: str) -> None:
+    """Every key and text value must be valid Unicode (a lone surrogate cannot be printed or stored)."""
+    if isinstance(data, dict):
+        for key, value in data.items():
+            sub = f"{path}.{key}" if path else str(key)
+            if isinstance(key, str) and not _valid_unicode(key):
+                raise InputError(path or "file", "has a key that is not valid Unicode (a lone surrogate)", key)
+            if isinstance(key, str) and not key:
+                raise InputError(f"{path}.''" if path else "''", "unknown key (the key is empty)", has_value=False)
+            _check_text(value, sub)
+    elif isinstance(data, list):
+        for i, value in enumerate(data):
+            _check_text(value, f"{path}[{i}]")
+    elif isinstance(data, str) and not _valid_unicode(data):
+        raise InputError(path, "is not valid Unicode text (a lone surrogate)", data)
+
+
+def _valid_unicode(text: str) -> bool:
     try:
-        return yaml.SafeLoader(text).get_single_data()
-    except yaml.YAMLError as exc:
-        raise InputError("file", f"is not valid YAML: {exc}", _src(source)) from None
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
 
 
 def _src(source: str | None) -> str | None:
@@ -342,10 +434,10 @@ def _check_graph(root: Any, source: str) -> None:
     seen_ids: dict[int, int] = {}
     aliases = 0
 
-    def expanded(node: Any, depth: int) -> int:
+    def expanded(node: Any, depth: int, path: str) -> int:
         nonlocal aliases
-        if depth > 100:
-            raise InputError("file", "is nested too deeply (over 100 levels)", _src(source))
+        if depth > MAX_DEPTH:
+            raise InputError("file", f"is nested too deeply (over {MAX_DEPTH} levels)", _src(source))
         key = id(node)
         if key in seen_ids:
             aliases += 1
@@ -353,17 +445,29 @@ def _check_graph(root: Any, source: str) -> None:
                 raise InputError("file", f"uses more than {MAX_ALIASES} YAML aliases", _src(source))
             return seen_ids[key]
         if isinstance(node, yaml.MappingNode):
-            n = 1 + sum(expanded(k, depth + 1) + expanded(v, depth + 1) for k, v in node.value)
+            n = 1 + sum(expanded(k, depth + 1, path) + expanded(v, depth + 1, _key_path(path, k))
+                        for k, v in node.value)
         elif isinstance(node, yaml.SequenceNode):
-            n = 1 + sum(expanded(v, depth + 1) for v in node.value)
+            n = 1 + sum(expanded(v, depth + 1, f"{path}[{i}]") for i, v in enumerate(node.value))
         else:
             n = 1
+            if (isinstance(node, yaml.ScalarNode) and node.tag.endswith((":int", ":float"))
+                    and len(node.value) > MAX_DIGITS):
+                raise InputError(path or "file", f"is a number of more than {MAX_DIGITS} digits",
+                                 node.value[:20] + "...")
         seen_ids[key] = n
         if n > MAX_NODES:
             raise InputError("file", f"expands to more than {MAX_NODES} values (YAML alias bomb?)", _src(source))
         return n
 
-    expanded(root, 0)
+    expanded(root, 0, "")
+
+
+def _key_path(path: str, key: Any) -> str:
+    import yaml
+
+    name = str(key.value)[:100] if isinstance(key, yaml.ScalarNode) else "?"
+    return f"{path}.{name}" if path else name
 
 
 def load_axis(path: str | Path) -> Axis:

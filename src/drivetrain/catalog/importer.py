@@ -30,6 +30,7 @@ from drivetrain.catalog.records import (
     HEADER_LINE,
     Parsed,
     Row,
+    escape_cell,
     infer_table,
     parse_quantity,
     parse_rows,
@@ -42,6 +43,12 @@ if TYPE_CHECKING:
     import sqlite3
 
 FORMATS = ("csv", "json")
+MAX_IMPORT_ROWS = 5_000
+"""Rows and curve points one import file may hold (the shipped catalog has about 1,600 rows)."""
+MAX_USER_ROWS = 10_000
+"""Rows and curve points the user catalog holds at most: selection stays well under a second."""
+MAX_IMPORT_BYTES = 20_000_000
+"""Largest import file [bytes]."""
 
 
 @dataclass(frozen=True)
@@ -87,6 +94,10 @@ def import_file(
     filename = os.fspath(path)
     text = _read(filename)
     raw = read_text(text, filename)
+    given = len(raw.rows) + sum(len(r.curve) for r in raw.rows)
+    if given > MAX_IMPORT_ROWS:
+        raise InputError(filename, f"has {given} rows and curve points; an import takes at most {MAX_IMPORT_ROWS} "
+                         "(split the file)", has_value=False)
     spec = _table(kind, raw.table, raw.headers, filename)
     parsed = parse_rows(raw, spec)
     _default_source(parsed.rows, source or f"imported from {Path(filename).name}")
@@ -96,6 +107,14 @@ def import_file(
         if replace and spec is CURVE:
             replaced_curves = {p.values.get("motor_id") for p in parsed.rows} - {None}
             motor_curves = {m: rd_points for m, rd_points in motor_curves.items() if m not in replaced_curves}
+        user_rows = sum(rd.count(t, "user") for t in TABLES.values())
+    adding = len(parsed.rows) + sum(len(r.curve) for r in parsed.rows)
+    if replace and spec is not CURVE:  # a replaced row takes the place of the one it replaces
+        adding -= sum(1 for r in parsed.rows if r.id is not None and existing.get(r.id, ("", ""))[1] == "user")
+    if user_rows + adding > MAX_USER_ROWS:
+        raise InputError(filename, f"would bring your catalog to {user_rows + adding} rows and curve points; "
+                         f"it holds at most {MAX_USER_ROWS} (remove rows you no longer need: catalog remove)",
+                         has_value=False)
     errors = parsed.errors + _cross_row_errors(parsed, filename, existing, motor_curves, replace)
     if errors:
         raise InputErrors(sorted(errors, key=_error_order))
@@ -131,6 +150,10 @@ def write_rows(conn: sqlite3.Connection, spec: TableSpec, rows: Sequence[Row]) -
 
 def _read(filename: str) -> str:
     try:
+        size = Path(filename).stat().st_size
+        if size > MAX_IMPORT_BYTES:
+            raise InputError(filename, f"is too large ({size} bytes; an import file is at most {MAX_IMPORT_BYTES})",
+                             has_value=False)
         data = Path(filename).read_bytes()
     except FileNotFoundError:
         raise InputError("file", "no such file", filename) from None
@@ -175,6 +198,8 @@ def _cross_row_errors(
         return _curve_errors(parsed.rows, filename, existing, set(), curves)
     replaced: set[str] = set()
     first_line: dict[str, int] = {}
+    folded = {k.casefold(): k for k in existing}
+    folded_here: dict[str, str] = {}
     for row in parsed.rows:
         rid = row.id
         if rid is None:
@@ -199,7 +224,15 @@ def _cross_row_errors(
                 errors.append(
                     row.error(filename, "id", f"duplicate id: a {table} with this id is already in your catalog{hint}")
                 )
+        elif rid.casefold() in folded:
+            other = folded[rid.casefold()]
+            place = "the shipped catalog" if existing[other][1] == "builtin" else "your catalog"
+            errors.append(row.error(filename, "id", f"differs only by letter case from {other} in {place}"))
+        elif rid.casefold() in folded_here:
+            errors.append(row.error(filename, "id", f"differs only by letter case from {folded_here[rid.casefold()]} "
+                                                    "in this file"))
         first_line.setdefault(rid, row.line)
+        folded_here.setdefault(rid.casefold(), rid)
     if parsed.spec is MOTOR:
         points = [p for r in parsed.rows for p in r.curve]
         renewed = {r.id for r in parsed.rows if r.curve and r.id in replaced}
@@ -342,7 +375,8 @@ def _csv_text(headers: list[str], records: list[list[Any]]) -> str:
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(headers)
-    writer.writerows([["" if v is None else (repr(v) if isinstance(v, float) else v) for v in rec] for rec in records])
+    writer.writerows([["" if v is None else (repr(v) if isinstance(v, float) else escape_cell(v)) for v in rec]
+                      for rec in records])
     return buffer.getvalue()
 
 
@@ -356,6 +390,8 @@ def _write_atomic(path: Path, text: str) -> None:
         with os.fdopen(fd, "w", encoding="utf-8", newline="") as f:
             f.write(text)
         os.replace(tmp_name, path)
+    except OSError as exc:  # full disk, file-size limit, a directory in the way
+        raise InputError("output", f"cannot be written ({exc.strerror or exc})", str(path)) from None
     finally:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp_name)

@@ -68,6 +68,17 @@ _SUFFIX_UNITS: tuple[tuple[str, str], ...] = (
     ("_N", "N"),
     ("_m", "m"),
 )
+MAX_ID_CHARS = 100
+"""Longest id [characters]: vendor order codes are under 40."""
+MAX_TEXT_CHARS = 2_000
+"""Longest text cell (source, notes) [characters]."""
+MAX_DIGITS = 400
+"""Longest number in a JSON file [characters]: a float needs 17 significant digits."""
+MAX_JSON_DEPTH = 16
+"""Deepest nesting of a JSON file: ``{"rows": [{"curve": [{...}]}]}`` is 4."""
+_JSON_STRUCTURE = re.compile(r'"(?:[^"\\]|\\.)*"|[\[\]{}]')
+_FORMULA_START = frozenset("=+-@\t\r")
+_BIDI = frozenset("\u061c\u200e\u200f\u202a\u202b\u202c\u202d\u202e\u2066\u2067\u2068\u2069")
 _TRUE = {"yes", "y", "true", "1"}
 _FALSE = {"no", "n", "false", "0"}
 # Two columns for one field (e.g. no_load_speed_rad_s and no_load_speed_rpm) must agree this well.
@@ -104,6 +115,7 @@ def parse_quantity(value: Any, quantity: str, field_path: str) -> float:
 def _pint_to(text: str, si_unit: str, description: str, field_path: str) -> float:
     import pint
 
+    units.check_grammar(text.strip(), field_path)
     try:
         q: Any = units.registry().Quantity(text.strip().replace("·", "*").replace("µ", "u"))
         return float(q.to(si_unit).magnitude)
@@ -225,7 +237,7 @@ def convert(raw: Any, column: Column, path: str) -> Any:
     if fld.quantity == TEXT:
         if isinstance(raw, (dict, list)):
             raise InputError(path, "must be text", raw)
-        return str(raw).strip()
+        return check_text(str(raw).strip(), path, MAX_ID_CHARS if fld.name in ("id", "motor_id") else MAX_TEXT_CHARS)
     if fld.quantity == FLAG:
         return _flag(raw, path)
     if fld.quantity == INTEGER:
@@ -235,6 +247,8 @@ def convert(raw: Any, column: Column, path: str) -> Any:
     text = raw.strip() if isinstance(raw, str) else raw
     try:
         number = float(text)
+    except OverflowError:
+        raise InputError(path, "must be a finite number", raw) from None
     except ValueError:
         if fld.quantity == DECIBEL:
             raise InputError(path, "must be a number (dB)", raw) from None
@@ -261,7 +275,7 @@ def _integer(raw: Any, path: str) -> int:
         raise InputError(path, "must be a whole number", raw)
     try:
         number = float(raw)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError(path, "must be a whole number", raw) from None
     if not math.isfinite(number) or number != int(number):
         raise InputError(path, "must be a whole number", raw)
@@ -303,6 +317,12 @@ def read_csv(text: str, filename: str) -> RawFile:
         raise InputError(where(filename, HEADER_LINE, "-"), f"is not valid CSV ({exc})", has_value=False) from None
     rows: list[RawRow] = []
     errors: list[InputError] = []
+    seen: set[str] = set()
+    for h in headers:
+        if h in seen:
+            errors.append(InputError(where(filename, HEADER_LINE, h), "column is given twice", has_value=False))
+        seen.add(h)
+    _raise(errors)
     last = reader.line_num
     try:
         for cells in reader:
@@ -318,7 +338,7 @@ def read_csv(text: str, filename: str) -> RawFile:
                     )
                 )
                 continue
-            rows.append(RawRow(start, dict(zip(headers, cells, strict=True))))
+            rows.append(RawRow(start, dict(zip(headers, map(unescape_cell, cells), strict=True))))
     except csv.Error as exc:
         errors.append(InputError(where(filename, reader.line_num, "-"), f"is not valid CSV ({exc})", has_value=False))
     _raise(errors)
@@ -340,11 +360,36 @@ def _pairs(pairs: list[tuple[str, Any]]) -> _Obj:
     return obj
 
 
+def _json_int(text: str) -> int:
+    if len(text.lstrip("-")) > MAX_DIGITS:
+        raise InputError("number", f"has more than {MAX_DIGITS} digits", text[:20] + "...")
+    return int(text)
+
+
+def _json_float(text: str) -> float:
+    if len(text) > MAX_DIGITS:
+        raise InputError("number", f"has more than {MAX_DIGITS} digits", text[:20] + "...")
+    return float(text)
+
+
+def _json_depth(text: str) -> int:
+    """Deepest nesting of arrays and objects in JSON ``text``, strings skipped (a linear scan)."""
+    depth = deepest = 0
+    for m in _JSON_STRUCTURE.finditer(text):
+        ch = m.group()
+        if ch in "[{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif ch in "]}":
+            depth -= 1
+    return deepest
+
+
 class _LineDecoder(json.JSONDecoder):
     """json's pure-Python scanner with a hook that stamps every object with its start line."""
 
     def __init__(self, text: str) -> None:
-        super().__init__(object_pairs_hook=_pairs)
+        super().__init__(object_pairs_hook=_pairs, parse_int=_json_int, parse_float=_json_float)
         self._newlines = [i for i, ch in enumerate(text) if ch == "\n"]
         self._object: Callable[..., tuple[Any, int]] = vars(json.decoder)["JSONObject"]
         self.parse_object = self._parse_object
@@ -357,10 +402,54 @@ class _LineDecoder(json.JSONDecoder):
         return obj, end
 
 
+def unescape_cell(cell: str) -> str:
+    """A CSV cell as meant: export writes ``'=...`` for text starting with = + - @ (see ``escape_cell``)."""
+    return cell[1:] if len(cell) > 1 and cell[0] == "'" and cell[1] in _FORMULA_START else cell
+
+
+def escape_cell(value: Any) -> Any:
+    """A text cell a spreadsheet would take for a formula (= + - @ tab CR first) gets a leading ``'``.
+
+    OWASP, "CSV Injection": spreadsheets evaluate such cells; the apostrophe makes them text.
+    Numbers are not text and stay numeric (a negative torque stays ``-1.5``).
+    """
+    if isinstance(value, str) and value[:1] in _FORMULA_START:
+        return "'" + value
+    return value
+
+
+def check_text(text: str, path: str, limit: int) -> str:
+    """A text cell: at most ``limit`` characters, valid Unicode, no NUL, control or bidi characters."""
+    if len(text) > limit:
+        raise InputError(path, f"is too long ({len(text)} characters; at most {limit})", text[:40] + "...")
+    if not _valid_unicode(text):
+        raise InputError(path, "is not valid Unicode text (a lone surrogate)", text)
+    bad = next((c for c in text if (not c.isprintable() and c not in "\t\n") or c in _BIDI), None)
+    if bad is not None:
+        raise InputError(path, f"holds the invisible control character U+{ord(bad):04X}", text)
+    return text
+
+
+def _valid_unicode(text: str) -> bool:
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
+
+
 def read_json(text: str, filename: str) -> RawFile:
     """Read JSON: a list of row objects, or ``{"table": ..., "rows": [...]}`` as export writes it."""
+    depth = _json_depth(text)
+    if depth > MAX_JSON_DEPTH:
+        raise InputError(filename, f"is nested too deeply ({depth} levels; a catalog file needs at most 4)",
+                         has_value=False)
     try:
         data = _LineDecoder(text).decode(text)
+    except RecursionError:
+        raise InputError(filename, f"is nested too deeply (over {MAX_JSON_DEPTH} levels)", has_value=False) from None
+    except InputError as exc:  # a number past MAX_DIGITS
+        raise InputError(filename, f"holds a number that {exc.rule}", exc.value) from None
     except json.JSONDecodeError as exc:
         raise InputError(
             where(filename, exc.lineno, f"col {exc.colno}"), f"is not valid JSON ({exc.msg})", has_value=False
@@ -368,7 +457,7 @@ def read_json(text: str, filename: str) -> RawFile:
     table: str | None = None
     if isinstance(data, dict):
         table = data.get("table")
-        if table is not None and table not in TABLES:
+        if table is not None and (not isinstance(table, str) or table not in TABLES):
             raise InputError(
                 where(filename, getattr(data, "line", 1), "table"),
                 f"must be one of {', '.join(TABLES)}",
@@ -387,6 +476,11 @@ def read_json(text: str, filename: str) -> RawFile:
             for k in getattr(obj, "duplicates", ())
         )
         cells = {k: v for k, v in obj.items() if k != "curve"}
+        bad_key = next((k for k in cells if not _valid_unicode(k)), None)
+        if bad_key is not None:
+            errors.append(InputError(where(filename, line, "-"), "a key is not valid Unicode (a lone surrogate)",
+                                     bad_key))
+            continue
         for key in cells:
             headers.setdefault(key, line)
         points = obj.get("curve") or []

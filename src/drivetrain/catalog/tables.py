@@ -131,6 +131,9 @@ class MotorTable(_Table):
     rotor_inertia_brake: FloatArray  # [kg m^2]
     mass: FloatArray  # [kg]
     flange: FloatArray  # [m]
+    shaft_diameter: FloatArray  # [m] output shaft (NaN where unknown)
+    pilot_diameter: FloatArray  # [m] centring spigot of the flange
+    bolt_circle: FloatArray  # [m] flange bolt circle
     voltage: FloatArray  # [V] supply class (AC servo) or nominal terminal voltage (small DC)
     torque_constant: FloatArray  # [N m/A]
     winding_resistance: FloatArray  # [ohm]

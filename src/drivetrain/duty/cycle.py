@@ -304,15 +304,38 @@ def gearbox_split_at_motor_peak(axis: Axis, duty: DutyCycle, motor_inertia: floa
 
 
 def phase_table(duty: DutyCycle, torque: Array) -> list[dict[str, Any]]:
-    """Every accel, run, decel and dwell in order, with its span, largest torque (signed) and top speed."""
+    """Every accel, run, decel and dwell in order, with its span, largest torque (signed) and top speed.
+
+    One pass over the samples (linear in their number): the samples are grouped by phase with a
+    stable sort (already in order: the cycle is sampled in time), each group's extremes by reduceat.
+    """
+    phases = duty.cycle.phases
     phase_idx = np.asarray(duty.samples.phase)
+    order = np.argsort(phase_idx, kind="stable") if np.any(np.diff(phase_idx) < 0) else None
+    idx = phase_idx if order is None else phase_idx[order]
+    t = np.asarray(torque, dtype=float) if order is None else np.asarray(torque, dtype=float)[order]
+    w = np.abs(np.asarray(duty.omega, dtype=float)) if order is None else np.abs(np.asarray(duty.omega)[order])
+    starts = np.searchsorted(idx, np.arange(len(phases)), side="left")
+    ends = np.searchsorted(idx, np.arange(len(phases)), side="right")
+    has = ends > starts
+    extreme = np.zeros(len(phases))
+    top_w = np.zeros(len(phases))
+    if t.size and has.any():
+        at = starts[has]
+        mag = np.abs(t)
+        top_w[has] = np.maximum.reduceat(w, at)
+        biggest = np.zeros(len(phases))
+        biggest[has] = np.maximum.reduceat(mag, at)
+        # the value of largest magnitude with its sign, the first such sample (as signed_extreme)
+        hits = np.flatnonzero(mag == biggest[idx])
+        groups, first = np.unique(idx[hits], return_index=True)
+        extreme[groups] = t[hits[first]]
     rows: list[dict[str, Any]] = []
-    for k, ph in enumerate(duty.cycle.phases):
-        mask = phase_idx == k
+    for k, ph in enumerate(phases):
         rows.append({
             "kind": ph.kind, "move": ph.move, "step": ph.step, "t0_s": float(ph.t0),
-            "t1_s": float(ph.t1), "torque_Nm": signed_extreme(torque[mask]),
-            "speed_rpm": float(to_rpm(np.max(np.abs(duty.omega[mask])))) if mask.any() else 0.0,
+            "t1_s": float(ph.t1), "torque_Nm": float(extreme[k]) if has[k] else 0.0,
+            "speed_rpm": float(to_rpm(top_w[k])) if has[k] else 0.0,
         })
     return rows
 

@@ -42,6 +42,8 @@ if TYPE_CHECKING:
 _KEYS = {"chain", "motor_inertia", "loop", "friction", "load_torque", "cycles", "step", "excitation_orders"}
 _LOOP_KEYS = {"velocity_bandwidth", "notch", "current_bandwidth", "torque_limit", "encoder_counts", "lowpass",
               "fraction_of_anti_resonance", "velocity_kp", "velocity_ti", "position_kv"}
+MAX_GAIN = 1e12
+"""Largest loop gain accepted in SI (N m s/rad, s, 1/s): real drives are below 1e4."""
 _FRICTION_KEYS = {"coulomb", "static", "viscous", "stribeck_speed", "method"}
 
 
@@ -61,7 +63,45 @@ def _block(axis: Axis) -> dict[str, Any]:
     if unknown:
         raise InputError(f"dynamics.{sorted(unknown)[0]}", f"unknown key; valid: {', '.join(sorted(_KEYS))}",
                          has_value=False)
+    _check_values(raw)
     return raw
+
+
+_LOOP_QUANTITIES = {"velocity_bandwidth": "frequency", "current_bandwidth": "frequency", "lowpass": "frequency",
+                    "torque_limit": "torque", "fraction_of_anti_resonance": "dimensionless"}
+_FRICTION_QUANTITIES = {"coulomb": "torque", "static": "torque", "viscous": "torsional_damping",
+                        "stribeck_speed": "angular_speed"}
+
+
+def _check_values(raw: dict[str, Any]) -> None:
+    """Every value of the block checked for its form, also those the command at hand does not use
+    (``modes`` does not read the loop, yet a bad loop value is an error there too)."""
+    cycles = raw.get("cycles", 1)
+    if isinstance(cycles, bool) or not isinstance(cycles, int) or not 1 <= cycles <= 100:
+        raise InputError("dynamics.cycles", "must be a whole number between 1 and 100", cycles)
+    if "step" in raw:
+        parse(raw["step"], "time", "dynamics.step", allow_zero=False)
+    if "load_torque" in raw:
+        parse(raw["load_torque"], "torque", "dynamics.load_torque")
+    for key, known, quantities in (("loop", _LOOP_KEYS, _LOOP_QUANTITIES),
+                                   ("friction", _FRICTION_KEYS, _FRICTION_QUANTITIES)):
+        spec = raw.get(key)
+        if spec is None:
+            continue
+        if not isinstance(spec, dict):
+            raise InputError(f"dynamics.{key}", "must be a mapping", spec)
+        unknown = set(spec) - known
+        if unknown:
+            raise InputError(f"dynamics.{key}.{sorted(unknown, key=str)[0]}",
+                             f"unknown key; valid: {', '.join(sorted(known))}", has_value=False)
+        if key == "loop":
+            _check_loop_values(spec)
+        for name, quantity in quantities.items():
+            if name in spec:
+                value = parse(spec[name], quantity, f"dynamics.{key}.{name}")
+                if value < 0 or (key == "loop" and value == 0):
+                    raise InputError(f"dynamics.{key}.{name}", "must be > 0" if key == "loop" else "must be >= 0",
+                                     spec[name])
 
 
 def _motor(axis: Axis) -> tuple[str, float, tuple[Stage, ...]]:
@@ -147,6 +187,25 @@ def _friction(axis: Axis, stages: tuple[Stage, ...], block: dict[str, Any]) -> t
     return friction, load_torque
 
 
+def _check_loop_values(spec: dict[str, Any]) -> None:
+    f = "dynamics.loop"
+    for k in ("velocity_kp", "velocity_ti", "position_kv"):
+        if k not in spec:
+            continue
+        v = spec[k]
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or math.isnan(v):
+            raise InputError(f"{f}.{k}", "must be a number in SI units", v)
+        if not (k == "velocity_ti" and math.isinf(v)) and abs(v) > MAX_GAIN:  # ti: .inf, no integral action
+            raise InputError(f"{f}.{k}", f"magnitude is absurd (> {MAX_GAIN:g} in SI)", v)
+        if v < 0 or (v == 0 and k != "position_kv"):
+            raise InputError(f"{f}.{k}", "must be >= 0" if k == "position_kv" else "must be > 0", v)
+    counts = spec.get("encoder_counts", 1)
+    if not isinstance(counts, int) or isinstance(counts, bool) or counts <= 0:
+        raise InputError(f"{f}.encoder_counts", "must be a positive whole number of counts per revolution", counts)
+    if not isinstance(spec.get("notch", False), bool):
+        raise InputError(f"{f}.notch", "must be true or false", spec.get("notch"))
+
+
 def servo_loop(chain: Chain, block: dict[str, Any]) -> ServoLoop:
     """Gains tuned from the requested bandwidth (or the highest the tuning rule allows)."""
     from drivetrain.dynamics.control import tune
@@ -160,19 +219,15 @@ def servo_loop(chain: Chain, block: dict[str, Any]) -> ServoLoop:
                          has_value=False)
     f = "dynamics.loop"
     kwargs: dict[str, Any] = {}
-    if "velocity_bandwidth" in spec:
-        kwargs["velocity_bandwidth_hz"] = parse(spec["velocity_bandwidth"], "frequency", f"{f}.velocity_bandwidth",
-                                                allow_zero=False)
-    if "current_bandwidth" in spec:
-        kwargs["current_bandwidth_hz"] = parse(spec["current_bandwidth"], "frequency", f"{f}.current_bandwidth",
-                                               allow_zero=False)
-    if "torque_limit" in spec:
-        kwargs["torque_limit"] = parse(spec["torque_limit"], "torque", f"{f}.torque_limit", allow_zero=False)
-    if "lowpass" in spec:
-        kwargs["lowpass_hz"] = parse(spec["lowpass"], "frequency", f"{f}.lowpass", allow_zero=False)
-    if "fraction_of_anti_resonance" in spec:
-        kwargs["fraction_of_anti_resonance"] = parse(spec["fraction_of_anti_resonance"], "dimensionless",
-                                                     f"{f}.fraction_of_anti_resonance", allow_zero=False)
+    for key, arg, quantity in (("velocity_bandwidth", "velocity_bandwidth_hz", "frequency"),
+                               ("current_bandwidth", "current_bandwidth_hz", "frequency"),
+                               ("torque_limit", "torque_limit", "torque"), ("lowpass", "lowpass_hz", "frequency"),
+                               ("fraction_of_anti_resonance", "fraction_of_anti_resonance", "dimensionless")):
+        if key in spec:
+            value = parse(spec[key], quantity, f"{f}.{key}", allow_zero=False)
+            if value <= 0.0:
+                raise InputError(f"{f}.{key}", "must be > 0", spec[key])
+            kwargs[arg] = value
     if "encoder_counts" in spec:
         counts = spec["encoder_counts"]
         if not isinstance(counts, int) or isinstance(counts, bool) or counts <= 0:
@@ -189,6 +244,8 @@ def servo_loop(chain: Chain, block: dict[str, Any]) -> ServoLoop:
         for k, v in given.items():
             if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise InputError(f"{f}.{k}", "must be a number in SI units", v)
+            if not math.isinf(v) and abs(v) > MAX_GAIN:  # velocity_ti: .inf means no integral action
+                raise InputError(f"{f}.{k}", f"magnitude is absurd (> {MAX_GAIN:g} in SI)", v)
         loop = loop.with_(**{k: float(v) for k, v in given.items()}, notes=("gains as given",))
     return loop
 
@@ -196,7 +253,14 @@ def servo_loop(chain: Chain, block: dict[str, Any]) -> ServoLoop:
 def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None = None,
                   velocity_bandwidth_hz: float | None = None) -> SimulationResult:
     """Closed-loop simulation of the axis following its own duty-cycle profile."""
-    from drivetrain.dynamics.simulation import Reference, simulate
+    from drivetrain.dynamics.simulation import (
+        MAX_SIMULATION_BYTES,
+        Reference,
+        default_step,
+        estimate_bytes,
+        max_steps,
+        simulate,
+    )
 
     block = _block(axis)
     dyn = model(axis)
@@ -209,10 +273,24 @@ def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None =
         frictions = list(chain.friction) if chain.friction else [None] * chain.n
         frictions[-1] = friction
         chain = chain.with_(friction=tuple(frictions))
-    n = int(block.get("cycles", 1) if cycles is None else cycles)
-    if n < 1 or n > 100:
-        raise InputError("dynamics.cycles", "must be between 1 and 100", n)
+    given_cycles = block.get("cycles", 1) if cycles is None else cycles
+    if isinstance(given_cycles, bool) or not isinstance(given_cycles, int) or not 1 <= given_cycles <= 100:
+        raise InputError("dynamics.cycles", "must be a whole number between 1 and 100", given_cycles)
+    n = given_cycles
     cycle = axis.cycle()
+    h = step if step is not None else (parse(block["step"], "time", "dynamics.step", allow_zero=False)
+                                       if "step" in block else default_step(chain, loop))
+    per_cycle = cycle.period / h
+    fit = max_steps(chain.n)
+    if n * per_cycle > fit:
+        need = estimate_bytes(chain.n, round(n * per_cycle)) / 1e9
+        if per_cycle <= fit:
+            raise InputError("dynamics.cycles", f"{n} cycles of {cycle.period:g} s are {n * per_cycle:.3g} steps of "
+                             f"{h:g} s (about {need:.1f} GB); at most {int(fit // per_cycle)} cycles fit in "
+                             f"{MAX_SIMULATION_BYTES / 1e9:g} GB", n)
+        raise InputError("profile", f"one cycle of {cycle.period:g} s is {per_cycle:.3g} steps of {h:g} s (about "
+                         f"{need:.1f} GB); the simulation holds at most {fit * h:.4g} s at this step: simulate a "
+                         "shorter profile", has_value=False)
     # A uniform grid over n periods (the reference must be strictly increasing in time).
     t = np.linspace(0.0, n * cycle.period, int(min(200_000, max(2_000, 4_000 * n))) + 1)
     kin = cycle.evaluate(np.mod(t, cycle.period) if n > 1 else t)
@@ -221,6 +299,15 @@ def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None =
         x = x + np.floor(t / cycle.period) * float(cycle.evaluate(np.array([cycle.period])).x[0])
     ratio = math.prod(s.ratio for s in dyn.stages)
     ref = Reference.from_load(t, x, kin.v, kin.a, ratio)
-    h = step if step is not None else (parse(block["step"], "time", "dynamics.step", allow_zero=False)
-                                       if "step" in block else None)
-    return simulate(chain, loop, ref, load_torque=load_torque, step=h)
+    try:
+        return simulate(chain, loop, ref, load_torque=load_torque, step=h)
+    except InputError as exc:
+        # The step is the user's dynamics.step (or the automatic one): name the key of the file.
+        if "step" in block and step is None and exc.field == "simulation.step":
+            raise InputError("dynamics.step", exc.rule, block["step"]) from None
+        if "step" in block and step is None and exc.field.endswith("_sample_time"):
+            times = ", ".join(f"{t * 1e6:g} us" for t in (loop.current_sample_time, loop.velocity_sample_time,
+                                                          loop.position_sample_time))
+            raise InputError("dynamics.step", f"must divide the loop's sample times ({times})",
+                             block["step"]) from None
+        raise

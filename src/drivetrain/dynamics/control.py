@@ -79,14 +79,14 @@ class ServoLoop:
     notes: tuple[str, ...] = field(default=(), compare=False)
 
     def __post_init__(self) -> None:
-        p = "dynamics.control"
+        p = "dynamics.loop"
         for name, strict in (("velocity_kp", True), ("position_kv", False), ("current_bandwidth_hz", True),
                              ("torque_limit", True), ("current_sample_time", True),
                              ("velocity_sample_time", True), ("position_sample_time", True)):
             v = getattr(self, name)
             ok = not math.isnan(v) and (v > 0 if strict else v >= 0)
             if not ok or (name != "torque_limit" and math.isinf(v)):
-                raise InputError(f"{p}.{name}", "must be > 0" if strict else "must be >= 0", v)
+                raise InputError(f"{p}.{_USER_KEY.get(name, name)}", "must be > 0" if strict else "must be >= 0", v)
         if math.isnan(self.velocity_ti) or self.velocity_ti <= 0:
             raise InputError(f"{p}.velocity_ti", "must be > 0 s (inf for no integral action)", self.velocity_ti)
         for name in ("velocity_ff", "acceleration_ff", "encoder_resolution"):
@@ -94,7 +94,7 @@ class ServoLoop:
             if not math.isfinite(v) or v < 0:
                 raise InputError(f"{p}.{name}", "must be a finite number >= 0", v)
         if self.lowpass_hz is not None and not (math.isfinite(self.lowpass_hz) and self.lowpass_hz > 0):
-            raise InputError(f"{p}.lowpass_hz", "must be > 0 Hz", self.lowpass_hz)
+            raise InputError(f"{p}.lowpass", "must be > 0 Hz", self.lowpass_hz)
 
     @property
     def velocity_delay(self) -> float:
@@ -119,6 +119,10 @@ class ServoLoop:
         return d
 
 
+_USER_KEY = {"current_bandwidth_hz": "current_bandwidth", "lowpass_hz": "lowpass"}
+"""Axis-file key (``dynamics.loop``) of a ``ServoLoop`` field where the two names differ."""
+
+
 def tune(
     chain: Chain,
     velocity_bandwidth_hz: float | None = None,
@@ -140,9 +144,9 @@ def tune(
     given. The result's ``notes`` say which limit set the bandwidth.
     """
     if velocity_bandwidth_hz is not None and not (velocity_bandwidth_hz > 0 and math.isfinite(velocity_bandwidth_hz)):
-        raise InputError("dynamics.control.velocity_bandwidth", "must be > 0 Hz", velocity_bandwidth_hz)
+        raise InputError("dynamics.loop.velocity_bandwidth", "must be > 0 Hz", velocity_bandwidth_hz)
     if not 0 < fraction_of_anti_resonance <= 1.0:
-        raise InputError("dynamics.control.fraction_of_anti_resonance", "must be in (0, 1]",
+        raise InputError("dynamics.loop.fraction_of_anti_resonance", "must be in (0, 1]",
                          fraction_of_anti_resonance)
     from drivetrain.dynamics.linear import anti_resonance_frequencies, natural_frequencies
 
@@ -343,17 +347,34 @@ def check_stable(chain: Chain, loop: ServoLoop) -> None:
     The message names the growing mode's frequency and the likely fix instead of letting a
     simulation produce NaN.
     """
-    p_vel, p_pos = closed_loop_poles(chain, loop)
+    given = "gains as given" in loop.notes
+    with np.errstate(all="ignore"):
+        try:
+            p_vel, p_pos = closed_loop_poles(chain, loop)
+        except np.linalg.LinAlgError:
+            p_vel = p_pos = np.array([complex("nan")])
+    if not (np.all(np.isfinite(p_vel)) and np.all(np.isfinite(p_pos))):
+        raise InputError(
+            "dynamics.loop",
+            "the closed loop cannot be computed (a gain overflows the state-space model); "
+            + ("give gains of a realistic size" if given else "lower velocity_bandwidth"),
+            {"velocity_kp": loop.velocity_kp, "velocity_ti": loop.velocity_ti, "position_kv": loop.position_kv},
+        )
     for name, poles in (("velocity", p_vel), ("position", p_pos)):
         worst = poles[np.argmax(poles.real)]
         scale = max(1.0, float(np.max(np.abs(poles))))
         if worst.real > 1e-9 * scale:
             f = abs(worst.imag) / (2 * math.pi)
-            hint = ("lower velocity_kp or the velocity bandwidth, or add a notch at the resonance"
-                    if name == "velocity" else "lower position_kv (keep it below a quarter of the velocity "
-                                                "bandwidth in rad/s)")
+            if not given:
+                # The gains came from the tuning rule: name what the user can change.
+                hint = ("the gains tuned for this velocity bandwidth do not hold the resonance: set a lower "
+                        "dynamics.loop.velocity_bandwidth, or notch: true")
+            elif name == "velocity":
+                hint = "lower velocity_kp or the velocity bandwidth, or add a notch at the resonance"
+            else:
+                hint = "lower position_kv (keep it below a quarter of the velocity bandwidth in rad/s)"
             raise InputError(
-                "dynamics.control",
+                "dynamics.loop",
                 f"the {name} loop is unstable: a closed-loop pole at s = {worst.real:.4g} {worst.imag:+.4g}j 1/s "
                 f"grows {'with an oscillation at ' + format(f, '.1f') + ' Hz' if f > 0 else 'without oscillation'}; "
                 f"{hint}",

@@ -392,6 +392,22 @@ def _periods(loop: ServoLoop, step: float) -> tuple[int, int, int]:
     return out[0], out[1], out[2]
 
 
+MAX_SIMULATION_BYTES = 1_500_000_000
+"""Memory a simulation may take [bytes]: the reference and every recorded series live in memory."""
+
+
+def estimate_bytes(inertias: int, steps: int, record_every: int = 1) -> int:
+    """Memory of a run [bytes]: time and reference (4 series) per step, 3 n + 2 recorded series per
+    recorded sample, and half as much again for the result's copies (measured: about 100 bytes per
+    step for one inertia)."""
+    return int(1.5 * 8 * steps * (4 + (3 * inertias + 2) / record_every))
+
+
+def max_steps(inertias: int, record_every: int = 1) -> int:
+    """The most steps that fit in ``MAX_SIMULATION_BYTES``."""
+    return int(MAX_SIMULATION_BYTES / (1.5 * 8 * (4 + (3 * inertias + 2) / record_every)))
+
+
 def default_step(chain: Chain, loop: ServoLoop) -> float:
     """The largest step that divides the current-loop period and keeps step * omega_max <= 0.2 [s]."""
     wmax = _omega_max(chain)
@@ -472,9 +488,14 @@ def simulate(
     t_end = float(reference.time[-1]) if duration is None else float(duration)
     if not (t_end > 0 and math.isfinite(t_end)):
         raise InputError("simulation.duration", "must be > 0 s", duration)
-    n_steps = round(t_end / h)
     if record_every < 1:
         raise InputError("simulation.record_every", "must be >= 1", record_every)
+    n_steps = round(t_end / h)
+    fit = max_steps(chain.n, record_every)
+    if n_steps > fit:
+        raise InputError("simulation.duration", f"is {n_steps} steps of {h:g} s (about "
+                         f"{estimate_bytes(chain.n, n_steps, record_every) / 1e9:.1f} GB); at most {fit} steps "
+                         f"({fit * h:.4g} s) fit in {MAX_SIMULATION_BYTES / 1e9:g} GB", t_end)
     t = np.arange(n_steps + 1) * h
     r_pos, r_vel, r_acc = (np.ascontiguousarray(a, dtype=float) for a in reference.resample(t))
     alpha_c, nb, lp_alpha = _loop_filters(loop, h, n_cur, n_vel)

@@ -379,6 +379,10 @@ class Cycle:
         n = max(3, int(points_per_phase) | 1)
         tab = self._table
         nseg = len(self.segments)
+        if n * nseg > MAX_SAMPLES:
+            raise InputError("points_per_phase", f"{n} points on each of {nseg} segments are {n * nseg} samples, "
+                             f"more than {MAX_SAMPLES}; at most {max(3, (MAX_SAMPLES // nseg - 1) | 1)} points "
+                             "per phase fit", points_per_phase)
         frac = np.linspace(0.0, 1.0, n)
         dur = tab.t1 - tab.t0
         t = tab.t0[:, None] + dur[:, None] * frac[None, :]
@@ -756,6 +760,13 @@ def _place(parsed: Sequence[_Parsed]) -> tuple[list[Segment], list[Phase]]:
     return segments, phases
 
 
+MAX_PROFILE_STEPS = 1_000
+"""Moves and dwells one profile may hold (the axis file and the web API): sizing stays interactive."""
+MAX_SAMPLES = 500_000
+"""Samples one cycle may be cut into (points per phase x segments): a catalog selection holds a few
+kB per sample, so this bounds it near 1 GB."""
+
+
 def parse_profile(raw: Any, motion: Motion, field: str = "profile") -> Cycle:
     """Parse the axis file's ``profile:`` list into a ``Cycle`` (see the module docstring).
 
@@ -768,6 +779,9 @@ def parse_profile(raw: Any, motion: Motion, field: str = "profile") -> Cycle:
         raise InputError(field, "must be a list of moves and dwells", raw)
     if len(raw) == 0:
         raise InputError(field, "the cycle is empty: list at least one move or dwell", has_value=False)
+    if len(raw) > MAX_PROFILE_STEPS:
+        raise InputError(field, f"has {len(raw)} moves and dwells; at most {MAX_PROFILE_STEPS} are accepted "
+                         "(a cycle that long is better split into the axis's typical cycles)", has_value=False)
     parsed: list[_Parsed] = []
     t0 = x0 = 0.0
     moves = 0

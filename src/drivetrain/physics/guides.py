@@ -101,6 +101,15 @@ def slip_check(accel: Array, limit: float, incline: float, g: float) -> dict[str
     down_limit = limit + g * math.sin(incline)
     cases = [(up_limit / up_need - 1.0 if up_need > 0 else math.inf, up_need, up_limit),
              (down_limit / down_need - 1.0 if down_need > 0 else math.inf, down_need, down_limit)]
+    if min(up_limit, down_limit) <= 0.0:
+        # mu_0 < tan(alpha): the load slides down the slope even at rest, whatever the profile.
+        need, avail = (up_need, up_limit) if up_limit <= 0.0 else (down_need, down_limit)
+        return {"name": "slip_limit", "required": need, "available": avail, "unit": "m/s^2", "margin": -1.0,
+                "ok": False, "approximate": False,
+                "note": "the load slides on its carrier at rest: the friction coefficient is below tan(incline)"}
     margin, need, avail = min(cases)
-    return {"name": "slip_limit", "required": need, "available": avail, "unit": "m/s^2",
-            "margin": margin, "ok": margin >= 0.0, "approximate": False}
+    out = {"name": "slip_limit", "required": need, "available": avail, "unit": "m/s^2",
+           "margin": margin, "ok": margin >= 0.0, "approximate": False}
+    if need == 0.0:
+        out["note"] = "the profile never accelerates the load: nothing can slip (the margin is unbounded)"
+    return out

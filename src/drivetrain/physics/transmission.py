@@ -24,6 +24,7 @@ from drivetrain.fields import (
     MassNonNeg,
     Ratio,
     Spec,
+    SpeedPos,
     TorqueNonNeg,
     TorsionalDamping,
     TorsionalStiffness,
@@ -105,6 +106,9 @@ class GearboxSpec(_Compliance):
     catalog: str | None = None
     rated_torque: TorqueNonNeg | None = None
     max_torque: TorqueNonNeg | None = None
+    emergency_stop_torque: TorqueNonNeg | None = None
+    max_input_speed: SpeedPos | None = None
+    rated_input_speed: SpeedPos | None = None
 
     @model_validator(mode="after")
     def _ratio_given(self) -> GearboxSpec:

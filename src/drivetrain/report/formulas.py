@@ -208,15 +208,23 @@ _ALL: tuple[Formula, ...] = (
     F("check_inertia", "Inertia ratio", ("J_L / J_M ≤ limit",),
       "the lecture recommends below 5:1, 1:1 ideal", "lecture, inertia ratio", "drivetrain.sizing.motor_fit.fit_motors",
       "recommends below 5:1"),
+    F("gearbox_t2b", "Gearbox ratings: T2B, n1max, n1N, mechanical fit",
+      ("max|T_{out}| · f_T · f_s ≤ T_{2B},   n_{1,max} · f_n ≤ n_{1max},   n_{1,mean} ≤ n_{1N},   "
+       "d_{shaft} ≤ d_{bore}",),
+      "T_out the torque at the gearbox output over the cycle (the rotor's own acceleration torque never passes "
+      "it); f_s the vendor's shock factor above 1000 cycles/h; a rating the catalog lacks leaves its check "
+      "unknown", "WITTENSTEIN glossary (T2B, clamping hub); Beckhoff AG2400 TP+ data (T2B, n1N, n1Max)",
+      "drivetrain.sizing.checks.gearbox_ratings", "WITTENSTEIN"),
     F("gearbox_rated", "Gearbox rated torque check",
       ("T_{av} = ∛(Σ n_i t_i |T_i|³ / Σ n_i t_i),   T_{av} · f_T ≤ T_{rated,out}",),
       "speed-weighted cubic mean of the output torque over the cycle; standstill carries no weight",
       "Harmonic Drive / strain-wave gear selection (average load torque)", "drivetrain.duty.cycle.cubic_mean",
       "Harmonic Drive"),
-    F("gearbox_peak", "Gearbox peak torque check",
-      ("T_{GR} = (1 − k)(T_M − T_L) + T_L,   k = J_M / (J_M + J_{LR})",),
-      "torque through the gearbox when the motor gives its peak torque T_M; T_L static load torque, J_{LR} "
-      "reflected load inertia; compared with the gearbox's max (emergency-stop) torque",
+    F("gearbox_peak", "Gearbox emergency-stop torque check",
+      ("T_{GR} = (1 − k)(T_M − T_L) + T_L,   k = J_M / (J_M + J_{LR}),   T_{GR} i η ≤ T_{2NOT}",),
+      "torque through the gearbox when the motor gives its peak torque T_M (an emergency stop); T_L static load "
+      "torque, J_{LR} reflected load inertia; compared with the gearbox's emergency-stop torque, never used as "
+      "the cyclic peak",
       "lecture, Dynamic Loading and Gearbox Sizing", "drivetrain.duty.cycle.gearbox_peak_torque",
       "lecture, gearbox sizing"),
     F("min_rms_ratio", "Ratio of least RMS torque",
@@ -301,7 +309,7 @@ def formulas_for(result: SizingResult, catalog_gearbox: bool = False) -> list[Fo
         keys += ["check_peak", "check_rms", "check_speed", "check_inertia", "envelope_continuous",
                  "envelope_intermittent"]
     if catalog_gearbox or any(c.get("gearbox") for c in result.candidates):
-        keys += ["gearbox_rated", "gearbox_peak"]
+        keys += ["gearbox_t2b", "gearbox_rated", "gearbox_peak"]
     if axis.motor is not None:
         keys += ["accel_times", "powers"]
     if motor:

@@ -40,8 +40,12 @@ CHECK_NAMES: dict[str, str] = {
     "rms_torque": "RMS torque",
     "max_speed": "Maximum speed",
     "inertia_ratio": "Inertia ratio J_L/J_M",
-    "gearbox_rated_torque": "Gearbox rated torque",
-    "gearbox_peak_torque": "Gearbox peak torque",
+    "mechanical_fit": "Motor onto gearbox (shaft, bore, flange)",
+    "gearbox_peak_torque": "Gearbox T2B (cyclic peak)",
+    "gearbox_rated_torque": "Gearbox T2N (rated torque)",
+    "gearbox_emergency_stop_torque": "Gearbox T2NOT (emergency stop)",
+    "gearbox_max_input_speed": "Gearbox n1max (max input speed)",
+    "gearbox_mean_input_speed": "Gearbox n1N (mean input speed)",
     "slip_limit": "Load slip on its carrier",
     "brake_holding_torque": "Brake holding torque",
     "guide_normal": "Guide normal force",
@@ -56,7 +60,7 @@ _CHECK_QUANTITY: dict[str, str] = {"N*m": "torque", "Nm": "torque", "rpm": "angu
 _SUFFIX_QUANTITY: tuple[tuple[str, str], ...] = (("_m_s2", "acceleration"), ("_kgm2", "inertia"), ("_Nm", "torque"),
                                                  ("_N", "force"), ("_W", "power"), ("_J", "energy"), ("_s", "time"),
                                                  ("_m", "length"))
-EXTRA_CHECKS = ("slip_check", "brake_check", "guide")
+EXTRA_CHECKS = ("slip_check", "brake_check", "guide", "gearbox_checks")
 """Keys of ``SizingResult.extras`` that hold the axis's own checks (one check, or a report with ``checks``)."""
 MAX_CANDIDATE_ROWS = 25
 
@@ -173,9 +177,14 @@ def check_value(value: float, unit: str, du: DisplayUnits) -> str:
 
 
 def failure_sentence(check: dict[str, Any], du: DisplayUnits) -> str:
-    """'Peak torque: required 5.4 N·m > available 4.5 N·m (−16.7 %)'."""
+    """'Peak torque: required 5.4 N·m > available 4.5 N·m (−16.7 %)'; an unjudged check says why."""
     name = CHECK_NAMES.get(check["name"], check["name"].replace("_", " "))
     unit = check.get("unit", "")
+    if check.get("available") is None or check.get("margin") is None:
+        return f"{name}: {check.get('note') or 'cannot be judged'}"
+    if check["name"] == "mechanical_fit":
+        return (f"{name}: motor shaft {fmt_number(check['required'])} mm > gearbox input bore "
+                f"{fmt_number(check['available'])} mm, or flange/pilot differ ({fmt_percent(check['margin'])})")
     return (f"{name}: required {check_value(check['required'], unit, du)} > available "
             f"{check_value(check['available'], unit, du)} ({fmt_percent(check['margin'])})")
 
@@ -185,19 +194,25 @@ def _margin_factors(result: SizingResult) -> dict[str, float]:
     if m is None:
         return {}
     return {"peak_torque": m.torque, "rms_torque": m.rms_torque or m.torque, "max_speed": m.speed,
-            "gearbox_rated_torque": m.torque}
+            "gearbox_rated_torque": m.torque, "gearbox_peak_torque": m.torque}
 
 
 def _rule(check: dict[str, Any], factors: dict[str, float]) -> str:
     f = factors.get(check["name"], 1.0)
     times = f" × {fmt_number(f, 3)}" if f != 1.0 else ""
+    fs = factors.get("max_speed", 1.0)
+    times_s = f" × {fmt_number(fs, 3)}" if fs != 1.0 else ""
     rules = {
         "peak_torque": f"|T_M|{times} ≤ intermittent envelope at that speed",
         "rms_torque": f"T_rms{times} ≤ continuous torque at mean speed",
-        "max_speed": f"n_max{times} ≤ motor (and gearbox input) max speed",
+        "max_speed": f"n_max{times} ≤ motor max speed",
         "inertia_ratio": "J_L / J_M ≤ limit",
-        "gearbox_rated_torque": f"cubic-mean output torque{times} ≤ rated output torque",
-        "gearbox_peak_torque": "torque through the gearbox at motor peak ≤ its max (e-stop) torque",
+        "mechanical_fit": "motor shaft ≤ gearbox input bore (≥ smallest bushing); flange, pilot = adapter's",
+        "gearbox_peak_torque": f"cycle's peak output torque{times} (× shock factor above 1000 cycles/h) ≤ T2B",
+        "gearbox_rated_torque": f"cubic-mean output torque{times} ≤ T2N",
+        "gearbox_emergency_stop_torque": "torque through the gearbox at the motor's peak (k-split) ≤ T2NOT",
+        "gearbox_max_input_speed": f"peak input speed{times_s} ≤ n1max",
+        "gearbox_mean_input_speed": "mean input speed ≤ n1N",
         "slip_limit": "peak acceleration ≤ μ_0 g cos α ∓ g sin α (up / down the slope)",
         "brake_holding_torque": "torque held in braked dwells ≤ brake holding torque",
         "guide_normal": "peak normal force ≤ guide rating",
@@ -208,6 +223,8 @@ def _rule(check: dict[str, Any], factors: dict[str, float]) -> str:
     text = rules.get(check["name"], check.get("note") or "")
     if check.get("approximate"):
         text += " (approximate envelope)"
+    if check.get("status") in ("unknown", "not_judged") and check.get("note"):
+        text += f" — not judged: {check['note']}"
     return text
 
 
@@ -300,27 +317,36 @@ def _motor_verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) 
         scope = ""
         if isinstance(evaluated, int) and isinstance(passing, int):
             how = (f"direct and behind {sel['gearbox_rows']} catalog gearbox rows" if sel.get("gearbox_rows")
-                   else "direct drive")
-            scope = (f"{passing} of {evaluated} configurations pass every check ({sel.get('motors', '?')} motors, "
+                   else (f"on the axis's {sel['transmission_gearbox']}" if sel.get("transmission_gearbox")
+                         else "direct drive"))
+            scope = (f"{passing} of {evaluated} configurations pass, no check failing "
+                     f"({sel.get('motors', '?')} motors, "
                      f"{how}); objective: {str(sel.get('objective', 'smallest')).replace('_', ' ')}.")
         if focus is not None and focus.passed:
             details = [d for d in (scope, _tightest(focus.checks, du)) if d]
             nxt = sel.get("next_smaller")
             if isinstance(nxt, dict) and nxt.get("motor"):
-                bad = [c for c in nxt.get("checks", []) if not c.get("ok", True)]
-                why = failure_sentence(min(bad, key=lambda c: c.get("margin") or 0.0), du) if bad else \
-                    str(nxt.get("failed") or "fails a check")
+                bad = [c for c in nxt.get("checks", []) if c.get("status", "fail" if not c.get("ok", True)
+                                                                    else "pass") == "fail"]
+                first = min(bad, key=lambda c: (c["name"] != "max_speed", c.get("margin") or 0.0)) if bad else None
+                why = failure_sentence(first, du) if first is not None else str(nxt.get("failed") or "fails a check")
                 details.append(f"Next smaller motor {candidate_label(nxt)} is rejected: {why}.")
             if any(c.get("approximate") for c in focus.checks):
                 details.append(_APPROX_NOTE)
+            unjudged = [c for c in focus.checks if c.get("status") == "unknown"]
+            if unjudged:
+                details += [f"Not judged, confirm with the vendor: {failure_sentence(c, du)}." for c in unjudged]
+                return Verdict("pass", f"Selected: {focus.label}, no check fails ({len(unjudged)} not judged)",
+                               details)
             return Verdict("pass", f"Selected: {focus.label}, passes every check", details)
         details = [d for d in (scope,) if d]
         if focus is not None:
             bad = [c for c in focus.checks if not c.get("ok", True)]
+            bad = [c for c in bad if c.get("status", "fail") == "fail"]
             details += [f"Closest: {focus.label}: " + failure_sentence(c, du) for c in
-                        sorted(bad, key=lambda c: c.get("margin") or 0.0)[:2]]
+                        sorted(bad, key=lambda c: (c["name"] != "max_speed", c.get("margin") or 0.0))[:2]]
         if sel.get("advice"):
-            details.append(str(sel["advice"]))
+            details += str(sel["advice"]).splitlines()
         return Verdict("fail", "No catalog motor passes every check", details)
     return Verdict("info", "Demand at the motor shaft (no motor given)", [
         f"Peak {du.fmt(m['peak_torque_Nm'], 'torque')}, RMS {du.fmt(m['rms_torque_Nm'], 'torque')}, "
@@ -375,13 +401,16 @@ def _checks_table(result: SizingResult, du: DisplayUnits, focus: Focus | None) -
     for c in [*(focus.checks if focus is not None else []), *own]:
         ok = bool(c["ok"])
         avail = c.get("available")
+        status = c.get("status")
+        unjudged = status in ("unknown", "not_judged")
+        verdict = {"unknown": "UNKNOWN", "not_judged": "NOT JUDGED"}.get(str(status), "PASS" if ok else "FAIL")
         rows.append([
             Cell(CHECK_NAMES.get(c["name"], c["name"].replace("_", " "))),
             Cell(_rule(c, factors), "muted"),
             Cell(check_value(c["required"], c["unit"], du)),
-            Cell(check_value(avail, c["unit"], du) if avail is not None else "no limit"),
-            Cell(fmt_percent(c.get("margin")), "pass" if ok else "fail"),
-            Cell("PASS" if ok else "FAIL", "pass" if ok else "fail"),
+            Cell(check_value(avail, c["unit"], du) if avail is not None else ("not given" if unjudged else "no limit")),
+            Cell(fmt_percent(c.get("margin")), "muted" if unjudged else ("pass" if ok else "fail")),
+            Cell(verdict, "muted" if unjudged else ("pass" if ok else "fail")),
         ])
     note = "Required values include the margin factors of the axis file; margin = available / required − 1. "
     if focus is not None and any(c.get("approximate") for c in focus.checks):
@@ -598,11 +627,14 @@ def _candidates_table(result: SizingResult, du: DisplayUnits) -> Table | None:
         checks: dict[str, dict[str, Any]] = {str(ch.get("name")): ch for ch in c.get("checks", [])
                                              if isinstance(ch, dict)}
 
-        failed = [ch for ch in checks.values() if not ch.get("ok", True)]
+        failed = [ch for ch in checks.values() if ch.get("status", "fail" if not ch.get("ok", True) else "pass")
+                  == "fail"]
         if c.get("ok"):
-            verdict = Cell("PASS", "pass")
+            unknown = c.get("unknown") or []
+            verdict = Cell("PASS" + (f" (not judged: {', '.join(unknown)})" if unknown else ""), "pass")
         elif failed:
-            verdict = Cell(failure_sentence(min(failed, key=lambda ch: ch.get("margin", 0.0)), du), "fail")
+            verdict = Cell(failure_sentence(min(failed, key=lambda ch: (ch["name"] != "max_speed",
+                                                                        ch.get("margin") or 0.0)), du), "fail")
         else:
             verdict = Cell(str(c.get("failed") or "FAIL"), "fail")
         ratio = c.get("ratio")
@@ -614,7 +646,8 @@ def _candidates_table(result: SizingResult, du: DisplayUnits) -> Table | None:
                      Cell(fmt_number(float(ir), 3) if isinstance(ir, (int, float)) else "—"),
                      _margin_cell(checks, "peak_torque"), _margin_cell(checks, "rms_torque"),
                      _margin_cell(checks, "max_speed"), verdict])
-    note = "Passing candidates in rank order, then the closest rejected ones with the reason each failed."
+    note = ("Passing candidates in rank order (the best configuration of each motor), then the closest rejected "
+            "ones with the reason each failed.")
     if len(result.candidates) > MAX_CANDIDATE_ROWS:
         note += f" The first {MAX_CANDIDATE_ROWS} of {len(result.candidates)} shown."
     sel = result.selection or {}
@@ -623,6 +656,12 @@ def _candidates_table(result: SizingResult, du: DisplayUnits) -> Table | None:
         parts = [f"{CHECK_NAMES.get(k, k)} {v}" for k, v in fails.items() if isinstance(v, int) and v]
         note += (f" Of {sel['evaluated']} configurations evaluated, rejections by check (a configuration may fail "
                  f"several): {', '.join(parts)}.")
+        unknown = sel.get("unknown_by_check")
+        if isinstance(unknown, dict):
+            gaps = [f"{CHECK_NAMES.get(k, k)} {v}" for k, v in unknown.items() if isinstance(v, int) and v]
+            if gaps:
+                note += (f" Not judged for lack of catalog data (policy: {sel.get('unknown_policy', 'flag')}): "
+                         f"{', '.join(gaps)}.")
     return Table("candidates", "Ranked candidates", ["#", "motor", "gearbox", "ratio", "J_L/J_M", "peak margin",
                                                      "RMS margin", "speed margin", "result / reason"], rows,
                  "lllrrrrrl", note, [0.045, 0.13, 0.12, 0.065, 0.08, 0.105, 0.105, 0.105, 0.245])
@@ -711,7 +750,17 @@ def _subtitle(result: SizingResult, focus: Focus | None) -> str:
     if mech.motion == "linear" and incline:
         parts[0] += ", vertical" if math.isclose(incline, math.pi / 2) else f", {math.degrees(incline):.3g}° incline"
     n = len(axis.transmission)
-    parts.append(f"{n} transmission element{'s' if n != 1 else ''}" if n else "direct drive")
+    geared = [st.name for st in axis.transmission if st.kind == "gearbox"]
+    picked = focus.candidate.get("gearbox") if focus is not None and focus.candidate else None
+    if picked:
+        parts.append(f"gearbox {picked} (i = {fmt_number(float(focus.candidate.get('ratio') or 1.0))})"
+                     if focus is not None and focus.candidate else f"gearbox {picked}")
+    if geared:
+        parts.append(", ".join(geared))
+    elif n:
+        parts.append(f"{n} transmission element{'s' if n != 1 else ''}")
+    elif not picked:
+        parts.append("direct drive")
     parts.append(f"{_plural(_moves(result), 'move')} in a {fmt_number(result.duty.period)} s cycle")
     if focus is not None:
         parts.append(("selected " if focus.origin == "selection" else "motor ") + focus.label)

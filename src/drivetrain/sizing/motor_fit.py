@@ -189,7 +189,8 @@ class Fit:
         bad = [(float(self.margin[n][k]), n) for n in self.names if self.margin[n][k] < 0.0]
         if not bad:
             return ""
-        m, n = min(bad)
+        # a motor that cannot reach the cycle's speed is rejected for that, first
+        m, n = min(bad, key=lambda b: (b[1] != "max_speed", b[0], b[1]))
         return (f"{n}: required {self.required[n][k]:.4g} {self.units[n]} > available "
                 f"{self.available[n][k]:.4g} {self.units[n]} ({m * 100:.1f} %)")
 
@@ -233,7 +234,7 @@ def fit_motors(d: Demand, motors: MotorArrays, *, torque_margin: float = 1.0, rm
     # Peak over the whole cycle: max over the global hull's vertices of |T + J alpha|.
     peak_all = _support(d.all_torque, d.all_alpha, j)
     # Peak against the envelope, per speed bin. A motor slower than the cycle's top bin has no
-    # torque there (margin -100 % at that bin), so only the others need every bin.
+    # torque there: its peak check is not judged (NaN) and its max_speed check fails.
     top = d.hull_speed[-1]
     slow = motors.max_speed[idx] < top
     full = np.flatnonzero(~slow)  # an unknown (NaN) max speed is judged at every bin
@@ -242,9 +243,10 @@ def fit_motors(d: Demand, motors: MotorArrays, *, torque_margin: float = 1.0, rm
     peak_av = np.empty(len(j))
     peak_m = np.empty(len(j))
     if short.size:
+        # not judged on torque where the motor cannot go: its max_speed check fails instead
         peak_req[short] = _support(d.hull_torque[-1], d.hull_alpha[-1], j[short]) * torque_margin
-        peak_av[short] = env_int[short, -1]
-        peak_m[short] = margin_of(peak_req[short], peak_av[short])
+        peak_av[short] = np.nan
+        peak_m[short] = np.nan
     if full.size:
         # (a loop over the few hull vertices: numpy reduces a short last axis slowly)
         jf = j[full]

@@ -50,9 +50,10 @@ class SizingResult:
 
     @property
     def ok(self) -> bool:
-        """True when the axis's own checks (slip, guide, brake, mechanism, drive) and the given motor or a
-        candidate pass."""
-        own = [self.extras[k]["ok"] for k in ("slip_check", "guide", "brake_check", "drive") if k in self.extras]
+        """True when the axis's own checks (slip, guide, brake, gearbox ratings, mechanism, drive) and the
+        given motor or a candidate pass."""
+        own = [self.extras[k]["ok"] for k in ("slip_check", "guide", "brake_check", "gearbox_checks", "drive")
+               if k in self.extras]
         own += [c["ok"] for c in self.extras.get("mechanism_checks", [])]
         if not all(own):
             return False
@@ -237,6 +238,79 @@ def _gearbox_split(axis: Axis, motor: MotorData, duty: DutyCycle, run_torque: fl
     return gearbox_split_at_motor_peak(axis, duty, motor.inertia, motor.peak_torque, run_torque)
 
 
+def gearbox_rating_checks(axis: Axis, duty: DutyCycle, motor: MotorData | None,
+                          strict: bool = False) -> dict[str, Any] | None:
+    """Every rating of each gearbox in ``transmission:`` that has a rating or a catalog id, checked
+    by ``checks.gearbox_ratings`` against the gearbox's own output torque and input speed over
+    the cycle; the emergency-stop torque needs a motor (given, or the selected one). A rating
+    that is not given is reported unknown, not passed; ``strict`` makes an unknown fail.
+    """
+    from drivetrain.duty.cycle import cubic_mean, gearbox_peak_torque, gearbox_split_at_motor_peak
+    from drivetrain.physics.transmission import GearboxSpec
+    from drivetrain.sizing.checks import GEARBOX_CHECKS, gearbox_ratings, shock_factor
+
+    margins = axis.spec.motor.margins if axis.spec.motor is not None else None
+    tm, sm = (margins.torque, margins.speed) if margins is not None else (1.0, 1.0)
+    shock = shock_factor(duty.period, margins.gearbox_shock_factor if margins is not None else None)
+    out: list[dict[str, Any]] = []
+    from drivetrain.axis.resolve import resolve_transmission
+
+    specs = resolve_transmission(axis.spec.transmission)  # a catalog row brings its ratings
+    first_gearbox = next((k for k, st in enumerate(axis.transmission) if st.kind == "gearbox"), -1)
+    for k, (spec, st) in enumerate(zip(specs, axis.transmission, strict=False)):
+        if not isinstance(spec, GearboxSpec):
+            continue
+        ratings = (spec.rated_torque, spec.max_torque, spec.emergency_stop_torque, spec.max_input_speed,
+                   spec.rated_input_speed)
+        if spec.catalog is None and all(r is None for r in ratings):
+            continue  # a bare ratio: nothing rated to check
+        t_out, w_in = duty.stage_torque[k], np.abs(duty.stage_omega[k]) * st.ratio
+        estop = math.nan
+        if motor is not None:
+            run = float(np.median(np.abs(duty.external))) if duty.external.size else 0.0
+            if k == first_gearbox:  # the lecture's split with everything before the mesh on the motor side
+                estop = gearbox_split_at_motor_peak(axis, duty, motor.inertia, motor.peak_torque, run)[
+                    "gearbox_output_torque_at_motor_peak_Nm"]
+            else:
+                j_before = sum(s.inertia for s in axis.transmission[: k + 1])
+                estop = gearbox_peak_torque(motor.peak_torque, motor.inertia + j_before,
+                                            duty.load_inertia - j_before, run) * st.ratio * st.efficiency
+        got = gearbox_ratings(float(np.max(np.abs(t_out))), cubic_mean(t_out, duty.stage_omega[k], duty.weights),
+                              float(np.max(w_in)), float(np.sum(duty.weights * w_in) / duty.period), estop,
+                              t2b=_nan(spec.max_torque), t2n=_nan(spec.rated_torque),
+                              t2not=_nan(spec.emergency_stop_torque), n1max=_nan(spec.max_input_speed),
+                              n1n=_nan(spec.rated_input_speed), torque_margin=tm, speed_margin=sm, shock=shock)
+        names = {"gearbox_peak_torque": "max_torque", "gearbox_rated_torque": "rated_torque",
+                 "gearbox_emergency_stop_torque": "emergency_stop_torque",
+                 "gearbox_max_input_speed": "max_input_speed", "gearbox_mean_input_speed": "rated_input_speed"}
+        for name in GEARBOX_CHECKS:
+            req, av, mar = (float(x) for x in got[name])
+            rpm = name.endswith("speed")
+            scale = 60.0 / (2.0 * math.pi) if rpm else 1.0
+            status = "unknown" if math.isnan(mar) else ("pass" if mar >= 0.0 else "fail")
+            check = {"name": name, "stage": st.name, "required": req * scale,
+                     "available": None if math.isnan(av) else av * scale, "unit": "rpm" if rpm else "N*m",
+                     "margin": mar if math.isfinite(mar) else None, "status": status,
+                     "ok": status == "pass" or (status == "unknown" and not strict), "approximate": False}
+            if status == "unknown":
+                if name == "gearbox_emergency_stop_torque" and motor is None:
+                    check["note"] = "needs the motor's peak torque: checked on the selected motor"
+                elif name == "gearbox_peak_torque" and math.isnan(shock) and not math.isnan(av):
+                    check["note"] = (f"{3600.0 / duty.period:.0f} cycles/h exceed the 1000/h that T2B holds for: "
+                                     "set motor.margins.gearbox_shock_factor from the vendor's chart")
+                else:
+                    check["note"] = f"transmission[{k}].{names[name]} not given"
+            out.append(check)
+    if not out:
+        return None
+    return {"checks": out, "ok": all(c["ok"] for c in out),
+            "unknown": [f"{c['stage']}: {c['name']}" for c in out if c["status"] == "unknown"]}
+
+
+def _nan(x: float | None) -> float:
+    return math.nan if x is None else float(x)
+
+
 def _brake_check(axis: Axis, duty: DutyCycle) -> dict[str, Any] | None:
     """A brake's holding torque against the torque it must hold in braked dwells [N m].
 
@@ -262,8 +336,13 @@ def _first_move_ramp_times(duty: DutyCycle) -> float:
     return 0.0
 
 
-def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64) -> SizingResult:
-    """Size an axis: its duty cycle at the motor shaft, the given motor's checks or a selection."""
+def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64,
+         all_pairs: bool = False) -> SizingResult:
+    """Size an axis: its duty cycle at the motor shaft, the given motor's checks or a selection.
+
+    A selection lists the best configuration of each motor; ``all_pairs`` lists every passing
+    motor-gearbox pair instead (``drivetrain size --all``).
+    """
     if isinstance(axis, (str, Path)):
         axis = load_axis(axis)
     elif isinstance(axis, dict):
@@ -292,12 +371,15 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64) -
     brake = _brake_check(axis, duty)
     if brake is not None:
         result.extras["brake_check"] = brake
+    strict = bool(axis.spec.motor is not None and axis.spec.motor.select is not None
+                  and axis.spec.motor.select.unknown == "fail")
     if axis.motor is not None:
         result.motor = motor_result(axis, duty, axis.motor)
         for key in ("drive", "regen"):  # the electrical half's blocks sit beside the motor's
             block = result.motor.pop(f"_{key}", None)
             if block is not None:
                 result.extras[key] = block
+        gear = gearbox_rating_checks(axis, duty, axis.motor)
     elif axis.drive is not None:
         from drivetrain.errors import InputError
 
@@ -306,7 +388,27 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64) -
     elif axis.spec.motor is not None and axis.spec.motor.select is not None:
         from drivetrain.sizing.selection import select
 
-        chosen = select(axis, duty, axis.spec.motor.select, axis.spec.motor.margins)
+        chosen = select(axis, duty, axis.spec.motor.select, axis.spec.motor.margins, all_pairs=all_pairs)
         result.candidates = chosen["candidates"]
         result.selection = chosen["selection"]
+        gear = gearbox_rating_checks(axis, duty, _selected_motor(result.selection), strict)
+        own = [st.name for st in axis.transmission if st.kind == "gearbox"]
+        if own and not result.selection.get("gearbox_rows"):
+            # the motors go direct onto the axis's own gearbox: say so, not "direct drive, ratio 1"
+            result.selection["transmission_gearbox"] = ", ".join(own)
+    else:
+        gear = gearbox_rating_checks(axis, duty, None)
+    if gear is not None:
+        result.extras["gearbox_checks"] = gear
     return result
+
+
+def _selected_motor(selection: dict[str, Any]) -> MotorData | None:
+    """The selected catalog motor as MotorData (for the checks that need its peak torque), if any."""
+    if "_best" not in selection:
+        return None
+    motors, _ = selection["_tables"]
+    m = int(selection["_candidates"].motor[selection["_best"]])
+    return MotorData(name=str(motors.ids[m]), inertia=float(motors.rotor_inertia[m]),
+                     rated_torque=float(motors.rated_torque[m]), peak_torque=float(motors.peak_torque[m]),
+                     rated_speed=float(motors.rated_speed[m]), max_speed=float(motors.max_speed[m]))

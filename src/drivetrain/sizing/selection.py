@@ -8,18 +8,19 @@ forms over arrays (motor_fit.py).
 
 Checks per candidate (each with required, available, margin, ok): peak torque against the
 intermittent envelope at the speed where it occurs, RMS torque against the continuous torque
-at the mean speed, max speed against the motor and the gearbox's input speed, inertia ratio,
-and for a gearbox: its rated output torque against the cycle's speed-weighted cubic-mean
-output torque (Harmonic Drive / strain-wave selection practice), and the torque that passes it
-when the motor gives its peak torque, (1 - k)(T_M - T_L) + T_L with k = J_M / (J_M + J_LR)
-(lecture, Dynamic Loading and Gearbox Sizing), against its emergency-stop or max torque.
+at the mean speed, max speed against the motor's, inertia ratio, and for a gearbox: whether
+the motor can be assembled onto it (``checks.mechanical_fit``) and every rating as vendors
+rate it (``checks.gearbox_ratings``: T2B, T2N, T2NOT, n1max, n1N).
+
+A check whose rating or dimension the catalog lacks is *unknown* (margin NaN). Unknown checks
+do not reject a candidate by default (``motor.select.unknown: flag``): it passes with status
+``unknown`` and the names of those checks, and the answer says so, as it does for an envelope
+derived from ratings; ``unknown: fail`` rejects it instead (docs/checks.md).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -28,8 +29,11 @@ from numpy.typing import NDArray
 from drivetrain.duty.cycle import cubic_mean
 from drivetrain.errors import InputError
 from drivetrain.physics.stage import Stage
+from drivetrain.sizing.candidates import CHECK_UNITS, FIT_BIT, MOTOR_CHECKS, Candidates, Details, closest, column
+from drivetrain.sizing.checks import shock_factor
 from drivetrain.sizing.envelope import continuous_torque, intermittent_torque, motor_envelopes
 from drivetrain.sizing.motor_fit import Demand, demand
+from drivetrain.sizing.reasons import advice, candidate_dict, explain
 from drivetrain.units import to_rpm
 
 if TYPE_CHECKING:
@@ -38,85 +42,6 @@ if TYPE_CHECKING:
     from drivetrain.duty.cycle import DutyCycle
 
 Array = NDArray[np.float64]
-
-CHECK_UNITS = {"peak_torque": "N*m", "rms_torque": "N*m", "max_speed": "rpm", "inertia_ratio": "-",
-               "gearbox_rated_torque": "N*m", "gearbox_peak_torque": "N*m"}
-
-
-@dataclass(frozen=True)
-class Details:
-    """Every check of some candidates (index j over the candidates asked for)."""
-
-    required: dict[str, Array]
-    available: dict[str, Array]
-    margin: dict[str, Array]
-    approximate: dict[str, NDArray[np.bool_]]
-    rms_torque: Array  # RMS motor torque, rotor included [N m]
-    peak_torque: Array  # peak motor torque over the cycle [N m]
-    inertia_ratio: Array
-
-
-@dataclass(frozen=True)
-class Candidates:
-    """Every evaluated candidate (index k), compact: who it is, its worst margin, which checks fail.
-
-    The full checks of any candidates are recomputed on demand by :meth:`details` (the same
-    compiled arithmetic), so a selection over 10^5-10^6 candidates keeps 17 bytes of each.
-    """
-
-    motor: NDArray[np.int32]  # index into the motor table
-    slot: NDArray[np.int32]  # index into slot_row / slot_group
-    worst_margin: Array  # smallest margin [-], NaN where a margin is NaN
-    failed: NDArray[np.uint8]  # bit c set where check c (CHECK_UNITS order) does not pass
-    slot_row: NDArray[np.int64]  # gearbox row of each slot, -1 for direct drive
-    slot_group: NDArray[np.int64]  # (ratio, efficiency) group of each slot
-    group_ratio: Array
-    approx_motor: NDArray[np.bool_]  # the motor's envelope is derived from its ratings
-    model: tuple[Any, ...]  # the kernel's arrays (_select_kernel._one)
-
-    @cached_property
-    def ok(self) -> NDArray[np.bool_]:
-        """True where every check passes."""
-        return self.failed == 0
-
-    def gearbox(self, ks: NDArray[np.intp] | int) -> Any:
-        """Gearbox row of the candidates ``ks``, -1 for direct drive."""
-        return self.slot_row[self.slot[ks]]
-
-    def ratio(self, ks: NDArray[np.intp] | int) -> Any:
-        """Gear ratio of the candidates ``ks`` [-]."""
-        return self.group_ratio[self.slot_group[self.slot[ks]]]
-
-    def of_motors(self, motors: NDArray[np.intp]) -> NDArray[np.intp]:
-        """The candidates of these motors (ascending)."""
-        hit = np.zeros(len(self.approx_motor), dtype=bool)
-        hit[motors] = True
-        return np.flatnonzero(hit[self.motor])
-
-    def failures(self) -> dict[str, int]:
-        """How many candidates fail each check."""
-        return {n: int(np.count_nonzero(self.failed & (1 << c))) for c, n in enumerate(CHECK_UNITS)}
-
-    def details(self, ks: NDArray[np.intp] | list[int]) -> Details:
-        """Required, available and margin of every check of the candidates ``ks``."""
-        from drivetrain.sizing.kernel import D_INERTIA, D_PEAK, D_RMS, N_CHECKS, N_DETAIL, check
-
-        ks = np.asarray(ks, dtype=np.intp)
-        slots = self.slot[ks]
-        pick = np.stack([self.motor[ks], self.slot_group[slots], slots]).astype(np.int64)
-        out = np.empty((N_DETAIL, len(ks)))
-        none = np.empty(0, dtype=np.int32)
-        check(self.model, np.zeros(1, dtype=np.int64), self.slot_row, pick, none, none, np.empty(0),
-              np.empty(0, dtype=np.uint8), out)
-        names = list(CHECK_UNITS)
-        approx = self.approx_motor[pick[0]]
-        exact = np.zeros(len(ks), dtype=bool)
-        return Details(required=dict(zip(names, out[:N_CHECKS], strict=True)),
-                       available=dict(zip(names, out[N_CHECKS:2 * N_CHECKS], strict=True)),
-                       margin=dict(zip(names, out[2 * N_CHECKS:3 * N_CHECKS], strict=True)),
-                       approximate={n: approx if n in ("peak_torque", "rms_torque") else exact for n in names},
-                       rms_torque=out[D_RMS], peak_torque=out[D_PEAK], inertia_ratio=out[D_INERTIA])
-
 
 def _gearbox_options(gb: GearboxTable | None, allow_direct: bool) -> tuple[Array, Array, NDArray[np.int64],
                                                                           NDArray[np.int64]]:
@@ -154,7 +79,7 @@ def _padded(arrays: list[Array], shape: tuple[int, ...]) -> Array:
 
 
 def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable | None, margins: Margins,
-             allow_direct: bool = True, max_inertia_ratio: float | None = None) -> Candidates:
+             allow_direct: bool = True, max_inertia_ratio: float | None = None, strict: bool = False) -> Candidates:
     """Check every motor against every gearbox row (and direct drive) in one compiled pass.
 
     The per-sample work runs once per distinct gearbox efficiency (its losses at ratio 1, then
@@ -197,22 +122,22 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
                     axis=1)
     g_speed = np.stack([np.max(speed_g, axis=1), np.sum(w_g * speed_g, axis=1) / duty.period], axis=1)
     g_j_load = duty.load_inertia / ratio**2
-    # Envelopes: intermittent at each group's top bin, continuous at its mean speed (every motor),
-    # intermittent at every bin for the motors that reach the top bin.
+    # Envelopes: continuous at each group's mean speed (every motor), intermittent at every bin for
+    # the motors that reach the top bin (a slower motor is not judged on torque). With curves, the
+    # intermittent one at the top bin too, for the approximate flag as fit_motors sets it.
     n_m, n_g = len(motors), len(ratio)
     rated, peak, w_n, w_max, stall = (motors.rated_torque, motors.peak_torque, motors.rated_speed, motors.max_speed,
                                       motors.stall_torque)
     curves = tuple(motors.curves) if any(c is not None for c in motors.curves) else None
     if curves is None:
-        env_top = intermittent_torque(peak, rated, w_n, w_max, hull_speed[:, -1], stall).torque
         cont_mean = continuous_torque(rated, w_n, w_max, g_speed[:, 1], stall).torque
         approx_motor = ~motors.has_curve
     else:
         cont_env, peak_env = motor_envelopes(rated, peak, w_n, w_max, np.concatenate([hull_speed[:, -1],
                                                                                       g_speed[:, 1]]), stall, curves)
-        env_top, cont_mean = peak_env.torque[:, :n_g], cont_env.torque[:, n_g:]
+        cont_mean = cont_env.torque[:, n_g:]
         approx_motor = np.asarray(peak_env.approximate, dtype=bool) | np.asarray(cont_env.approximate, dtype=bool)
-    env_top, cont_mean = np.ascontiguousarray(env_top), np.ascontiguousarray(cont_mean)
+    cont_mean = np.ascontiguousarray(cont_mean)
     reaches = ~(w_max[None, :] < hull_speed[:, -1:])  # (G, M); an unknown max speed is judged at every bin
     g_of, m_of = np.nonzero(reaches)
     full_row = np.full((n_g, n_m), -1, dtype=np.int64)
@@ -224,32 +149,33 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     elif len(g_of) and curves is not None:
         env_full = motor_envelopes(rated[m_of], peak[m_of], w_n[m_of], w_max[m_of], hull_speed[g_of], stall[m_of],
                                    [curves[m] for m in m_of])[1].torque
-    # Gearbox rows, gaps filled as the checks read them.
+    # Gearbox rows as the checks read them: NaN where a rating or dimension is unknown.
     if gb is not None and len(gb):
         gb_j = np.nan_to_num(gb.inertia_input, nan=0.0)
-        gb_speed = np.where(np.isnan(gb.max_input_speed), math.inf, gb.max_input_speed)
-        gb_speed = np.where(np.isinf(gb_speed), np.where(np.isnan(gb.rated_input_speed), math.inf,
-                                                         gb.rated_input_speed), gb_speed)
-        gb_rated = np.where(np.isnan(gb.rated_output_torque), math.inf, gb.rated_output_torque)
-        estop = np.where(np.isnan(gb.emergency_stop_torque), math.inf, gb.emergency_stop_torque)
-        gb_cap = np.where(np.isnan(gb.max_output_torque), estop, gb.max_output_torque)
+        gb_cols = [gb.max_input_speed, gb.rated_input_speed, gb.rated_output_torque, gb.max_output_torque,
+                   gb.emergency_stop_torque] + [column(gb, c) for c in ("input_bore_max", "input_bore_min",
+                                                                          "input_flange", "input_pilot")]
     else:
-        gb_j = gb_speed = gb_rated = gb_cap = np.zeros(1)
+        gb_j = np.zeros(1)
+        gb_cols = [np.zeros(1)] * 9
+    out_peak = float(np.max(np.abs(duty.torque))) if duty.torque.size else 0.0
+    shock = shock_factor(duty.period, margins.gearbox_shock_factor)
     par = np.array([duty.period, margins.torque, margins.rms_torque or margins.torque, margins.speed, limit,
-                    out_cubic, run_t])
+                    out_cubic, run_t, out_peak, shock])
     f64 = np.ascontiguousarray
-    model = (f64(motors.rotor_inertia, dtype=float), f64(peak, dtype=float), f64(w_max, dtype=float), env_top,
-             cont_mean, full_row, f64(env_full, dtype=float), ratio, eff_g, hull_speed, hull_t, hull_a, all_t, all_a,
-             sums, g_speed, g_j_load, f64(gb_j, dtype=float), f64(gb_speed, dtype=float), f64(gb_rated, dtype=float),
-             f64(gb_cap, dtype=float), par)
+    model = (f64(motors.rotor_inertia, dtype=float), f64(peak, dtype=float), f64(w_max, dtype=float),
+             *(f64(column(motors, c), dtype=float) for c in ("shaft_diameter", "flange", "pilot_diameter")),
+             cont_mean, full_row, f64(env_full, dtype=float), ratio, eff_g, hull_speed, hull_t, hull_a, all_t,
+             all_a, sums, g_speed, g_j_load, f64(gb_j, dtype=float), *(f64(c, dtype=float) for c in gb_cols), par)
     n = n_m * len(rows)
     motor_idx, slot = np.empty(n, dtype=np.int32), np.empty(n, dtype=np.int32)
-    worst, failed = np.empty(n), np.empty(n, dtype=np.uint8)
-    check(model, row_start, rows, np.empty((3, 0), dtype=np.int64), motor_idx, slot, worst, failed, np.empty((0, 0)))
+    worst, failed, unknown = np.empty(n), np.empty(n, dtype=np.uint16), np.empty(n, dtype=np.uint16)
+    check(model, row_start, rows, np.empty((3, 0), dtype=np.int64), motor_idx, slot, worst, failed, unknown,
+          np.empty((0, 0)))
     slot_group = np.repeat(np.arange(n_g), np.diff(row_start))
-    return Candidates(motor=motor_idx, slot=slot, worst_margin=worst, failed=failed, slot_row=rows,
+    return Candidates(motor=motor_idx, slot=slot, worst_margin=worst, failed=failed, unknown=unknown, slot_row=rows,
                       slot_group=slot_group, group_ratio=ratio, approx_motor=np.asarray(approx_motor, dtype=bool),
-                      model=model)
+                      model=model, strict=strict)
 
 
 def _size_key(motors: MotorTable) -> Array:
@@ -298,19 +224,12 @@ def _energy(c: Candidates, ks: NDArray[np.intp], motors: MotorTable, gb: Gearbox
     return out
 
 
-def _closest(c: Candidates, pool: NDArray[np.intp]) -> int:
-    """The candidate of ``pool`` with the largest worst margin (an unknown, NaN, margin counts as the lowest)."""
-    w = c.worst_margin[pool]
-    return int(pool[np.argmax(np.where(np.isnan(w), -np.inf, w))])
-
-
 def _closest_failing(c: Candidates, n: int) -> NDArray[np.intp]:
     """The ``n`` failing candidates with the largest worst margins, best first: ties in index order, NaN
     margins last (as a stable sort of every failing candidate, without sorting them all)."""
     from drivetrain.sizing.kernel import closest_failing
 
-    return np.asarray(closest_failing(np.asarray(c.worst_margin, dtype=float),
-                                      np.asarray(c.failed, dtype=np.uint8), n), dtype=np.intp)
+    return np.asarray(closest_failing(np.asarray(c.worst_margin, dtype=float), c.rejected, n), dtype=np.intp)
 
 
 def pareto_front(size: Array, margin: Array, ratio: Array) -> NDArray[np.intp]:
@@ -326,8 +245,19 @@ def pareto_front(size: Array, margin: Array, ratio: Array) -> NDArray[np.intp]:
     return np.flatnonzero(keep)
 
 
-def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins) -> dict[str, Any]:
-    """Evaluate the catalog against the duty cycle; rank, explain and summarise."""
+def best_per_motor(c: Candidates, ranked: NDArray[np.intp]) -> NDArray[np.intp]:
+    """The first candidate of each motor in ``ranked`` (its best configuration), in ranked order."""
+    _, first = np.unique(c.motor[ranked], return_index=True)
+    return ranked[np.sort(first)]
+
+
+def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
+           all_pairs: bool = False) -> dict[str, Any]:
+    """Evaluate the catalog against the duty cycle; rank, explain and summarise.
+
+    The ranked list holds the best configuration of each motor (its best gearbox), so the top
+    ``spec.top`` are that many different motors; ``all_pairs`` lists every passing pair instead.
+    """
     from drivetrain import catalog
 
     kind = None if spec.kind == "any" else spec.kind
@@ -347,22 +277,29 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins) -> d
         except InputError as exc:
             raise exc.at("motor.select.gearbox_series") from None
     c = evaluate(axis, duty, motors, gb, margins, allow_direct=spec.gearbox != "only" or gb is None,
-                 max_inertia_ratio=spec.max_inertia_ratio)
-    ok = c.ok
-    passing = np.flatnonzero(ok)
+                 max_inertia_ratio=spec.max_inertia_ratio, strict=spec.unknown == "fail")
+    passing = np.flatnonzero(c.ok)
     passing = passing[np.argsort(_objective(c, passing, motors, gb, spec.objective, duty), kind="stable")]
-    n_fail = max(spec.top - min(len(passing), spec.top), 3)
-    failing = _closest_failing(c, n_fail)
+    # a pair not known to assemble (a dimension missing) ranks after every pair known to
+    passing = passing[np.argsort((c.unknown[passing] & FIT_BIT) != 0, kind="stable")]
+    listed = passing if all_pairs else best_per_motor(c, passing)
+    shown_ok = listed if all_pairs else listed[: spec.top]
+    n_fail = max(spec.top - min(len(shown_ok), spec.top), 3)
+    failing = _closest_failing(c, n_fail * 8)
+    failing = failing if all_pairs else best_per_motor(c, failing)
 
     def row(k: int, rank: int | None) -> dict[str, Any]:
         return candidate_dict(c, k, motors, gb, rank)
 
-    shown = [row(int(k), r + 1) for r, k in enumerate(passing[: spec.top])]
+    shown = [row(int(k), r + 1) for r, k in enumerate(shown_ok)]
     shown += [row(int(k), None) for k in failing[: max(spec.top - len(shown), 3)]]
     summary: dict[str, Any] = {
         "objective": spec.objective, "evaluated": len(c.motor), "motors": len(motors),
         "gearbox_rows": 0 if gb is None else len(gb), "passing": len(passing),
-        "failures_by_check": c.failures(),
+        "passing_motors": len(np.unique(c.motor[passing])),
+        "listing": "all_pairs" if all_pairs else "best_per_motor",
+        "unknown_policy": spec.unknown, "failures_by_check": c.failures(), "unknown_by_check": c.unknowns(),
+        "cycles_per_hour": 3600.0 / duty.period,
     }
     if len(passing):
         best = int(passing[0])
@@ -373,9 +310,14 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins) -> d
         top = passing[:2000]
         front = pareto_front(_size_key(motors)[c.motor[top]], c.worst_margin[top], c.details(top).inertia_ratio)
         summary["pareto_front"] = [_label(c, int(top[k]), motors, gb) for k in front[:50]]
+        flagged = int(np.count_nonzero(c.unknown[passing]))
+        if flagged:
+            summary["unverified"] = (f"{flagged} of {len(passing)} passing configurations have checks the catalog "
+                                     "cannot judge (status unknown): confirm them with the vendor")
     else:
-        summary["advice"] = advice(c, margins, spec)
+        summary["advice"] = advice(c, margins, spec, motors, gb)
     summary["_candidates"] = c
+    summary["_ranked"] = passing
     summary["_tables"] = (motors, gb)
     return {"candidates": shown, "selection": summary}
 
@@ -385,54 +327,13 @@ def _label(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None) -
     return str(motors.ids[c.motor[k]]) + ("" if g < 0 or gb is None else f" + {gb.ids[g]}")
 
 
-def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None,
-                   rank: int | None) -> dict[str, Any]:
-    """One candidate as in design.md: motor, gearbox, ratio, inertia ratio, ok, checks, why it failed."""
-    m, g = int(c.motor[k]), int(c.gearbox(k))
-    d = c.details([k])
-    checks = []
-    for n in CHECK_UNITS:
-        req, avail, mar = float(d.required[n][0]), float(d.available[n][0]), float(d.margin[n][0])
-        if n.startswith("gearbox") and g < 0:
-            continue
-        checks.append({"name": n, "required": req, "available": avail if math.isfinite(avail) else None,
-                       "unit": CHECK_UNITS[n], "margin": mar if math.isfinite(mar) else None, "ok": mar >= 0.0,
-                       "approximate": bool(d.approximate[n][0])})
-    bad = [(float(d.margin[n][0]), n) for n in CHECK_UNITS if not d.margin[n][0] >= 0.0]
-    failed = ""
-    if bad:
-        # the worst known shortfall; a NaN margin (a rating the catalog lacks) only when no other fails
-        mar, n = min(bad, key=lambda b: (math.isnan(b[0]), b[0], b[1]))
-        failed = (f"{n}: required {d.required[n][0]:.4g} {CHECK_UNITS[n]} > available "
-                  f"{d.available[n][0]:.4g} {CHECK_UNITS[n]} ({mar * 100:.1f} %)" if not math.isnan(mar) else
-                  f"{n}: cannot be checked, the catalog lacks a rating it needs (available "
-                  f"{d.available[n][0]:.4g} {CHECK_UNITS[n]})")
-    return {
-        "rank": rank, "motor": str(motors.ids[m]), "vendor": str(motors.vendor[m]),
-        "gearbox": None if g < 0 or gb is None else str(gb.ids[g]), "ratio": float(c.ratio(k)),
-        "inertia_ratio": float(d.inertia_ratio[0]), "rms_torque_Nm": float(d.rms_torque[0]),
-        "peak_torque_Nm": float(d.peak_torque[0]), "rated_power_W": float(motors.rated_power[m]),
-        "ok": not bad, "failed": failed, "approximate_envelope": bool(~motors.has_curve[m]),
-        "rated_torque_derived": bool(motors.approx_rated[m]), **_trace(motors, m, gb, g), "checks": checks,
-    }
-
-
-def _trace(motors: MotorTable, m: int, gb: GearboxTable | None, g: int) -> dict[str, Any]:
-    """``unverified`` and its reason: the motor's or the gearbox's catalog row is not traced to a vendor
-    document, or a rating the sizing uses was derived (catalog.schema.trace)."""
-    reasons = [f"motor: {motors.unverified_reason[m]}"] if motors.unverified[m] else []
-    if gb is not None and g >= 0 and gb.unverified[g]:
-        reasons.append(f"gearbox: {gb.unverified_reason[g]}")
-    return {"unverified": bool(reasons), "unverified_reason": "; ".join(reasons) or None}
-
-
 def _next_smaller(c: Candidates, motors: MotorTable, gb: GearboxTable | None, best: int) -> dict[str, Any] | None:
     """The next smaller motor than the selected one, in its best configuration, and why it fails."""
     size = _size_key(motors)
     smaller = np.flatnonzero(size < size[c.motor[best]])  # every motor has candidates
     if not len(smaller):
         return None
-    k = _closest(c, c.of_motors(np.flatnonzero(size == np.max(size[smaller]))))
+    k = closest(c, c.of_motors(np.flatnonzero(size == np.max(size[smaller]))))
     return candidate_dict(c, k, motors, gb, None)
 
 
@@ -489,53 +390,5 @@ def optimal_ratio(axis: Axis, duty: DutyCycle, motors: MotorTable, m: int,
             "max_ratio_for_speed": top, "nearest_catalog_ratio": nearest}
 
 
-def advice(c: Candidates, margins: Margins, spec: SelectSpec) -> str:
-    """What to relax when nothing passes: the check that blocks most and the best candidate's shortfall."""
-    d = c.details([_closest(c, np.arange(len(c.motor)))])
-    blocking = [(float(d.margin[n][0]), n) for n in CHECK_UNITS if d.margin[n][0] < 0]
-    parts = [f"no candidate passes all checks ({len(c.motor)} evaluated)."]
-    for mar, n in sorted(blocking):
-        need = d.required[n][0]
-        have = d.available[n][0]
-        if n == "inertia_ratio":
-            parts.append(f"the closest candidate needs an inertia ratio of {need:.3g} (limit {have:.3g}): raise "
-                         "motor.margins.inertia_ratio or allow a gearbox (motor.select.gearbox: auto)")
-        elif n == "max_speed":
-            parts.append(f"it needs {need:.0f} rpm but reaches {have:.0f} rpm: a smaller ratio or a faster motor")
-        else:
-            parts.append(f"{n} short by {-mar * 100:.0f} % ({need:.4g} vs {have:.4g} {CHECK_UNITS[n]}): lengthen "
-                         "the acceleration times, lower margins, or widen the vendor/voltage filters")
-    if spec.vendor or spec.voltage or spec.flange:
-        parts.append("filters in use: " + ", ".join(f"{k}={getattr(spec, k)}" for k in ("vendor", "voltage", "flange")
-                                                    if getattr(spec, k)))
-    return " ".join(parts)
-
-
-def explain(result_selection: dict[str, Any], model: str) -> str:
-    """Why a catalog motor was accepted or rejected, in its best configuration."""
-    c: Candidates = result_selection["_candidates"]
-    motors, gb = result_selection["_tables"]
-    ids = np.asarray(motors.ids)
-    hits = np.flatnonzero(ids == model)
-    if not len(hits):
-        lowered = {str(i).lower(): i for i in ids}
-        if model.lower() in lowered:
-            hits = np.flatnonzero(ids == lowered[model.lower()])
-        else:
-            raise InputError("--explain", "is not among the evaluated motors (check the filters)", model)
-    rows = c.of_motors(hits)
-    d = candidate_dict(c, _closest(c, rows), motors, gb, None)
-    n_ok = int(np.sum(c.ok[rows]))
-    lines = [f"{model}: {n_ok} of {len(rows)} configurations pass; best configuration: "
-             f"{d['gearbox'] or 'direct drive'} (ratio {d['ratio']:.4g}, inertia ratio {d['inertia_ratio']:.3g})"]
-    for ch in d["checks"]:
-        mar = "n/a" if ch["margin"] is None else f"{ch['margin'] * 100:+.1f} %"
-        avail = "n/a" if ch["available"] is None else f"{ch['available']:.4g}"
-        lines.append(f"  {'ok  ' if ch['ok'] else 'FAIL'} {ch['name']}: required {ch['required']:.4g}, available "
-                     f"{avail} {ch['unit']} ({mar})")
-    if d["failed"]:
-        lines.append(f"  rejected because {d['failed']}")
-    return "\n".join(lines)
-
-
-__all__ = ["Candidates", "Details", "candidate_cycle", "evaluate", "explain", "optimal_ratio", "select", "to_rpm"]
+__all__ = ["CHECK_UNITS", "MOTOR_CHECKS", "Candidates", "Details", "best_per_motor", "candidate_cycle", "evaluate",
+           "explain", "optimal_ratio", "select", "to_rpm"]

@@ -1,0 +1,128 @@
+"""The evaluated candidates of a catalog selection, compactly: who each is, its worst margin, which
+checks fail and which cannot be judged; every check of any of them recomputed on demand."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+Array = NDArray[np.float64]
+
+
+CHECK_UNITS = {"peak_torque": "N*m", "rms_torque": "N*m", "max_speed": "rpm", "inertia_ratio": "-",
+               "mechanical_fit": "mm", "gearbox_peak_torque": "N*m", "gearbox_rated_torque": "N*m",
+               "gearbox_emergency_stop_torque": "N*m", "gearbox_max_input_speed": "rpm",
+               "gearbox_mean_input_speed": "rpm"}
+"""Every check of a candidate with its unit, in the order of the compiled pass's arrays (kernel.py)."""
+
+FIT_BIT = 1 << list(CHECK_UNITS).index("mechanical_fit")
+
+MOTOR_CHECKS = ("peak_torque", "rms_torque", "max_speed", "inertia_ratio")
+"""The checks a direct-drive candidate has; the others belong to a gearbox."""
+
+
+@dataclass(frozen=True)
+class Details:
+    """Every check of some candidates (index j over the candidates asked for)."""
+
+    required: dict[str, Array]
+    available: dict[str, Array]
+    margin: dict[str, Array]
+    approximate: dict[str, NDArray[np.bool_]]
+    rms_torque: Array  # RMS motor torque, rotor included [N m]
+    peak_torque: Array  # peak motor torque over the cycle [N m]
+    inertia_ratio: Array
+
+
+@dataclass(frozen=True)
+class Candidates:
+    """Every evaluated candidate (index k), compact: who it is, its worst margin, which checks fail.
+
+    The full checks of any candidates are recomputed on demand by :meth:`details` (the same
+    compiled arithmetic), so a selection over 10^5-10^6 candidates keeps 17 bytes of each.
+    """
+
+    motor: NDArray[np.int32]  # index into the motor table
+    slot: NDArray[np.int32]  # index into slot_row / slot_group
+    worst_margin: Array  # smallest known margin [-], NaN where no margin is known
+    failed: NDArray[np.uint16]  # bit c set where check c (CHECK_UNITS order) fails (margin < 0)
+    unknown: NDArray[np.uint16]  # bit c set where check c cannot be judged (margin NaN)
+    slot_row: NDArray[np.int64]  # gearbox row of each slot, -1 for direct drive
+    slot_group: NDArray[np.int64]  # (ratio, efficiency) group of each slot
+    group_ratio: Array
+    approx_motor: NDArray[np.bool_]  # the motor's envelope is derived from its ratings
+    model: tuple[Any, ...]  # the kernel's arrays (kernel.check)
+    strict: bool = False  # an unknown check rejects the candidate (motor.select.unknown: fail)
+
+    @cached_property
+    def ok(self) -> NDArray[np.bool_]:
+        """True where no check fails (and, when strict, none is unknown)."""
+        if self.strict:
+            return (self.failed == 0) & (self.unknown == 0)
+        return self.failed == 0
+
+    @cached_property
+    def rejected(self) -> NDArray[np.uint8]:
+        """1 where the candidate does not pass (the complement of ``ok``, for the compiled ranking)."""
+        return (~self.ok).astype(np.uint8)
+
+    def gearbox(self, ks: NDArray[np.intp] | int) -> Any:
+        """Gearbox row of the candidates ``ks``, -1 for direct drive."""
+        return self.slot_row[self.slot[ks]]
+
+    def ratio(self, ks: NDArray[np.intp] | int) -> Any:
+        """Gear ratio of the candidates ``ks`` [-]."""
+        return self.group_ratio[self.slot_group[self.slot[ks]]]
+
+    def of_motors(self, motors: NDArray[np.intp]) -> NDArray[np.intp]:
+        """The candidates of these motors (ascending)."""
+        hit = np.zeros(len(self.approx_motor), dtype=bool)
+        hit[motors] = True
+        return np.flatnonzero(hit[self.motor])
+
+    def failures(self) -> dict[str, int]:
+        """How many candidates fail each check."""
+        return {n: int(np.count_nonzero(self.failed & (1 << c))) for c, n in enumerate(CHECK_UNITS)}
+
+    def unknowns(self) -> dict[str, int]:
+        """How many candidates cannot be judged on each check (a rating or dimension unknown)."""
+        return {n: int(np.count_nonzero(self.unknown & (1 << c))) for c, n in enumerate(CHECK_UNITS)}
+
+    def details(self, ks: NDArray[np.intp] | list[int]) -> Details:
+        """Required, available and margin of every check of the candidates ``ks``."""
+        from drivetrain.sizing.kernel import D_INERTIA, D_PEAK, D_RMS, N_CHECKS, N_DETAIL, check
+
+        ks = np.asarray(ks, dtype=np.intp)
+        slots = self.slot[ks]
+        pick = np.stack([self.motor[ks], self.slot_group[slots], slots]).astype(np.int64)
+        out = np.empty((N_DETAIL, len(ks)))
+        none = np.empty(0, dtype=np.int32)
+        bits = np.empty(0, dtype=np.uint16)
+        check(self.model, np.zeros(1, dtype=np.int64), self.slot_row, pick, none, none, np.empty(0), bits, bits, out)
+        names = list(CHECK_UNITS)
+        approx = self.approx_motor[pick[0]]
+        exact = np.zeros(len(ks), dtype=bool)
+        return Details(required=dict(zip(names, out[:N_CHECKS], strict=True)),
+                       available=dict(zip(names, out[N_CHECKS:2 * N_CHECKS], strict=True)),
+                       margin=dict(zip(names, out[2 * N_CHECKS:3 * N_CHECKS], strict=True)),
+                       approximate={n: approx if n in ("peak_torque", "rms_torque") else exact for n in names},
+                       rms_torque=out[D_RMS], peak_torque=out[D_PEAK], inertia_ratio=out[D_INERTIA])
+
+
+def column(table: Any, name: str) -> Array:
+    """A numeric column of a catalog table, all NaN (unknown) where the table has no such column."""
+    value = getattr(table, name, None)
+    return np.full(len(table), np.nan) if value is None else np.asarray(value, dtype=float)
+
+
+def closest(c: Candidates, pool: NDArray[np.intp]) -> int:
+    """The candidate of ``pool`` with the largest worst margin (an unknown, NaN, margin counts as the lowest)."""
+    w = c.worst_margin[pool]
+    return int(pool[np.argmax(np.where(np.isnan(w), -np.inf, w))])
+
+
+__all__ = ["CHECK_UNITS", "FIT_BIT", "MOTOR_CHECKS", "Candidates", "Details", "closest", "column"]

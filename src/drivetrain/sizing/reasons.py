@@ -1,0 +1,258 @@
+"""A selection's answer in words: each candidate's checks with status, why it fails (one line per
+check, a motor too slow for the cycle first), what cannot be judged and why, what to relax when
+nothing passes, and why a given catalog motor was accepted or rejected (``--explain``)."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from drivetrain.errors import InputError
+from drivetrain.sizing.candidates import CHECK_UNITS, MOTOR_CHECKS, Candidates, closest, column
+
+if TYPE_CHECKING:
+    from drivetrain.axis.model import Margins, SelectSpec
+    from drivetrain.catalog import GearboxTable, MotorTable
+
+
+_RATING_NAMES = {"gearbox_peak_torque": "T2B (max acceleration torque)", "gearbox_rated_torque": "T2N (rated torque)",
+                 "gearbox_emergency_stop_torque": "T2NOT (emergency-stop torque)",
+                 "gearbox_max_input_speed": "n1max (max input speed)",
+                 "gearbox_mean_input_speed": "n1N (nominal input speed)"}
+
+
+def _mm(x: float) -> str:
+    return f"{x * 1e3:.4g} mm"
+
+
+def _plain_mm(x: float) -> float | None:
+    return None if math.isnan(float(x)) else round(float(x) * 1e3, 6)
+
+
+def _fit_reason(motors: MotorTable, m: int, gb: GearboxTable, g: int) -> tuple[str, str]:
+    """Why motor m and gearbox row g cannot be assembled (first), and what is unknown (second)."""
+    from drivetrain.sizing.kernel import FIT_TOLERANCE
+
+    shaft, flange, pilot = (float(column(motors, c)[m]) for c in ("shaft_diameter", "flange", "pilot_diameter"))
+    bmax, bmin, gfl, gpi = (float(column(gb, c)[g]) for c in ("input_bore_max", "input_bore_min", "input_flange",
+                                                                 "input_pilot"))
+    bad, gaps = [], []
+    if math.isnan(shaft):
+        gaps.append("the motor's shaft diameter")
+    if math.isnan(bmax):
+        gaps.append("the gearbox's input bore")
+    if not math.isnan(shaft) and not math.isnan(bmax) and shaft > bmax:
+        bad.append(f"motor shaft {_mm(shaft)} > gearbox input bore {_mm(bmax)}")
+    if not math.isnan(shaft) and not math.isnan(bmin) and shaft < bmin:
+        bad.append(f"motor shaft {_mm(shaft)} < smallest bore with bushing {_mm(bmin)}")
+    for what, mine, theirs in (("flange", flange, gfl), ("pilot", pilot, gpi)):
+        if math.isnan(theirs):
+            continue
+        if math.isnan(mine):
+            gaps.append(f"the motor's {what} (the adapter takes {_mm(theirs)})")
+        elif abs(mine - theirs) > FIT_TOLERANCE:
+            bad.append(f"motor {what} {_mm(mine)} ≠ gearbox adapter {what} {_mm(theirs)}")
+    return "; ".join(bad), ("the catalog lacks " + " and ".join(gaps) if gaps else "")
+
+
+def _unknown_note(name: str, c: Candidates, fit_gap: str) -> str:
+    """Why a check cannot be judged."""
+    par = c.model[-1]
+    if name == "peak_torque":
+        return "not judged: the cycle's speed is beyond the motor's max speed (see max_speed)"
+    if name == "mechanical_fit":
+        return fit_gap or "the catalog lacks a dimension it needs"
+    if name == "gearbox_peak_torque" and math.isnan(float(par[8])):
+        return (f"{3600.0 / float(par[0]):.0f} cycles/h exceed the 1000/h that T2B holds for: set "
+                "motor.margins.gearbox_shock_factor from the vendor's chart")
+    if name in _RATING_NAMES:
+        return f"the catalog lacks the gearbox's {_RATING_NAMES[name]}"
+    return "the catalog lacks a rating it needs"
+
+
+def percent(margin: float | None) -> str:
+    """A margin as a signed percentage that never shows a failing margin as "-0.0 %"."""
+    if margin is None:
+        return "n/a"
+    p = margin * 100.0
+    return f"{p:+.2g} %" if p != 0.0 and abs(p) < 0.1 else f"{p:+.1f} %"
+
+
+def _reason(ch: dict[str, Any], fit_bad: str) -> str:
+    """One failing check as a sentence."""
+    n, unit = ch["name"], ch["unit"]
+    pct = percent(ch["margin"])
+    if n == "mechanical_fit":
+        return f"mechanical_fit: {fit_bad} ({pct})"
+    if n == "max_speed":
+        return (f"max_speed: the cycle needs {ch['required']:.0f} rpm at the motor (margin included), the motor "
+                f"reaches {ch['available']:.0f} rpm ({pct})")
+    u = "" if unit == "-" else f" {unit}"
+    avail = "n/a" if ch["available"] is None else f"{ch['available']:.4g}{u}"
+    return f"{n}: required {ch['required']:.4g}{u} > available {avail} ({pct})"
+
+
+def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None,
+                   rank: int | None) -> dict[str, Any]:
+    """One candidate as in design.md: motor, gearbox, ratio, inertia ratio, status, checks, why it failed.
+
+    ``status`` is ``ok`` (every check passes), ``unknown`` (none fails, some cannot be judged:
+    ``unknown`` names them) or ``fails``; ``failures`` holds one sentence per failing check, a
+    motor too slow for the cycle first; ``failed`` is the first of them.
+    """
+    m, g = int(c.motor[k]), int(c.gearbox(k))
+    d = c.details([k])
+    geared = g >= 0 and gb is not None
+    fit_bad, fit_gap = _fit_reason(motors, m, gb, g) if geared and gb is not None else ("", "")
+    checks: dict[str, dict[str, Any]] = {}
+    for n in CHECK_UNITS:
+        if n not in MOTOR_CHECKS and not geared:
+            continue
+        req, avail, mar = float(d.required[n][0]), float(d.available[n][0]), float(d.margin[n][0])
+        status = "unknown" if math.isnan(mar) else ("pass" if mar >= 0.0 else "fail")
+        slow = n == "peak_torque" and status == "unknown" and float(d.margin["max_speed"][0]) < 0.0
+        status = "not_judged" if slow else status
+        checks[n] = {"name": n, "required": req, "available": avail if math.isfinite(avail) else None,
+                     "unit": CHECK_UNITS[n], "margin": mar if math.isfinite(mar) else None,
+                     "ok": status == "pass" or (status == "unknown" and not c.strict), "status": status,
+                     "approximate": bool(d.approximate[n][0])}
+        if status in ("unknown", "not_judged"):
+            checks[n]["note"] = _unknown_note(n, c, fit_gap)
+    failing = sorted((ch for ch in checks.values() if ch["status"] == "fail"),
+                     key=lambda ch: (ch["name"] != "max_speed", ch["margin"], ch["name"]))
+    failures = [_reason(ch, fit_bad) for ch in failing]
+    unknown = [n for n, ch in checks.items() if ch["status"] == "unknown"]
+    if c.strict:
+        failures += [f"{n}: cannot be judged, {checks[n]['note']}" for n in unknown]
+    ok = not failures
+    return {
+        "rank": rank, "motor": str(motors.ids[m]), "vendor": str(motors.vendor[m]), "series": str(motors.series[m]),
+        "rated_power_W": float(motors.rated_power[m]), "flange_mm": _plain_mm(motors.flange[m]),
+        "shaft_diameter_mm": _plain_mm(column(motors, "shaft_diameter")[m]),
+        "gearbox": str(gb.ids[g]) if geared and gb is not None else None,
+        "gearbox_vendor": str(gb.vendor[g]) if geared and gb is not None else None, "ratio": float(c.ratio(k)),
+        "inertia_ratio": float(d.inertia_ratio[0]), "rms_torque_Nm": float(d.rms_torque[0]),
+        "peak_torque_Nm": float(d.peak_torque[0]),
+        "ok": ok, "status": "fails" if not ok else ("unknown" if unknown else "ok"), "unknown": unknown,
+        "failed": failures[0] if failures else "", "failures": failures,
+        "approximate_envelope": bool(~motors.has_curve[m]), "rated_torque_derived": bool(motors.approx_rated[m]),
+        **_trace(motors, m, gb if geared else None, g), "checks": list(checks.values()),
+    }
+
+
+def _trace(motors: MotorTable, m: int, gb: GearboxTable | None, g: int) -> dict[str, Any]:
+    """``unverified`` and its reason: the motor's or the gearbox's catalog row is not traced to a vendor
+    document, or a rating the sizing uses was derived (catalog.schema.trace)."""
+    reasons = [f"motor: {motors.unverified_reason[m]}"] if motors.unverified[m] else []
+    if gb is not None and g >= 0 and gb.unverified[g]:
+        reasons.append(f"gearbox: {gb.unverified_reason[g]}")
+    return {"unverified": bool(reasons), "unverified_reason": "; ".join(reasons) or None}
+
+
+def advice(c: Candidates, margins: Margins, spec: SelectSpec, motors: MotorTable | None = None,
+           gb: GearboxTable | None = None) -> str:
+    """What to relax when nothing passes, one line per blocking check of the closest candidate.
+
+    A suggestion is made only where it would change something: no "allow a gearbox" when
+    gearboxes are already allowed, no "lower the margins" at a margin of 1, no "widen the filters"
+    without filters.
+    """
+    k = closest(c, np.arange(len(c.motor)))
+    d = c.details([k])
+    blocking = [(float(d.margin[n][0]), n) for n in CHECK_UNITS if d.margin[n][0] < 0]
+    blocking.sort(key=lambda b: (b[1] != "max_speed", b[0], b[1]))
+    lines = [f"no candidate passes all checks ({len(c.motor)} evaluated)"]
+    filters = [f"{f}={getattr(spec, f)}" for f in ("vendor", "voltage", "flange", "gearbox_series")
+               if getattr(spec, f)]
+    no_gearbox = spec.gearbox == "none"
+    for mar, n in blocking:
+        need, have = d.required[n][0], d.available[n][0]
+        fixes: list[str] = []
+        if n == "inertia_ratio":
+            head = f"the closest candidate needs an inertia ratio of {need:.3g} (limit {have:.3g})"
+            if margins.inertia_ratio < 1000:
+                fixes.append("raise motor.margins.inertia_ratio if the drive's tuning allows")
+            if no_gearbox:
+                fixes.append("allow a gearbox (motor.select.gearbox: auto)")
+            else:
+                fixes.append("a motor with more rotor inertia")
+        elif n == "max_speed":
+            head = f"it needs {need:.0f} rpm but reaches {have:.0f} rpm"
+            fixes.append("a faster motor" + ("" if no_gearbox else " or a smaller ratio"))
+            if margins.speed > 1.0:
+                fixes.append(f"motor.margins.speed is {margins.speed:g}")
+        elif n == "mechanical_fit":
+            head = f"the closest gearbox cannot take the motor (shaft {need:.4g} mm, input bore {have:.4g} mm)"
+            fixes.append("a gearbox series with a larger input bore (motor.select.gearbox_series) or a motor with a "
+                         "smaller shaft")
+        elif n.startswith("gearbox_"):
+            head = f"{n} short by {-mar * 100:.0f} % ({need:.4g} vs {have:.4g} {CHECK_UNITS[n]})"
+            fixes.append("a larger gearbox frame" + (" (widen motor.select.gearbox_series)" if spec.gearbox_series
+                                                      else ""))
+        else:
+            head = f"{n} short by {-mar * 100:.0f} % ({need:.4g} vs {have:.4g} {CHECK_UNITS[n]})"
+            fixes.append("lengthen the acceleration times")
+            if (margins.torque > 1.0 if n == "peak_torque" else (margins.rms_torque or margins.torque) > 1.0):
+                fixes.append(f"lower motor.margins.{'torque' if n == 'peak_torque' else 'rms_torque'} if the "
+                             "application allows")
+            if no_gearbox:
+                fixes.append("allow a gearbox (motor.select.gearbox: auto)")
+            if filters:
+                fixes.append("widen the filters")
+        lines.append(f"{head}: {', or '.join(fixes)}" if fixes else head)
+    if c.strict and not blocking:
+        lines.append("the closest candidates fail only on checks the catalog cannot judge: motor.select.unknown: "
+                     "flag accepts them, flagged")
+    if filters:
+        lines.append("filters in use: " + ", ".join(filters))
+    return "\n".join(lines)
+
+
+def explain(result_selection: dict[str, Any], model: str) -> str:
+    """Why a catalog motor was accepted or rejected, in its best configuration."""
+    c: Candidates = result_selection["_candidates"]
+    motors, gb = result_selection["_tables"]
+    ids = np.asarray(motors.ids)
+    hits = np.flatnonzero(ids == model)
+    if not len(hits):
+        lowered = {str(i).lower(): i for i in ids}
+        if model.lower() in lowered:
+            hits = np.flatnonzero(ids == lowered[model.lower()])
+        else:
+            raise InputError("--explain", "is not among the evaluated motors (check the filters)", model)
+    rows = c.of_motors(hits)
+    ok_rows = rows[c.ok[rows]]
+    ranked = result_selection.get("_ranked")
+    if len(ok_rows) and ranked is not None:  # a passing motor: its configuration the ranking put first
+        mine = ranked[np.isin(c.motor[ranked], hits)]
+        best = int(mine[0])
+    else:
+        best = closest(c, rows)
+    d = candidate_dict(c, best, motors, gb, None)
+    n_ok = len(ok_rows)
+    mounting = d["gearbox"] or (f"on the axis's {result_selection['transmission_gearbox']}"
+                                if result_selection.get("transmission_gearbox") else "direct drive")
+    lines = [f"{model}: {n_ok} of {len(rows)} configurations pass; best configuration: "
+             f"{mounting} (catalog ratio {d['ratio']:.4g}, inertia ratio {d['inertia_ratio']:.3g})"]
+    mark = {"pass": "ok  ", "fail": "FAIL", "unknown": "??  ", "not_judged": "--  "}
+    for ch in d["checks"]:
+        mar = percent(ch["margin"])
+        avail = "n/a" if ch["available"] is None else f"{ch['available']:.4g}"
+        note = f": {ch['note']}" if ch.get("note") else ""
+        lines.append(f"  {mark[ch['status']]} {ch['name']}: required {ch['required']:.4g}, available "
+                     f"{avail} {ch['unit']} ({mar}){note}")
+    if d["failures"]:
+        lines.append("  rejected because:")
+        lines += [f"    {f}" for f in d["failures"]]
+    elif d["unknown"]:
+        lines.append(f"  passes with checks the catalog cannot judge: {', '.join(d['unknown'])}")
+    per_check = {n: int(np.count_nonzero(c.failed[rows] & (1 << b))) for b, n in enumerate(CHECK_UNITS)}
+    counts = ", ".join(f"{n} {v}" for n, v in per_check.items() if v)
+    if counts:
+        lines.append(f"  its {len(rows)} configurations fail: {counts} (one may fail several)")
+    return "\n".join(lines)
+
+
+__all__ = ["advice", "candidate_dict", "explain", "percent"]

@@ -1,0 +1,342 @@
+"""Running a study: variants in batches on a Dask cluster (embedded or existing) or in this process.
+
+The variants are a pure function of the study file (design and seed), so a resumed run regenerates
+them and skips those whose rows the partial result already holds. A worker process keeps one
+:class:`~drivetrain.study.batch.Engine` (the catalog loaded once per worker; a task carries only
+its variants' parameter values). Rows come back as their tasks finish (``as_completed``); the
+partial result is rewritten atomically every few seconds and on Ctrl-C.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+import os
+import time
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from drivetrain.errors import InputError
+from drivetrain.study.record import fast_covers, row_from
+from drivetrain.study.spec import Parameter, Study
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+ENV_SCHEDULER = "DRIVETRAIN_SCHEDULER"
+BATCH = 200
+"""Variants per task."""
+PARTIAL_EVERY = 5.0
+"""Seconds between rewrites of the partial result."""
+META_KEY = b"drivetrain.study"
+CONNECT_TIMEOUT = "10s"
+"""How long to try reaching an existing scheduler."""
+
+
+@dataclass(frozen=True)
+class Plan:
+    """What a worker needs to size variants: small, sent to each worker once."""
+
+    base: dict[str, Any]
+    parameters: tuple[Parameter, ...]
+    record: tuple[str, ...]
+    points: int
+    full: bool  # a recorded key needs the unbatched drivetrain.size
+
+    def axis_dict(self, values: tuple[Any, ...]) -> dict[str, Any]:
+        from drivetrain.study.paths import set_path
+
+        data: Any = self.base
+        for p, v in zip(self.parameters, values, strict=True):
+            data = set_path(data, p.tokens, p.to_si(v), f"parameters.{p.path}")
+        out: dict[str, Any] = data
+        return out
+
+
+_ENGINE: Any = None
+
+
+def _engine(points: int) -> Any:
+    """This process's engine (catalog tables loaded on its first selection, then kept)."""
+    global _ENGINE
+    from drivetrain.study.batch import Engine
+
+    if _ENGINE is None or _ENGINE.points != points:
+        _ENGINE = Engine(points)
+    return _ENGINE
+
+
+def size_variant(plan: Plan, values: tuple[Any, ...]) -> dict[str, Any]:
+    """One variant's result mapping (batched path, or ``size().to_dict()`` when the record needs it)."""
+    from drivetrain.axis.model import parse_axis
+    from drivetrain.study.batch import full_result
+
+    axis = parse_axis(plan.axis_dict(values))
+    return full_result(axis, plan.points) if plan.full else _engine(plan.points).size(axis)
+
+
+def run_batch(plan: Plan, items: list[tuple[int, tuple[Any, ...]]]) -> list[dict[str, Any]]:
+    """Size a batch of variants; a variant whose values make bad input gets its error in its row."""
+    rows = []
+    for idx, values in items:
+        row: dict[str, Any] = {"variant": idx}
+        row.update({p.path: v for p, v in zip(plan.parameters, values, strict=True)})
+        try:
+            row.update(row_from(size_variant(plan, values), list(plan.record)))
+            row["error"] = ""
+        except InputError as exc:
+            row.update({"ok": False, "error": str(exc)})
+        rows.append(row)
+    return rows
+
+
+def make_plan(study: Study) -> Plan:
+    """The worker plan; the recorded keys are checked against a sizing of the base axis first."""
+    from drivetrain.axis.model import parse_axis
+    from drivetrain.study.batch import full_result
+
+    axis = parse_axis(study.base)
+    full = full_result(axis, study.spec.points)
+    fast = _engine(study.spec.points).size(axis)
+    covered, unknown = fast_covers(fast, full, study.spec.record)
+    if unknown:
+        k = study.spec.record.index(unknown[0])
+        raise InputError(f"record[{k}]", "is not a key of the size result of the base axis (e.g. "
+                         "selection.selected.motor, rms_torque_Nm, selection.passing)", unknown[0])
+    return Plan(base=study.base, parameters=study.parameters, record=tuple(study.spec.record),
+                points=study.spec.points, full=not covered)
+
+
+# ---------------------------------------------------------------------------------------------
+# files
+
+
+def metadata(study: Study) -> dict[str, Any]:
+    """What the result files record about their making."""
+    from drivetrain import __version__
+    from drivetrain.catalog.schema import DATA_VERSION
+
+    return {"study_file": study.text, "study_source": study.source, "base_axis_file": study.base_text,
+            "drivetrain_version": __version__, "catalog_data_version": DATA_VERSION,
+            "design": study.spec.design, "variants": study.n_variants(),
+            "units": {p.path: p.unit for p in study.parameters}}
+
+
+def frame(rows: list[dict[str, Any]], study: Study) -> pd.DataFrame:
+    """Rows as a DataFrame in variant order, with the metadata in ``attrs``."""
+    import pandas as pd
+
+    df = pd.DataFrame(rows)
+    if len(df):
+        df = df.sort_values("variant", kind="stable").reset_index(drop=True)
+    df.attrs["drivetrain"] = metadata(study)
+    return df
+
+
+def _atomic(path: Path, write: Callable[[Path], None]) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.tmp")
+    write(tmp)
+    tmp.replace(path)
+
+
+def _write_text(path: Path, text: str) -> None:
+    path.write_text(text, encoding="utf-8")
+
+
+def write_parquet(df: pd.DataFrame, path: Path, meta: dict[str, Any]) -> None:
+    """Parquet through pyarrow, the study's metadata in the schema (``drivetrain.study``), atomically."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    table = pa.Table.from_pandas(_arrow_safe(df), preserve_index=False)
+    table = table.replace_schema_metadata({**(table.schema.metadata or {}), META_KEY: json.dumps(meta).encode()})
+    _atomic(path, lambda tmp: pq.write_table(table, tmp))
+
+
+def _arrow_safe(df: pd.DataFrame) -> pd.DataFrame:
+    """Object columns of mixed types (a list of names and numbers) as text, so Arrow can type them."""
+    out = df.copy()
+    for col in out.columns:
+        if out[col].dtype == object:
+            kinds = {type(v) for v in out[col] if v is not None and not (isinstance(v, float) and math.isnan(v))}
+            if len(kinds) > 1 and not kinds <= {int, float} and not kinds <= {bool}:
+                out[col] = out[col].map(lambda v: None if v is None else str(v))
+    return out
+
+
+def read_parquet(path: Path) -> tuple[pd.DataFrame, dict[str, Any]]:
+    """A study result (or partial result) and its metadata."""
+    import pyarrow.parquet as pq
+
+    table = pq.read_table(path)
+    meta = json.loads((table.schema.metadata or {}).get(META_KEY, b"{}"))
+    df = table.to_pandas()
+    df.attrs["drivetrain"] = meta
+    return df, meta
+
+
+def write_results(df: pd.DataFrame, out: Path, study: Study) -> list[Path]:
+    """``out`` (.parquet), the same table as CSV beside it and the metadata as JSON; returns the paths."""
+    meta = {**metadata(study), **df.attrs.get("drivetrain", {})}
+    pq_path = out.with_suffix(".parquet")
+    csv_path = out.with_suffix(".csv")
+    meta_path = out.with_suffix(".meta.json")
+    write_parquet(df, pq_path, meta)
+    _atomic(csv_path, lambda tmp: df.to_csv(tmp, index=False))
+    _atomic(meta_path, lambda tmp: _write_text(tmp, json.dumps(meta, indent=1)))
+    return [pq_path, csv_path, meta_path]
+
+
+def partial_path(out: Path) -> Path:
+    return out.with_suffix(".partial.parquet")
+
+
+# ---------------------------------------------------------------------------------------------
+# running
+
+
+def _batches(items: list[tuple[int, tuple[Any, ...]]], size: int) -> Iterator[list[tuple[int, tuple[Any, ...]]]]:
+    for k in range(0, len(items), size):
+        yield items[k:k + size]
+
+
+class _Progress:
+    """A rich progress bar with rate and ETA (silent when disabled)."""
+
+    def __init__(self, total: int, done: int, enabled: bool, label: str) -> None:
+        self.bar: Any = None
+        if enabled:
+            from rich.console import Console
+            from rich.progress import (
+                BarColumn,
+                MofNCompleteColumn,
+                Progress,
+                TextColumn,
+                TimeElapsedColumn,
+                TimeRemainingColumn,
+            )
+
+            self.bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), MofNCompleteColumn(),
+                                TimeElapsedColumn(),
+                                TextColumn("ETA"), TimeRemainingColumn(), transient=False,
+                                console=Console(stderr=True))
+            self.bar.start()
+            self.task = self.bar.add_task(label, total=total, completed=done)
+
+    def advance(self, n: int) -> None:
+        if self.bar is not None:
+            self.bar.advance(self.task, n)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.stop()
+
+
+def scheduler_address(scheduler: str | None) -> str | None:
+    """``--scheduler`` or ``$DRIVETRAIN_SCHEDULER`` (None: an embedded cluster)."""
+    return scheduler or os.environ.get(ENV_SCHEDULER) or None
+
+
+def run(study: Study, *, out: Path | None = None, scheduler: str | None = None, workers: int | None = None,
+        batch: int = BATCH, resume: bool = False, progress: bool = False,
+        on_rows: Callable[[int], None] | None = None) -> pd.DataFrame:
+    """Size every variant of the study; returns the table (written to ``out`` when given).
+
+    ``workers=0`` runs in this process; otherwise on ``scheduler`` (an address, or
+    ``$DRIVETRAIN_SCHEDULER``) or an embedded ``LocalCluster`` of ``workers`` processes (default:
+    every core). Ctrl-C writes the finished rows to ``out``'s partial file and re-raises.
+    """
+    if batch < 1:
+        raise InputError("--batch", "must be at least 1", batch)
+    if workers is not None and workers < 0:
+        raise InputError("--workers", "must be 0 (this process) or more", workers)
+    if resume and out is None:
+        raise InputError("--resume", "needs the output file whose partial result to continue", has_value=False)
+    plan = make_plan(study)
+    variants = study.variants()
+    rows: list[dict[str, Any]] = []
+    if resume and out is not None:
+        rows = _resume_rows(study, out)
+    done = {int(r["variant"]) for r in rows}
+    todo = [(i, v) for i, v in enumerate(variants) if i not in done]
+    bar = _Progress(len(variants), len(done), progress, study.spec.name)
+    last = time.monotonic()
+
+    def collect(new: Iterable[dict[str, Any]]) -> None:
+        nonlocal last
+        got = list(new)
+        rows.extend(got)
+        bar.advance(len(got))
+        if on_rows is not None:
+            on_rows(len(rows))
+        if out is not None and time.monotonic() - last > PARTIAL_EVERY:
+            write_parquet(frame(rows, study), partial_path(out), metadata(study))
+            last = time.monotonic()
+
+    try:
+        if workers == 0 and scheduler_address(scheduler) is None:
+            for chunk in _batches(todo, batch):
+                collect(run_batch(plan, chunk))
+        else:
+            _run_dask(plan, todo, batch, scheduler_address(scheduler), workers, collect)
+    except KeyboardInterrupt:
+        if out is not None:
+            write_parquet(frame(rows, study), partial_path(out), metadata(study))
+        raise
+    finally:
+        bar.close()
+    df = frame(rows, study)
+    if out is not None:
+        write_results(df, out, study)
+        partial_path(out).unlink(missing_ok=True)
+    return df
+
+
+def _resume_rows(study: Study, out: Path) -> list[dict[str, Any]]:
+    part = partial_path(out)
+    if not part.exists():
+        raise InputError("--resume", "there is no partial result to continue", str(part))
+    df, meta = read_parquet(part)
+    if meta.get("study_file") != study.text or meta.get("base_axis_file") != study.base_text:
+        raise InputError("--resume", "the partial result is of another study file or base axis file", str(part))
+    return [{str(k): v for k, v in r.items()} for r in df.to_dict("records")]
+
+
+def _run_dask(plan: Plan, todo: list[tuple[int, tuple[Any, ...]]], batch: int, address: str | None,
+              workers: int | None, collect: Callable[[Iterable[dict[str, Any]]], None]) -> None:
+    from distributed import Client, LocalCluster, as_completed
+
+    cluster = None
+    if address is None:
+        n = workers or os.cpu_count() or 1
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=logging.ERROR)
+        client = Client(cluster)
+    else:
+        try:
+            client = Client(address, timeout=CONNECT_TIMEOUT)
+        except OSError as exc:
+            raise InputError("--scheduler", f"cannot reach the Dask scheduler ({exc})", address) from None
+    try:
+        n_workers = max(len(client.scheduler_info().get("workers", {})), 1)
+        # small studies: enough tasks for every worker
+        size = max(1, min(batch, math.ceil(len(todo) / (4 * n_workers))))
+        [plan_f] = client.scatter([plan], broadcast=True)
+        futures = [client.submit(run_batch, plan_f, chunk, pure=False) for chunk in _batches(todo, size)]
+        try:
+            for fut in as_completed(futures):
+                collect(fut.result())
+        except BaseException:
+            client.cancel(futures)
+            raise
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+__all__ = ["BATCH", "ENV_SCHEDULER", "Plan", "make_plan", "read_parquet", "run", "run_batch", "write_results"]

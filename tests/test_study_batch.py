@@ -1,0 +1,170 @@
+"""The batched path of a study gives, variant by variant, what ``drivetrain.size`` gives.
+
+A sample of variants of examples/ball_screw.yaml (load, lead, move time, margins, objectives,
+gearbox options, a given motor, variants where nothing passes) is sized both ways: the selected
+motor and gearbox, every check's required/available/margin and the RMS and peak torques must be
+equal (the same arithmetic, so to rounding of the last bit at most).
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import yaml
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import drivetrain
+from drivetrain.axis.model import parse_axis
+from drivetrain.duty.cycle import duty_cycle
+from drivetrain.sizing.motor_fit import demand
+from drivetrain.study.batch import Engine, fast_demand, full_result
+from drivetrain.study.record import row_from
+
+EXAMPLES = Path(__file__).parents[1] / "examples"
+BASE = yaml.safe_load((EXAMPLES / "ball_screw.yaml").read_text(encoding="utf-8"))
+
+
+def _variant(mass: float, lead: float, time: float, **motor: Any) -> dict[str, Any]:
+    v = copy.deepcopy(BASE)
+    v["mechanism"]["load"]["mass"] = mass
+    v["mechanism"]["lead"] = lead
+    v["profile"][0]["time"] = time
+    for k, val in motor.items():
+        if k in ("objective", "gearbox", "max_inertia_ratio"):
+            v["motor"]["select"][k] = val
+        else:
+            v["motor"]["margins"][k] = val
+    return v
+
+
+def _same_candidate(fast: dict[str, Any], ref: dict[str, Any]) -> None:
+    assert fast["motor"] == ref["motor"]
+    assert fast["gearbox"] == ref["gearbox"]
+    assert fast["ratio"] == ref["ratio"]
+    assert fast["ok"] == ref["ok"]
+    for key in ("rms_torque_Nm", "peak_torque_Nm", "inertia_ratio"):
+        assert fast[key] == pytest.approx(ref[key], rel=1e-12)
+    assert [c["name"] for c in fast["checks"]] == [c["name"] for c in ref["checks"]]
+    for a, b in zip(fast["checks"], ref["checks"], strict=True):
+        assert a["ok"] == b["ok"]
+        for key in ("required", "available", "margin"):
+            if a[key] is None or b[key] is None:
+                assert a[key] == b[key]
+            else:
+                assert a[key] == pytest.approx(b[key], rel=1e-12, abs=1e-15)
+
+
+SAMPLE = [
+    _variant(5.0, 0.005, 0.3),
+    _variant(25.0, 0.010, 0.5),
+    _variant(40.0, 0.020, 1.0),
+    _variant(12.0, 0.016, 0.4, objective="energy"),
+    _variant(30.0, 0.005, 0.6, objective="rms_utilisation"),
+    _variant(18.0, 0.012, 0.7, objective="inertia_match"),
+    _variant(25.0, 0.010, 0.5, gearbox="only"),
+    _variant(25.0, 0.010, 0.5, gearbox="none"),
+    _variant(20.0, 0.008, 0.5, torque=1.5, inertia_ratio=3),
+    _variant(4000.0, 0.002, 0.21),  # nothing passes: the closest candidate
+]
+
+
+@pytest.fixture(scope="module")
+def engine() -> Engine:
+    return Engine()
+
+
+@pytest.mark.parametrize("k", range(len(SAMPLE)))
+def test_selected_candidate_equals_size(engine: Engine, k: int) -> None:
+    axis = parse_axis(SAMPLE[k])
+    fast = engine.size(axis)
+    ref = drivetrain.size(axis)
+    d = ref.to_dict()
+    assert fast["ok"] == ref.ok
+    if ref.selection is not None and ref.selection.get("passing"):
+        _same_candidate(fast["selection"]["selected"], d["selection"]["selected"])
+    else:
+        assert "selected" not in fast["selection"]
+        _same_candidate(fast["selection"]["closest"], d["candidates"][0])
+        assert fast["selection"]["failures_by_check"] == d["selection"]["failures_by_check"]
+    for key in ("rms_torque_Nm", "peak_torque_Nm", "regen_energy_J", "max_speed_rpm"):
+        assert fast[key] == d[key]
+
+
+def test_nothing_passing_is_in_the_sample(engine: Engine) -> None:
+    assert not engine.size(parse_axis(SAMPLE[-1]))["ok"]
+
+
+def test_given_motor_equals_size(engine: Engine) -> None:
+    v = copy.deepcopy(BASE)
+    v["motor"] = {"id": "SGM7J-04A", "margins": {"torque": 1.2}}
+    axis = parse_axis(v)
+    fast = engine.size(axis)
+    ref = drivetrain.size(axis).to_dict()
+    assert fast["motor"]["checks"] == ref["motor"]["checks"]
+    assert fast["motor"]["rms_torque_Nm"] == ref["motor"]["rms_torque_Nm"]
+
+
+def test_rows_of_both_paths_agree(engine: Engine) -> None:
+    """The table row is the same whether a variant ran batched or through size().to_dict()."""
+    record = ["motor", "gearbox", "margins", "rms", "peak", "energy", "checks"]
+    for data in SAMPLE[:4]:
+        axis = parse_axis(data)
+        a, b = row_from(engine.size(axis), record), row_from(full_result(axis), record)
+        assert a.keys() == b.keys()
+        for key in a:
+            if isinstance(a[key], float) and math.isnan(a[key]):
+                assert math.isnan(b[key]), key
+            elif not isinstance(a[key], float):
+                assert a[key] == b[key], key
+            else:
+                assert a[key] == pytest.approx(b[key], rel=1e-12), key
+
+
+def test_shared_kinematics_equal_fresh(engine: Engine) -> None:
+    """Two axes with the same profile share sampled kinematics; the duty cycle equals a fresh one."""
+    a, b = parse_axis(_variant(10.0, 0.01, 0.5)), parse_axis(_variant(33.0, 0.01, 0.5))
+    engine.duty(a)
+    shared = engine.duty(b)
+    fresh = duty_cycle(b, engine.points)
+    assert np.array_equal(shared.torque, fresh.torque)
+    assert np.array_equal(shared.omega, fresh.omega)
+
+
+@settings(max_examples=30, deadline=None)
+@given(mass=st.floats(1.0, 200.0), lead=st.floats(0.002, 0.05), time=st.floats(0.25, 2.0),
+       eff=st.sampled_from([1.0, 0.97, 0.9, 0.7]))
+def test_compiled_hull_equals_demand(mass: float, lead: float, time: float, eff: float) -> None:
+    """The compiled hull gives the same vertices (and padding) as motor_fit.demand."""
+    from drivetrain.physics.stage import Stage
+
+    axis = parse_axis(_variant(mass, lead, time))
+    duty = duty_cycle(axis, 16)
+    lossy = duty.behind(Stage("g", "gearbox", efficiency=eff, back_efficiency=eff), axis.efficiency_model)
+    args = (duty.omega, duty.alpha, lossy.torque, duty.weights, duty.period, duty.load_inertia)
+    a, b = fast_demand(*args), demand(*args)
+    for key in ("hull_speed", "hull_torque", "hull_alpha", "all_torque", "all_alpha"):
+        assert np.array_equal(getattr(a, key), getattr(b, key)), key
+
+
+@settings(max_examples=20, deadline=None)
+@given(mass=st.floats(1.0, 200.0), lead=st.floats(0.002, 0.05), time=st.floats(0.25, 2.0))
+def test_batched_hulls_equal_demand(mass: float, lead: float, time: float) -> None:
+    """Several efficiencies in one pass give each efficiency's motor_fit.demand."""
+    from drivetrain.physics.stage import Stage
+    from drivetrain.study.batch import fast_demands
+
+    axis = parse_axis(_variant(mass, lead, time))
+    duty = duty_cycle(axis, 16)
+    torques = [duty.behind(Stage("g", "gearbox", efficiency=e, back_efficiency=e), axis.efficiency_model).torque
+               for e in (1.0, 0.97, 0.9, 0.7)]
+    got = fast_demands(duty.omega, duty.alpha, torques, duty.weights, duty.period, duty.load_inertia)
+    for t, a in zip(torques, got, strict=True):
+        b = demand(duty.omega, duty.alpha, t, duty.weights, duty.period, duty.load_inertia)
+        for key in ("hull_speed", "hull_torque", "hull_alpha", "all_torque", "all_alpha"):
+            assert np.array_equal(getattr(a, key), getattr(b, key)), key
