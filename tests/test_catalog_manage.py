@@ -41,7 +41,8 @@ def data_dir(tmp_path: Path, built: Path, monkeypatch: pytest.MonkeyPatch) -> Pa
     base.mkdir()
     shutil.copy(built, base / db.BUILTIN_NAME)
     monkeypatch.setenv(db.ENV_DATA_DIR, str(base))
-    monkeypatch.delenv(db.ENV_CATALOG, raising=False)
+    # set (empty: the default file), not deleted, so that teardown also undoes a --catalog of a test
+    monkeypatch.setenv(db.ENV_CATALOG, "")
     catalog._CACHE.clear()
     return base
 
@@ -308,12 +309,12 @@ def test_cli_catalog_option(tmp_path: Path, data_dir: Path, capsys: pytest.Captu
     assert main(["--catalog", str(team), "catalog", "import", str(write(tmp_path, "mine.csv", MINE))]) == 0
     assert str(team) in capsys.readouterr().out
     assert not (data_dir / db.USER_NAME).exists()
-    monkeypatch.delenv(db.ENV_CATALOG, raising=False)
+    monkeypatch.setenv(db.ENV_CATALOG, "")
     catalog._CACHE.clear()
     assert main(["catalog", "--catalog", str(team), "list", "--source", "user"]) == 0
     out = capsys.readouterr().out
     assert "MINE-1" in out and "MINE-2" in out and "HG-KR43" not in out
-    monkeypatch.delenv(db.ENV_CATALOG, raising=False)
+    monkeypatch.setenv(db.ENV_CATALOG, "")
     assert main(["catalog", "list", "--source", "user"]) == 0
     assert "no motors in your catalog" in capsys.readouterr().out
     assert main(["--catalog", str(tmp_path), "catalog", "list"]) == 2
@@ -350,3 +351,20 @@ def test_a_schema_2_user_catalog_gains_the_new_columns_and_history(tmp_path: Pat
     catalog.remove(["MINE-2"])
     assert [e["action"] for e in catalog.history()] == ["remove"]
     assert manage.user_ids() == {"MINE-1": "motor"}
+
+
+def test_the_report_and_the_size_table_say_the_motor_data_is_unverified(capsys: pytest.CaptureFixture[str]) -> None:
+    pytest.importorskip("jinja2")
+    from drivetrain.axis.model import parse_yaml
+    from drivetrain.report.model import build_report
+    from drivetrain.sizing.result import size
+
+    axis = parse_yaml((Path(__file__).parents[1] / "examples" / "rotary.yaml").read_text())
+    axis["motor"] = {"id": "HG-KR43"}
+    notes = build_report(size(axis)).notes
+    assert any("catalog data is unverified" in n and "configurator" in n for n in notes)
+    axis["motor"] = {"id": "1FT7044-5AK7"}
+    assert not any("unverified:" in n for n in build_report(size(axis)).notes)
+    assert main(["size", str(Path(__file__).parents[1] / "examples" / "rotary.yaml")]) in (0, 1)
+    out = capsys.readouterr().out
+    assert "†" in out and "unverified catalog data" in out

@@ -28,7 +28,7 @@ CSV = (
 def client(tmp_path: Path) -> Iterator[TestClient]:
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("DRIVETRAIN_DATA_DIR", str(tmp_path))
-        mp.delenv("DRIVETRAIN_CATALOG", raising=False)
+        mp.setenv("DRIVETRAIN_CATALOG", "")
         with TestClient(create_app(tmp_path), base_url=BASE) as c:
             yield c
 

@@ -207,12 +207,12 @@ export class CatalogView {
         const text = typeof v === "number" ? fmt(v) : v === null || v === undefined || v === "" ? "–" : String(v);
         if (k === 0) {
           const motor = this.table === "motors";
-          const label = text + (item.unverified ? UNVERIFIED : "");
-          const b = el("button", { type: "button", class: "link id", text: label,
-            title: (motor ? `Show the envelope and data of ${text}` : `Show the data of ${text}`)
-              + (item.unverified ? ` (unverified: ${item.unverified_reason})` : "") });
+          const b = el("button", { type: "button", class: "link id", text,
+            title: motor ? `Show the envelope and data of ${text}` : `Show the data of ${text}` });
           b.addEventListener("click", () => (motor ? this.showMotor(item.id) : this.showItem(item.id)));
-          tr.append(el("th", { scope: "row" }, b));
+          // the dagger is drawn by CSS (th.unverified::after), so the cell's text stays the id
+          tr.append(el("th", { scope: "row", class: item.unverified ? "unverified" : undefined,
+            title: item.unverified ? `unverified: ${item.unverified_reason}` : undefined }, b));
         } else {
           tr.append(k === 0 ? el("th", { scope: "row", text, title: text }) : el("td", { text, title: text.length > 14 ? text : undefined }));
         }
@@ -269,7 +269,11 @@ export class CatalogView {
     keys.push(["verified", item.unverified ? `no: ${item.unverified_reason}` : "yes"]);
     const dl = el("dl", { class: "detail" });
     for (const [k, v] of keys) dl.append(el("dt", { text: k }), el("dd", { text: v === null || v === undefined || v === "" ? "–" : String(v) }));
-    const parts = [el("h3", { text: item.id + (item.unverified ? UNVERIFIED : "") }), dl];
+    const parts = [el("h3", { text: item.id })];
+    if (item.unverified) {
+      parts.push(el("p", { class: "unverified-note", text: `${UNVERIFIED.trim()} unverified: ${item.unverified_reason}` }));
+    }
+    parts.push(dl);
     if (item.origin === "user") parts.push(this.editor(item));
     this.n.detail.replaceChildren(...parts);
   }
