@@ -398,7 +398,8 @@ def test_export_then_import_into_a_fresh_data_dir(tmp_path: Path, built: Path, m
     for rid, original in originals.items():
         again = catalog.get(rid)
         if fmt == "csv":  # CSV motors carry no curve; export kind="curve" holds the points
-            original = {**original, "curve": None}
+            curve_source = "none: the envelope is derived from the ratings (approximate)"
+            original = {**original, "curve": None, "sources": {**original["sources"], "curve": curve_source}}
         assert comparable(again) == comparable(original)
 
 
@@ -430,7 +431,8 @@ def test_export_json_and_csv_of_curve_points(tmp_path: Path) -> None:
     assert text.splitlines()[1].startswith("HG-KR43,0.0,1.3")
     doc = json.loads(importer.export_text("motor", "json", ids=["HG-KR43"])[0])
     assert doc["table"] == "motor" and doc["data_version"] == catalog.DATA_VERSION
-    assert doc["rows"][0]["curve"][1] == {"speed [rpm]": 3000.0, "continuous_torque [N*m]": 1.3}
+    assert doc["rows"][0]["curve"][1] == {"speed [rpm]": 3000.0, "continuous_torque [N*m]": 1.3,
+                                          "source": "imported from c.csv"}
 
 
 def test_export_rejects_bad_arguments(tmp_path: Path) -> None:

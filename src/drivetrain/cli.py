@@ -28,6 +28,9 @@ def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every sub-command."""
     parser = argparse.ArgumentParser(prog="drivetrain", description="Size and analyse servo axes.")
     parser.add_argument("--version", action="store_true", help="print the version and exit")
+    parser.add_argument("--catalog", dest="user_catalog", metavar="FILE.sqlite",
+                        help="your catalog file, e.g. one a team shares (default: $DRIVETRAIN_CATALOG, else "
+                             "user.sqlite in the data folder); the shipped data is read beside it")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
     p = sub.add_parser("size", help="duty cycle at the motor shaft, motor checks and selection")
@@ -563,12 +566,16 @@ def _print_candidates(console: Any, result: Any) -> None:
             why = "\n".join(f"{ch['name']} {_pct(ch['margin'])}" for ch in bad) or c["failed"]
         power = c.get("rated_power_W")
         flange = c.get("flange_mm")
-        t.add_row(str(c["rank"]) if c.get("rank") else "-", c["motor"], c.get("vendor", ""),
+        motor = c["motor"] + (" †" if c.get("unverified") else "")
+        t.add_row(str(c["rank"]) if c.get("rank") else "-", motor, c.get("vendor", ""),
                   "" if power is None or math.isnan(power) else f"{power:.0f} W",
                   "" if flange is None else f"{flange:.0f} mm", _mounting(c, sel),
                   f"{c['inertia_ratio']:.3g}", _pct(checks["peak_torque"]["margin"]),
                   _pct(checks["rms_torque"]["margin"]), why, _drive_label(c.get("drive")))
     console.print(t)
+    if any(c.get("unverified") for c in result.candidates):
+        console.print("† unverified catalog data (not traced to a vendor document, or a derived rating): "
+                      "see unverified_reason in --json, or `drivetrain catalog show ID`")
     if sel.get("selected"):
         pick = sel["selected"]
         how = (f" + {pick['gearbox']} ({pick.get('gearbox_vendor') or 'catalog'}, i = {pick['ratio']:.4g})"
@@ -614,6 +621,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     from drivetrain.errors import InputError
 
     try:
+        if getattr(args, "user_catalog", None):
+            from drivetrain.catalog.cli import use_catalog
+
+            use_catalog(args.user_catalog)
         return handler(args)
     except InputError as exc:
         print(f"error: {exc}", file=sys.stderr)

@@ -187,6 +187,7 @@ class MotorData:
     stall_torque: float | None = None
     approximate_envelope: bool = True
     source: str = "axis file"
+    unverified_reason: str = ""  # catalog row not traced to a vendor document, or a derived rating ("" = traced)
 
 
 @dataclass(frozen=True)
@@ -299,6 +300,7 @@ def motor_from_catalog_row(row: dict[str, Any], name: str | None = None) -> Moto
         peak_torque=num("peak_torque_Nm"), rated_speed=num("rated_speed_rad_s"), max_speed=num("max_speed_rad_s"),
         stall_torque=None if stall is None else float(stall), approximate_envelope=row.get("curve") is None,
         source=f"{row.get('vendor', '')} {row.get('id')}: {row.get('source', 'catalog')}",
+        unverified_reason=str(row.get("unverified_reason") or "") if row.get("unverified") else "",
     )
 
 

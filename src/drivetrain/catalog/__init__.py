@@ -9,9 +9,13 @@ Queries see both and return arrays (SI, NaN where a value is unknown)::
     m.rated_torque, m.rotor_inertia, m.ids        # [N m], [kg m^2], ids
     catalog.get("SGM7J-04A")                      # one row as a dict, with source and notes
     catalog.import_file("my_motors.csv")          # validated, one transaction
+    catalog.import_file("my_motors.csv", replace=True)  # update your rows of the same ids
+    catalog.update("MY-1", {"rated_torque": 1.3})  # edit one of your rows
+    catalog.remove(["MY-1"]); catalog.history()   # remove rows; every change is logged
     catalog.export("motors.json", "motor", "json")
 
-The data folder is ``$DRIVETRAIN_DATA_DIR`` or the platform's user data folder.
+The data folder is ``$DRIVETRAIN_DATA_DIR`` or the platform's user data folder; the user catalog is
+``$DRIVETRAIN_CATALOG`` when set (a file a team can share), else ``user.sqlite`` in that folder.
 """
 
 from __future__ import annotations
@@ -23,15 +27,26 @@ from typing import TYPE_CHECKING, Any, ParamSpec, TypeVar
 
 from drivetrain import units
 from drivetrain.catalog import db
-from drivetrain.catalog.schema import DATA_VERSION, DRIVE, GEARBOX, MOTOR, ROW_TABLES, TableSpec
+from drivetrain.catalog.schema import (
+    DATA_VERSION,
+    DRIVE,
+    FIELD_GROUPS,
+    GEARBOX,
+    MOTOR,
+    ROW_TABLES,
+    TableSpec,
+    trace,
+)
 from drivetrain.errors import InputError
 
 if TYPE_CHECKING:
     from drivetrain.catalog.importer import ImportReport, export, import_file
+    from drivetrain.catalog.manage import history, remove, update
     from drivetrain.catalog.tables import DriveTable, GearboxTable, MotorTable
 
 _LAZY = {"ImportReport": "importer", "export": "importer", "import_file": "importer", "DriveTable": "tables",
-         "GearboxTable": "tables", "MotorTable": "tables"}
+         "GearboxTable": "tables", "MotorTable": "tables", "history": "manage", "remove": "manage",
+         "update": "manage"}
 
 
 def __getattr__(name: str) -> Any:
@@ -52,8 +67,11 @@ __all__ = [
     "export",
     "gearboxes",
     "get",
+    "history",
     "import_file",
     "motors",
+    "remove",
+    "update",
 ]
 
 VOLTAGE_TOLERANCE = 0.15
@@ -198,7 +216,7 @@ def get(id: str) -> dict[str, Any]:
         for spec in ROW_TABLES:
             found = rd.rows(spec, "id = ?", (id,))
             if found:
-                return _record(spec, found[0], rd.curves([id]).get(id))
+                return _record(spec, found[0], rd.curves([id]).get(id), rd.curve_sources(id))
         rejected = rd.rejected(id)
         known = list(rd.ids())
     if rejected is not None:
@@ -214,14 +232,56 @@ def _record(
     spec: TableSpec,
     row: dict[str, Any],
     points: list[tuple[float, float | None, float | None]] | None,
+    curve_sources: Sequence[str] = (),
 ) -> dict[str, Any]:
     record: dict[str, Any] = {"table": spec.name, **row}
+    record["unverified"], record["unverified_reason"] = trace(row)
+    record["sources"] = sources(spec, row, points, curve_sources)
     if spec is MOTOR:
         record["derived"] = [d for d in (row.get("derived") or "").split(",") if d]
         from drivetrain.catalog.curves import Curve
 
         record["curve"] = None if not points else Curve.from_points(points).to_dict()
     return record
+
+
+def sources(
+    spec: TableSpec,
+    row: dict[str, Any],
+    points: list[tuple[float, float | None, float | None]] | None = None,
+    curve_sources: Sequence[str] = (),
+) -> dict[str, str]:
+    """Where each field group of a row was read: ratings, mechanical, electrical (and, for motors, curve).
+
+    A group's own source (``ratings_source`` ...) where the row has one, else the row's vendor document
+    (title, section, page, URL), else its ``source`` text; a group the row has no value of says so.
+    """
+    doc = ", ".join(
+        str(row[k]) for k in ("source_document", "source_section") if row.get(k)
+    )
+    if row.get("source_page"):
+        page = str(row["source_page"])
+        doc += f", p. {page}" if page[:1].isdigit() else f", {page}"
+    if row.get("source_url"):
+        doc += f" ({row['source_url']})"
+    default = doc or str(row.get("source") or "no source recorded")
+    out: dict[str, str] = {}
+    for group, names in FIELD_GROUPS.items():
+        columns = [f.column for f in spec.fields if f.name in names]
+        if not columns:
+            continue
+        if not any(row.get(c) is not None for c in columns):
+            out[group] = "no values"
+            continue
+        own = row.get(f"{group}_source")
+        out[group] = f"{own} [{doc}]" if own and doc else str(own or default)
+    if spec is MOTOR:
+        if not points:
+            out["curve"] = "none: the envelope is derived from the ratings (approximate)"
+        else:
+            named = sorted({s for s in curve_sources if s})
+            out["curve"] = f"{len(points)} points from " + ("; ".join(named) if named else default)
+    return out
 
 
 def _did_you_mean(value: str, known: Sequence[str]) -> str:

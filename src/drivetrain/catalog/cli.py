@@ -21,6 +21,8 @@ if TYPE_CHECKING:
 LIST_KINDS = ("motor", "gearbox", "drive")
 _PLURAL = {"motor": "motors", "gearbox": "gearboxes", "drive": "drives"}
 DEFAULT_LIMIT = 50
+UNVERIFIED_MARK = " †"
+"""Marks an unverified row (not traced to a vendor document, or a derived rating) in tables."""
 _PIPE_WIDTH = 200
 _VENDOR_WIDTH = 24
 
@@ -74,11 +76,23 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         help="list, show, import and export motors, gearboxes and drives",
         description="The component catalog: shipped data (with sources) plus your own imports.",
     )
+    parser.add_argument(
+        "--catalog",
+        metavar="FILE.sqlite",
+        help="your catalog file (shared by a team; default: $DRIVETRAIN_CATALOG, else user.sqlite in the data "
+        "folder); the shipped data is read beside it",
+    )
     sub = parser.add_subparsers(dest="catalog_command", metavar="COMMAND", required=True)
 
     p = sub.add_parser("list", help="list components (motors by default)")
     p.add_argument("--vendor", help="part of the vendor name, case-insensitive")
     p.add_argument("--kind", choices=LIST_KINDS, default="motor", help="table to list (default: motor)")
+    p.add_argument(
+        "--source",
+        choices=("all", "builtin", "user"),
+        default="all",
+        help="shipped rows (builtin), your rows (user) or both (default)",
+    )
     p.add_argument(
         "--limit",
         type=int,
@@ -95,6 +109,18 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
     p = sub.add_parser("import", help="import a CSV or JSON file into your catalog (all rows or none)")
     p.add_argument("file", metavar="FILE")
     p.add_argument("--kind", choices=tuple(TABLES), help="table (default: from the file)")
+    p.add_argument(
+        "--replace",
+        action="store_true",
+        help="update rows of your catalog that have the same id (in the same transaction)",
+    )
+
+    p = sub.add_parser("remove", help="remove rows of your catalog by id (all or none)")
+    p.add_argument("ids", metavar="ID", nargs="+")
+
+    p = sub.add_parser("history", help="the changes to your catalog: imports, replacements, edits, removals")
+    p.add_argument("id", metavar="ID", nargs="?", help="only this id")
+    p.add_argument("--json", action="store_true", help="print JSON (old and new values in SI)")
 
     p = sub.add_parser("export", help="export a table as CSV or JSON with unit headers")
     p.add_argument("--kind", choices=tuple(TABLES), default="motor", help="table (default: motor)")
@@ -113,8 +139,30 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
 
 def run(args: argparse.Namespace) -> int:
     """Run a ``catalog`` sub-command; returns the exit status. Raises InputError on bad input."""
-    handlers = {"list": _list, "show": _show, "import": _import, "export": _export}
+    handlers = {
+        "list": _list,
+        "show": _show,
+        "import": _import,
+        "export": _export,
+        "remove": _remove,
+        "history": _history,
+    }
+    use_catalog(getattr(args, "catalog", None))
     return handlers[args.catalog_command](args)
+
+
+def use_catalog(path: str | None) -> None:
+    """``--catalog FILE``: the user catalog of this run (as ``$DRIVETRAIN_CATALOG``)."""
+    if not path:
+        return
+    import os
+
+    from drivetrain.catalog.db import ENV_CATALOG
+    from drivetrain.errors import InputError
+
+    if os.path.isdir(path):
+        raise InputError("--catalog", "must name a catalog file (e.g. team.sqlite), not a folder", path)
+    os.environ[ENV_CATALOG] = os.path.abspath(os.path.expanduser(path))
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -155,13 +203,20 @@ def _list(args: argparse.Namespace) -> int:
         table = catalog.gearboxes(vendor=args.vendor)
     else:
         table = catalog.drives(vendor=args.vendor)
+    source = getattr(args, "source", "all")
+    if source != "all":
+        table = table.take(table.origin == source)
     shown = len(table) if args.limit == 0 else min(args.limit, len(table))
     if args.json:
         print(json.dumps([table.row(i) for i in range(shown)], indent=1, ensure_ascii=False))
         return 0
     console = _console()
     if len(table) == 0:
-        console.print(_empty_message(args.kind, args.vendor))
+        console.print(
+            f"no {_PLURAL[args.kind]} in your catalog; add some with `drivetrain catalog import FILE`"
+            if source == "user"
+            else _empty_message(args.kind, args.vendor)
+        )
         return 0
     spec = TABLES[args.kind]
     from rich.table import Table
@@ -174,8 +229,16 @@ def _list(args: argparse.Namespace) -> int:
         cells = [_cell(spec, name, row) for _, name in _LIST_COLUMNS[args.kind]]
         if args.kind == "motor" and row.get("approx_rated"):
             cells[3] += " (derived)"
+        if row.get("unverified"):
+            cells[0] += UNVERIFIED_MARK
         out.add_row(*cells)
     console.print(out)
+    flagged = int(table.unverified[:shown].sum())
+    if flagged:
+        console.print(
+            f"{UNVERIFIED_MARK} unverified: {flagged} of the rows shown are not traced to a vendor document or "
+            "carry a derived rating; `drivetrain catalog show ID` says why"
+        )
     if shown < len(table):
         console.print(f"{len(table) - shown} more; use --limit 0 to list all, or --vendor to narrow")
     return 0
@@ -226,7 +289,17 @@ def _show(args: argparse.Namespace) -> int:
     out = Table(title=f"{record['table']} {record['id']}", title_justify="left", show_header=False)
     out.add_column("field", style="bold", no_wrap=True)
     out.add_column("value")
-    provenance = ("source", "notes", "rated_torque_basis", "derived")
+    provenance = (
+        "source",
+        "notes",
+        "rated_torque_basis",
+        "derived",
+        "verified",
+        "unverified_reason",
+        "ratings_source",
+        "mechanical_source",
+        "electrical_source",
+    )
     for fld in spec.fields:
         if fld.name in provenance or fld.name == "id":
             continue
@@ -236,6 +309,14 @@ def _show(args: argparse.Namespace) -> int:
         out.add_row(fld.name, _with_unit(spec, fld.name, record))
     out.add_row("origin", "shipped catalog" if record["origin"] == "builtin" else "your import")
     out.add_row("source", str(record.get("source") or "-"))
+    for group, where in record.get("sources", {}).items():
+        out.add_row(f"source: {group}", str(where))
+    out.add_row(
+        "verified",
+        f"no: {record['unverified_reason']}" if record.get("unverified") else "yes (traced to the document above)"
+        if record.get("verified") == 1
+        else "not marked (no reason to doubt it is recorded)",
+    )
     if record.get("notes"):
         out.add_row("notes", str(record["notes"]))
     if record["table"] == "motor":
@@ -262,8 +343,39 @@ def _with_unit(spec: TableSpec, name: str, record: dict[str, Any]) -> str:
 def _import(args: argparse.Namespace) -> int:
     from drivetrain import catalog
 
-    report = catalog.import_file(args.file, kind=args.kind)
+    report = catalog.import_file(args.file, kind=args.kind, replace=args.replace)
     _console().print(str(report))
+    return 0
+
+
+def _remove(args: argparse.Namespace) -> int:
+    from drivetrain import catalog
+    from drivetrain.catalog.db import user_db_path
+
+    count = catalog.remove(args.ids)
+    print(f"removed {count} row(s) from {user_db_path()}")
+    return 0
+
+
+def _history(args: argparse.Namespace) -> int:
+    from drivetrain import catalog
+
+    entries = catalog.history(args.id)
+    if args.json:
+        print(json.dumps(entries, indent=1, ensure_ascii=False))
+        return 0
+    console = _console()
+    if not entries:
+        console.print("no changes recorded" + (f" for {args.id}" if args.id else " in your catalog"))
+        return 0
+    from rich.table import Table
+
+    out = Table(title="catalog history", title_justify="left")
+    for title in ("time (UTC)", "action", "table", "id", "source"):
+        out.add_column(title, no_wrap=title != "source")
+    for e in entries:
+        out.add_row(e["at"], e["action"], e["table_name"], e["id"], e["source"] or "-")
+    console.print(out)
     return 0
 
 

@@ -7,7 +7,9 @@ folder, e.g. ``~/.local/share/drivetrain``):
   ``drivetrain/catalog/data`` and rebuilt whenever their version or content changes. It is
   written to a temporary file and moved into place, so a reader never sees half of it, and it is
   only ever opened read-only.
-* ``user.sqlite`` holds the user's imports. Every import is one transaction.
+* ``user.sqlite`` holds the user's imports. Every import is one transaction. A team can share one
+  user catalog anywhere: ``$DRIVETRAIN_CATALOG`` (or ``drivetrain --catalog FILE.sqlite``) names
+  it; the shipped data is still read beside it.
 
 Queries see the union of both; each row carries ``origin`` = ``"builtin"`` or ``"user"``.
 """
@@ -30,9 +32,12 @@ from typing import TYPE_CHECKING, Any
 from drivetrain.catalog.schema import (
     CURVE,
     DATA_VERSION,
+    DOCUMENT_FIELDS,
     ELECTRICAL_FILE,
     GEARBOX,
+    HISTORY_COLUMNS,
     MOTOR,
+    MOTOR_DOCUMENTS_FILE,
     PAIRING_FILE,
     REJECTS_FILE,
     ROW_TABLES,
@@ -53,6 +58,7 @@ if TYPE_CHECKING:
 BUILTIN_NAME = "catalog.sqlite"
 USER_NAME = "user.sqlite"
 ENV_DATA_DIR = "DRIVETRAIN_DATA_DIR"
+ENV_CATALOG = "DRIVETRAIN_CATALOG"
 _STALE_TEMP_S = 3600.0  # a build temp file this old was left by a killed process
 
 _verified: set[Path] = set()  # shipped databases checked up to date in this process
@@ -77,6 +83,13 @@ def data_dir() -> Path:
 
 
 def user_db_path(directory: Path | None = None) -> Path:
+    """The user catalog: ``$DRIVETRAIN_CATALOG`` when set (a shared file), else user.sqlite in the data folder."""
+    env = os.environ.get(ENV_CATALOG)
+    if env:
+        path = Path(env).expanduser().resolve()
+        if path.is_dir():
+            raise InputError(ENV_CATALOG, "must name a catalog file (e.g. team.sqlite), not a folder", env)
+        return path
     return (directory or data_dir()) / USER_NAME
 
 
@@ -88,7 +101,8 @@ def shipped_text(filename: str) -> str:
 def build_stamp() -> str:
     """Identifies the shipped data: DATA_VERSION, schema version and a hash of the files."""
     digest = hashlib.sha256()
-    for name in [f.filename for f in SHIPPED_FILES] + [REJECTS_FILE, ELECTRICAL_FILE, PAIRING_FILE]:
+    for name in [f.filename for f in SHIPPED_FILES] + [REJECTS_FILE, ELECTRICAL_FILE, PAIRING_FILE,
+                                                         MOTOR_DOCUMENTS_FILE]:
         digest.update(name.encode())
         digest.update(shipped_text(name).encode())
     return f"{DATA_VERSION}/schema-{SCHEMA_VERSION}/{digest.hexdigest()[:16]}"
@@ -181,6 +195,7 @@ def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
     """Every shipped file converted and validated; a problem is a packaging bug, so it raises."""
     from drivetrain.catalog.records import parse_rows, read_csv
 
+    documents = motor_documents()
     for shipped in SHIPPED_FILES:
         raw = read_csv(shipped_text(shipped.filename), shipped.filename)
         parsed = parse_rows(
@@ -189,6 +204,12 @@ def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
         if parsed.errors:
             raise RuntimeError(f"shipped catalog data is invalid:\n{InputErrors(parsed.errors)}")
         for row in parsed.rows:
+            if shipped.table is MOTOR and row.id in documents:
+                for name, value in documents.pop(row.id).items():
+                    row.values[name] = value
+            if shipped.unverified and row.values.get("verified") != 1:
+                row.values["verified"] = 0
+                row.values.setdefault("unverified_reason", _reason_of(row.values, shipped.unverified))
             m = re.match(shipped.model_pattern, row.id or "") if shipped.model_pattern else None
             if m is not None:
                 row.values["model"] = m.group(1)
@@ -198,6 +219,33 @@ def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
                 # right-angle series end in R (GPBR, GPDR, GPVR, GPER; data/SOURCES.md)
                 row.values["right_angle"] = int(str(row.values.get("series", "")).endswith("R"))
         yield shipped, parsed.rows
+    if documents:
+        raise RuntimeError(f"{MOTOR_DOCUMENTS_FILE} names motors that are not shipped: {', '.join(documents)}")
+
+
+def motor_documents() -> dict[str, dict[str, Any]]:
+    """The vendor documents of shipped motors by id (MOTOR_DOCUMENTS_FILE), ``verified`` as 1/0."""
+    import csv
+    import io
+
+    out: dict[str, dict[str, Any]] = {}
+    reader = csv.DictReader(io.StringIO(shipped_text(MOTOR_DOCUMENTS_FILE)))
+    if reader.fieldnames is None or set(reader.fieldnames) != {"id", *DOCUMENT_FIELDS}:
+        raise RuntimeError(f"{MOTOR_DOCUMENTS_FILE}: columns must be id and {', '.join(DOCUMENT_FIELDS)}")
+    for r in reader:
+        values: dict[str, Any] = {k: v.strip() for k, v in r.items() if k != "id" and v and v.strip()}
+        if values.get("verified") not in ("yes", "no"):
+            raise RuntimeError(f"{MOTOR_DOCUMENTS_FILE}: {r['id']}: verified must be yes or no")
+        values["verified"] = int(values["verified"] == "yes")
+        out[r["id"]] = values
+    return out
+
+
+def _reason_of(values: dict[str, Any], default: str) -> str:
+    """Why a shipped row is unverified: the notes' own "not verified: ..." clause, else the file's reason."""
+    notes = str(values.get("notes") or "")
+    m = re.search(r"not verified: ([^;]*(?:;[^;]*)*)$", notes)
+    return m.group(1).strip() if m else default
 
 
 # electrical table column -> (motor field, factor to SI); back-EMF V/1000 rpm -> V s/rad (its basis kept as text)
@@ -301,10 +349,18 @@ def user_writer(directory: Path | None = None) -> Iterator[sqlite3.Connection]:
 
     directory = directory or data_dir()
     builtin_db(directory)  # creates the folder, and the user rows' ids were checked against it
-    conn = sqlite3.connect(user_db_path(directory), isolation_level=None, timeout=30.0)
+    path = user_db_path(directory)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        conn = sqlite3.connect(path, isolation_level=None, timeout=30.0)
+    except (OSError, sqlite3.Error) as exc:
+        raise InputError("catalog", f"cannot open the user catalog ({exc})", str(path)) from None
     try:
         conn.execute("PRAGMA synchronous = FULL")
-        _ensure_user_schema(conn)
+        try:
+            _ensure_user_schema(conn)
+        except sqlite3.DatabaseError as exc:
+            raise InputError("catalog", f"is not a drivetrain catalog database ({exc})", str(path)) from None
         with immediate_transaction(conn):
             yield conn
     finally:
@@ -342,9 +398,10 @@ def _ensure_user_schema(conn: sqlite3.Connection) -> None:
 
 
 _UPGRADABLE = ("1", "2")
-"""User database versions brought up to SCHEMA_VERSION in place: they lack only columns added since
-(version 2 added the gearbox fields T2B source document, bore range, flange, pilot, verified; version 3
-the drives' regen fields and the motors' electrical columns)."""
+"""User database versions brought up to SCHEMA_VERSION in place: they lack only columns and tables added
+since (version 2 added the gearbox fields source document, bore range, flange, pilot, verified; version 3
+the drives' regen fields, the motors' electrical columns, the motor and drive documents, the unverified
+reasons, the motor field-group sources and the history)."""
 
 
 def _upgrade_user(conn: sqlite3.Connection, schema: str) -> None:
@@ -359,6 +416,11 @@ def _upgrade_user(conn: sqlite3.Connection, schema: str) -> None:
             for f in spec.fields:
                 if f.column not in have:
                     conn.execute(f"ALTER TABLE {schema}.{spec.sql} ADD COLUMN {f.column} {sql_type(f)}")
+        has_history = conn.execute(
+            f"SELECT 1 FROM {schema}.sqlite_master WHERE type = 'table' AND name = 'history'"
+        ).fetchone()
+        if not has_history:
+            conn.execute(f"CREATE TABLE {schema}.history ({', '.join(c + ' TEXT' for c in HISTORY_COLUMNS)})")
         conn.execute(
             f"UPDATE {schema}.meta SET value = ? WHERE key = 'schema_version'", (str(SCHEMA_VERSION),)
         )
@@ -402,11 +464,16 @@ def reader(directory: Path | None = None) -> Iterator[Reader]:
         user = user_db_path(directory)
         has_user = user.exists()
         if has_user:
-            # read-write on purpose: a journal left by a killed import is rolled back on open
-            conn.execute("ATTACH DATABASE ? AS user", (str(user),))
-            has_user = bool(
-                conn.execute("SELECT 1 FROM user.sqlite_master WHERE type = 'table' AND name = 'meta'").fetchone()
-            )
+            try:
+                # read-write on purpose: a journal left by a killed import is rolled back on open
+                conn.execute("ATTACH DATABASE ? AS user", (str(user),))
+                has_user = bool(
+                    conn.execute(
+                        "SELECT 1 FROM user.sqlite_master WHERE type = 'table' AND name = 'meta'"
+                    ).fetchone()
+                )
+            except sqlite3.DatabaseError as exc:
+                raise InputError("catalog", f"is not a drivetrain catalog database ({exc})", str(user)) from None
             if has_user:
                 _check_user_version(conn, "user")
         yield Reader(conn, has_user)
@@ -466,11 +533,29 @@ class Reader:
             out.setdefault(mid, []).append(did)
         return out
 
+    def curve_sources(self, motor_id: str) -> list[str]:
+        """The ``source`` of each curve point of one motor, by speed (as :meth:`curves` orders them)."""
+        cols = "motor_id, speed_rad_s, source"
+        sql = f"SELECT source FROM ({self._union(CURVE.sql, cols)}) WHERE motor_id = ? ORDER BY speed_rad_s"
+        return [str(r[0] or "") for r in self.conn.execute(sql, (motor_id,))]
+
     def rejected(self, rid: str) -> dict[str, str] | None:
         """The shipped data's reject record for ``rid`` (a row left out, with the reason), if any."""
         cursor = self.conn.execute("SELECT * FROM builtin.rejects WHERE id = ?", (rid,))
         row = cursor.fetchone()
         return None if row is None else dict(zip([d[0] for d in cursor.description], row, strict=True))
+
+    def history(self, rid: str | None = None) -> list[dict[str, Any]]:
+        """The user catalog's change log (oldest first), of one id or of all; empty without a user catalog."""
+        if not self.has_user:
+            return []
+        sql = f"SELECT {', '.join(HISTORY_COLUMNS)} FROM user.history"
+        params: tuple[Any, ...] = ()
+        if rid is not None:
+            sql += " WHERE id = ?"
+            params = (rid,)
+        cursor = self.conn.execute(sql + " ORDER BY rowid", params)
+        return [dict(zip(HISTORY_COLUMNS, r, strict=True)) for r in cursor]
 
     def count(self, spec: TableSpec, origin: str | None = None) -> int:
         dbs = [d for d in ("builtin", "user") if origin in (None, d) and (d == "builtin" or self.has_user)]

@@ -63,6 +63,8 @@ class ImportReport:
     database: str
 
     def __str__(self) -> str:
+        if self.table == "curve":
+            return f"imported {self.curve_points} curve point(s) from {self.path} into {self.database}"
         points = f" and {self.curve_points} curve point(s)" if self.curve_points else ""
         return f"imported {self.rows} {self.table} row(s){points} from {self.path} into {self.database}"
 
@@ -71,13 +73,23 @@ class ImportReport:
 
 
 def import_file(
-    path: str | os.PathLike[str], kind: str | None = None, *, directory: Path | None = None
+    path: str | os.PathLike[str],
+    kind: str | None = None,
+    *,
+    directory: Path | None = None,
+    replace: bool = False,
+    source: str | None = None,
 ) -> ImportReport:
     """Validate ``path`` (CSV or JSON) and add its rows to the user database in one transaction.
 
     ``kind`` is the table: "motor", "gearbox", "drive" or "curve" (default: from the file's
     ``table`` key or its columns). Raises InputErrors listing every bad cell, missing column and
     duplicate id as ``file:line:column``; nothing is written then.
+
+    ``replace``: rows whose id is already in your catalog are updated (the whole row; a motor's curve
+    too when the file gives one; a curve file replaces the user curve of each motor it names), in the
+    same transaction as the new rows. Shipped rows are never replaced. ``source``: recorded for rows
+    that name none (default "imported from FILE"). Every change is logged (``catalog.history``).
     """
     filename = os.fspath(path)
     text = _read(filename)
@@ -88,24 +100,31 @@ def import_file(
                          "(split the file)", has_value=False)
     spec = _table(kind, raw.table, raw.headers, filename)
     parsed = parse_rows(raw, spec)
-    _default_source(parsed.rows, Path(filename).name)
+    _default_source(parsed.rows, source or f"imported from {Path(filename).name}")
     with db.reader(directory) as rd:
         existing = rd.ids()
         motor_curves = rd.curves() if spec in (MOTOR, CURVE) else {}
+        if replace and spec is CURVE:
+            replaced_curves = {p.values.get("motor_id") for p in parsed.rows} - {None}
+            motor_curves = {m: rd_points for m, rd_points in motor_curves.items() if m not in replaced_curves}
         user_rows = sum(rd.count(t, "user") for t in TABLES.values())
     adding = len(parsed.rows) + sum(len(r.curve) for r in parsed.rows)
+    if replace and spec is not CURVE:  # a replaced row takes the place of the one it replaces
+        adding -= sum(1 for r in parsed.rows if r.id is not None and existing.get(r.id, ("", ""))[1] == "user")
     if user_rows + adding > MAX_USER_ROWS:
         raise InputError(filename, f"would bring your catalog to {user_rows + adding} rows and curve points; "
                          f"it holds at most {MAX_USER_ROWS} (remove rows you no longer need: catalog remove)",
                          has_value=False)
-    errors = parsed.errors + _cross_row_errors(parsed, filename, existing, motor_curves)
+    errors = parsed.errors + _cross_row_errors(parsed, filename, existing, motor_curves, replace)
     if errors:
         raise InputErrors(sorted(errors, key=_error_order))
     import sqlite3
 
+    from drivetrain.catalog import manage
+
     try:
         with db.user_writer(directory) as conn:
-            write_rows(conn, spec, parsed.rows)
+            manage.write_import(conn, spec, parsed.rows, replace, filename)
             database = db.user_path_of(conn, "main")
     except sqlite3.IntegrityError as exc:  # another import added the same id since the check above
         raise InputError(
@@ -116,16 +135,16 @@ def import_file(
     return ImportReport(filename, spec.name, len(parsed.rows) if spec is not CURVE else 0, points, ids, database)
 
 
-def _default_source(rows: Sequence[Row], name: str) -> None:
+def _default_source(rows: Sequence[Row], source: str) -> None:
     """A row without a source still has one: the file it came from."""
     for row in rows:
-        row.values.setdefault("source", f"imported from {name}")
+        row.values.setdefault("source", source)
         for point in row.curve:
             point.values.setdefault("source", row.values["source"])
 
 
 def write_rows(conn: sqlite3.Connection, spec: TableSpec, rows: Sequence[Row]) -> int:
-    """The one place an import writes: insert ``rows`` inside the caller's transaction."""
+    """Insert ``rows`` inside the caller's transaction (manage.write_import logs and replaces)."""
     return db.insert_rows(conn, "main", spec, rows)
 
 
@@ -168,11 +187,16 @@ def _cross_row_errors(
     filename: str,
     existing: dict[str, tuple[str, str]],
     curves: dict[str, list[tuple[float, float | None, float | None]]],
+    replace: bool = False,
 ) -> list[InputError]:
-    """Duplicate ids (in the file, against both databases) and curve points' motors and speeds."""
+    """Duplicate ids (in the file, against both databases) and curve points' motors and speeds.
+
+    With ``replace`` an id already in the user catalog is not a duplicate (the row is updated); one in
+    the shipped catalog still is, and so is one used by another table."""
     errors: list[InputError] = []
     if parsed.spec is CURVE:
         return _curve_errors(parsed.rows, filename, existing, set(), curves)
+    replaced: set[str] = set()
     first_line: dict[str, int] = {}
     folded = {k.casefold(): k for k in existing}
     folded_here: dict[str, str] = {}
@@ -184,8 +208,22 @@ def _cross_row_errors(
             errors.append(row.error(filename, "id", f"duplicate id: already used at line {first_line[rid]}"))
         elif rid in existing:
             table, origin = existing[rid]
-            place = "the shipped catalog" if origin == "builtin" else "your catalog"
-            errors.append(row.error(filename, "id", f"duplicate id: a {table} with this id is already in {place}"))
+            if replace and origin == "user" and table == parsed.spec.name:
+                replaced.add(rid)
+            elif origin == "builtin":
+                errors.append(
+                    row.error(
+                        filename,
+                        "id",
+                        f"duplicate id: a {table} with this id is already in the shipped catalog, which cannot be "
+                        "changed; import your version under another id",
+                    )
+                )
+            else:
+                hint = "" if table != parsed.spec.name else " (use --replace to update it)"
+                errors.append(
+                    row.error(filename, "id", f"duplicate id: a {table} with this id is already in your catalog{hint}")
+                )
         elif rid.casefold() in folded:
             other = folded[rid.casefold()]
             place = "the shipped catalog" if existing[other][1] == "builtin" else "your catalog"
@@ -197,7 +235,9 @@ def _cross_row_errors(
         folded_here.setdefault(rid.casefold(), rid)
     if parsed.spec is MOTOR:
         points = [p for r in parsed.rows for p in r.curve]
-        errors.extend(_curve_errors(points, filename, existing, set(first_line), curves))
+        renewed = {r.id for r in parsed.rows if r.curve and r.id in replaced}
+        kept = {m: p for m, p in curves.items() if m not in renewed}
+        errors.extend(_curve_errors(points, filename, existing, set(first_line), kept))
     return errors
 
 
@@ -283,6 +323,7 @@ def export_text(
         if wanted is not None:
             rows = [r for r in rows if r[id_key] in wanted]
         curves = rd.curves([r["id"] for r in rows]) if spec is MOTOR and format == "json" else {}
+        point_sources = {mid: rd.curve_sources(mid) for mid in curves}
     headers = [header(f) for f in spec.fields]
     records = [[display(f, r.get(f.column)) for f in spec.fields] for r in rows]
     if format == "csv":
@@ -291,7 +332,9 @@ def export_text(
     for r, values in zip(rows, records, strict=True):
         obj = {h: v for h, v in zip(headers, values, strict=True) if v is not None}
         if r.get("id") in curves:
-            obj["curve"] = [_curve_point(p) for p in curves[r["id"]]]
+            obj["curve"] = [
+                _curve_point(p, src) for p, src in zip(curves[r["id"]], point_sources[r["id"]], strict=True)
+            ]
         out_rows.append(obj)
     doc = {"table": spec.name, "data_version": DATA_VERSION, "rows": out_rows}
     return json.dumps(doc, indent=1, ensure_ascii=False) + "\n", len(rows)
@@ -316,13 +359,15 @@ def _unit_si(unit: str, quantity: str) -> float:
     return parse_quantity(f"1 {unit}", quantity, unit)
 
 
-def _curve_point(point: tuple[float, float | None, float | None]) -> dict[str, float]:
+def _curve_point(point: tuple[float, float | None, float | None], source: str = "") -> dict[str, float | str]:
     names = ("speed", "continuous_torque", "peak_torque")
-    out: dict[str, float] = {}
+    out: dict[str, float | str] = {}
     for name, value in zip(names, point, strict=True):
         fld = CURVE.field(name)
         if value is not None:
             out[header(fld)] = display(fld, value)
+    if source:
+        out["source"] = source
     return out
 
 

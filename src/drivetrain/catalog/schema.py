@@ -17,7 +17,8 @@ DATA_VERSION = "2026.11-3"
 """Version of the shipped data files; the cached database is rebuilt when it changes."""
 
 SCHEMA_VERSION = 3
-"""Version of the SQLite layout; a user database of another version is refused, not migrated."""
+"""Version of the SQLite layout; older user databases listed in db._UPGRADABLE gain the new columns in
+place, any other version is refused."""
 
 # Non-numeric field types; every other ``quantity`` is a units.QUANTITIES key or in EXTRA_QUANTITIES.
 TEXT = "text"
@@ -63,8 +64,12 @@ def _text(name: str) -> Field:
 
 _COMMON_HEAD = (_text("id"), _text("kind"), _text("vendor"), _text("series"), _text("model"))
 _COMMON_TAIL = (_text("source"), _text("notes"))
-# The vendor document a row's numbers were read from (gearboxes; data/SOURCES.md).
+# The vendor document a row's numbers were read from (data/SOURCES.md).
 _DOCUMENT = (_text("source_document"), _text("source_section"), _text("source_page"), _text("source_url"))
+# Why a row is not traced to a vendor document (shown with its ``unverified`` flag in every answer).
+_TRACE = (Field("verified", FLAG, "verified"), _text("unverified_reason"))
+# Where one group of a motor's fields was read when it differs from the row's document.
+_GROUP_SOURCES = (_text("ratings_source"), _text("mechanical_source"), _text("electrical_source"))
 
 MOTOR_FIELDS: tuple[Field, ...] = (
     *_COMMON_HEAD,
@@ -102,10 +107,12 @@ MOTOR_FIELDS: tuple[Field, ...] = (
     Field("pole_count", INTEGER, "pole_count"),
     Field("thermal_time_constant", "time", "thermal_time_constant_s", "s"),
     Field("rated_winding_rise", "temperature_difference", "rated_winding_rise_K", "K"),
-    _text("electrical_source"),
     _text("rated_torque_basis"),
     _text("derived"),
     *_COMMON_TAIL,
+    *_DOCUMENT,
+    *_TRACE,
+    *_GROUP_SOURCES,
 )
 
 GEARBOX_FIELDS: tuple[Field, ...] = (
@@ -137,6 +144,7 @@ GEARBOX_FIELDS: tuple[Field, ...] = (
     Field("verified", FLAG, "verified"),
     *_COMMON_TAIL,
     *_DOCUMENT,
+    _text("unverified_reason"),
 )
 
 DRIVE_FIELDS: tuple[Field, ...] = (
@@ -159,6 +167,7 @@ DRIVE_FIELDS: tuple[Field, ...] = (
     Field("min_resistance", "resistance", "min_resistance_ohm", "ohm"),
     *_COMMON_TAIL,
     *_DOCUMENT,
+    *_TRACE,
 )
 
 CURVE_FIELDS: tuple[Field, ...] = (
@@ -283,13 +292,26 @@ class ShippedFile:
     constants: tuple[tuple[str, str], ...] = ()
     derived: tuple[str, ...] = ()
     model_pattern: str = ""  # regex whose first group, applied to the id, is the model name
+    unverified: str = ""  # why the file's rows are not traced to a vendor document (rows not marked verified)
 
+
+_CONFIGURATOR = (
+    "values from a third-party configurator's data file (urchacha/gearbox-configurator, data/SOURCES.md), "
+    "not read from a vendor document"
+)
+_MGDB = "values from the MGDB compilation (ekrimsk/MGDB, data/SOURCES.md), not read from a vendor document"
 
 SHIPPED_FILES: tuple[ShippedFile, ...] = (
     # data/SOURCES.md: the id is the vendor's model code
-    ShippedFile("motors_ac_servo.csv", MOTOR, "ac_servo", model_pattern=r"^(.*)$"),
+    ShippedFile("motors_ac_servo.csv", MOTOR, "ac_servo", model_pattern=r"^(.*)$", unverified=_CONFIGURATOR),
     # data/SOURCES.md: MGDB stall torque, nominal torque and nominal speed are derived columns
-    ShippedFile("motors_small_dc.csv", MOTOR, "small_dc", derived=("stall_torque", "rated_torque", "rated_speed")),
+    ShippedFile(
+        "motors_small_dc.csv",
+        MOTOR,
+        "small_dc",
+        derived=("stall_torque", "rated_torque", "rated_speed"),
+        unverified=_MGDB,
+    ),
     # data/SOURCES.md: every row of this file is a precision planetary gearbox
     # ids are model-stage-ratio (GPB042-L1-i3): the model is the id without the ratio
     ShippedFile(
@@ -298,6 +320,7 @@ SHIPPED_FILES: tuple[ShippedFile, ...] = (
         "servo_gearbox",
         constants=(("type", "planetary"),),
         model_pattern=r"^(.*)-i[0-9.]+$",
+        unverified=_CONFIGURATOR,
     ),
     # data/SOURCES.md: Beckhoff planetary gear units, every row read from Beckhoff's technical-data pages
     *(
@@ -310,7 +333,7 @@ SHIPPED_FILES: tuple[ShippedFile, ...] = (
         )
         for family in ("ag2250", "ag2400", "ag3400")
     ),
-    ShippedFile("gearboxes_small.csv", GEARBOX, "small_gearhead"),
+    ShippedFile("gearboxes_small.csv", GEARBOX, "small_gearhead", unverified=_MGDB),
     ShippedFile("drives.csv", DRIVE, "servo_drive"),
     # data/SOURCES.md, "Drives": every number read from the vendor document named in its row
     ShippedFile("drives_servo.csv", DRIVE, "servo_drive"),
@@ -320,6 +343,37 @@ ELECTRICAL_FILE = "motors_ac_servo_electrical.csv"
 PAIRING_FILE = "drives_pairing.csv"
 """The vendors' motor-drive pairing tables: motor_id, drive_id, source, source_url."""
 REJECTS_FILE = "rejects.csv"
+MOTOR_DOCUMENTS_FILE = "motor_documents.csv"
+"""Vendor documents of shipped motors, by id: the document, section, page, URL, ``verified`` and the
+source of each field group; it fills those fields of the motor rows (data/SOURCES.md)."""
+DOCUMENT_FIELDS = (
+    "source_document", "source_section", "source_page", "source_url", "verified", "ratings_source",
+    "mechanical_source", "electrical_source",
+)
+
+FIELD_GROUPS: dict[str, tuple[str, ...]] = {
+    "ratings": (
+        "rated_power", "rated_torque", "stall_torque", "peak_torque", "rated_speed", "max_speed",
+        "max_continuous_speed", "no_load_speed", "rated_output_torque", "max_output_torque",
+        "emergency_stop_torque", "efficiency", "max_input_speed", "rated_input_speed", "max_radial_load",
+        "max_axial_load", "max_tilting_moment", "continuous_current", "peak_current",
+    ),
+    "mechanical": (
+        "rotor_inertia", "rotor_inertia_brake", "brake", "mass", "flange", "shaft_diameter", "pilot_diameter",
+        "bolt_circle", "ratio", "stages", "inertia_input", "backlash", "torsional_stiffness", "noise",
+        "input_bore_max", "input_bore_min", "input_flange", "input_pilot", "input_adapters", "direction",
+        "right_angle",
+    ),
+    "electrical": (
+        "voltage", "torque_constant", "winding_resistance", "winding_inductance", "rated_current",
+        "no_load_current", "rth_winding_housing", "rth_housing_ambient", "dc_bus_capacitance",
+        "braking_resistor", "braking_resistor_power",
+    ),
+}
+"""The field groups ``catalog show`` gives a source for (the curve is a fourth, sourced per point)."""
+
+HISTORY_COLUMNS = ("at", "action", "table_name", "id", "source", "old_values", "new_values")
+"""The user database's change log: every import, replace, edit and removal of a user row."""
 
 
 def sql_type(field: Field) -> str:
@@ -345,7 +399,29 @@ def ddl() -> list[str]:
     cols = ",\n  ".join(f"{f.column} {sql_type(f)}" for f in CURVE.fields)
     statements.append(f"CREATE TABLE {CURVE.sql} (\n  {cols},\n  PRIMARY KEY (motor_id, speed_rad_s)\n)")
     statements.append("CREATE TABLE drive_pairs (motor_id TEXT, drive_id TEXT, source TEXT, source_url TEXT)")
+    statements.append(f"CREATE TABLE history ({', '.join(c + ' TEXT' for c in HISTORY_COLUMNS)})")
     statements.append(
         "CREATE TABLE rejects (target_file TEXT, id TEXT, vendor TEXT, reason TEXT, source TEXT, source_values TEXT)"
     )
     return statements
+
+
+_DERIVED_RATINGS = {"rated_torque": "rated torque", "rated_speed": "rated speed"}
+
+
+def trace(row: dict[str, object]) -> tuple[bool, str]:
+    """Whether a row (a database dict keyed by column) is unverified, and why.
+
+    A row is unverified when it is marked ``verified = no`` (its values are not traced to a vendor
+    document; ``unverified_reason`` says why) or when a rating it is sized on was derived rather than
+    read (``derived`` names rated_torque or rated_speed: e.g. P / omega).
+    """
+    reasons: list[str] = []
+    if row.get("verified") == 0:
+        reasons.append(str(row.get("unverified_reason") or "not traced to a vendor document"))
+    derived = [d for d in str(row.get("derived") or "").split(",") if d in _DERIVED_RATINGS]
+    if derived:
+        basis = row.get("rated_torque_basis")
+        how = f" ({basis})" if basis and basis != "source" else ""
+        reasons.append(" and ".join(_DERIVED_RATINGS[d] for d in derived) + f" derived, not read{how}")
+    return bool(reasons), "; ".join(reasons)

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from drivetrain.catalog.curves import Curve
-from drivetrain.catalog.schema import DRIVE, GEARBOX, MOTOR, TableSpec
+from drivetrain.catalog.schema import DRIVE, GEARBOX, MOTOR, TableSpec, trace
 
 FloatArray = NDArray[np.float64]
 StrArray = NDArray[np.str_]
@@ -38,6 +38,8 @@ class _Table:
     source: StrArray
     notes: StrArray
     origin: StrArray  # "builtin" (shipped) or "user" (imported)
+    unverified: BoolArray  # not traced to a vendor document, or a sizing rating derived (schema.trace)
+    unverified_reason: StrArray  # why ("" where traced)
 
     def __len__(self) -> int:
         return len(self.ids)
@@ -65,6 +67,12 @@ class _Table:
     def from_rows(cls, rows: Sequence[dict[str, Any]], **extra: Any) -> Self:
         """Build the table from database rows (dicts keyed by column)."""
         arrays: dict[str, Any] = {}
+        traced = [trace(r) for r in rows]
+        extra = {
+            "unverified": np.array([t[0] for t in traced], dtype=bool),
+            "unverified_reason": np.array([t[1] for t in traced], dtype=str),
+            **extra,
+        }
         for f in dataclasses.fields(cls):
             if f.name in extra:
                 arrays[f.name] = extra[f.name]

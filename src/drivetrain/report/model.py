@@ -591,6 +591,8 @@ def _motor_table(result: SizingResult, du: DisplayUnits, focus: Focus | None) ->
     rows = [
         [Cell("Motor"), Cell(motor.name)],
         [Cell("Source"), Cell(motor.source)],
+        *([[Cell("Catalog data"), Cell(f"unverified: {motor.unverified_reason}", "warn")]]
+          if motor.unverified_reason else []),
         [Cell("Rotor inertia J_M"), Cell(du.fmt(motor.inertia, "inertia"))],
         [Cell("Rated torque T_N"), Cell(du.fmt(motor.rated_torque, "torque"))],
         [Cell("Stall torque T_0"), Cell(du.fmt(motor.stall_torque, "torque") if motor.stall_torque else
@@ -786,6 +788,9 @@ def build_report(result: SizingResult, units: str = "si") -> ReportModel:
         notes.append("The motor's speed-torque envelope is derived from its ratings (rated, stall and peak torque, "
                      "rated and maximum speed), not read from a vendor curve: a check that passes with a thin margin "
                      "is unverified until compared with the datasheet's T-n characteristic.")
+    if focus is not None and focus.motor.unverified_reason:
+        notes.append(f"The motor's catalog data is unverified: {focus.motor.unverified_reason}. Check the ratings "
+                     "against the vendor's datasheet before relying on this sizing.")
     notes.append(f"Efficiency model: {result.axis.efficiency_model.replace('_', ' ')}. Mechanical quantities at the "
                  "motor shaft, before motor and drive losses.")
     date = report_date()

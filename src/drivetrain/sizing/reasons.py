@@ -138,8 +138,17 @@ def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable |
         "ok": ok, "status": "fails" if not ok else ("unknown" if unknown else "ok"), "unknown": unknown,
         "failed": failures[0] if failures else "", "failures": failures,
         "approximate_envelope": bool(~motors.has_curve[m]), "rated_torque_derived": bool(motors.approx_rated[m]),
-        "checks": list(checks.values()),
+        **_trace(motors, m, gb if geared else None, g), "checks": list(checks.values()),
     }
+
+
+def _trace(motors: MotorTable, m: int, gb: GearboxTable | None, g: int) -> dict[str, Any]:
+    """``unverified`` and its reason: the motor's or the gearbox's catalog row is not traced to a vendor
+    document, or a rating the sizing uses was derived (catalog.schema.trace)."""
+    reasons = [f"motor: {motors.unverified_reason[m]}"] if motors.unverified[m] else []
+    if gb is not None and g >= 0 and gb.unverified[g]:
+        reasons.append(f"gearbox: {gb.unverified_reason[g]}")
+    return {"unverified": bool(reasons), "unverified_reason": "; ".join(reasons) or None}
 
 
 def advice(c: Candidates, margins: Margins, spec: SelectSpec, motors: MotorTable | None = None,

@@ -66,8 +66,10 @@ class SizingResult:
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON result of design.md (keys carry their unit)."""
+        from drivetrain.catalog import DATA_VERSION
+
         out: dict[str, Any] = {"axis": self.axis.name, "drivetrain_version": __version__,
-                               "efficiency_model": self.axis.efficiency_model}
+                               "catalog_version": DATA_VERSION, "efficiency_model": self.axis.efficiency_model}
         out.update(self.metrics)
         out.update(self.extras)
         if self.motor is not None:
@@ -204,6 +206,8 @@ def motor_result(axis: Axis, duty: DutyCycle, motor: MotorData) -> dict[str, Any
     return {
         "name": motor.name,
         "source": motor.source,
+        "unverified": bool(motor.unverified_reason),
+        "unverified_reason": motor.unverified_reason or None,
         "inertia_kgm2": motor.inertia,
         "inertia_ratio": duty.load_inertia / motor.inertia,
         "peak_torque_Nm": with_rotor["peak_torque_Nm"],

@@ -158,12 +158,19 @@ class ResultCache:
         import json
 
         stamp = []
-        for name in ("catalog.sqlite", "user.sqlite", "user.sqlite-wal"):
+        paths = [self.directory / n for n in ("catalog.sqlite", "user.sqlite", "user.sqlite-wal")]
+        try:  # a shared user catalog ($DRIVETRAIN_CATALOG) lives elsewhere
+            from drivetrain.catalog.db import user_db_path
+        except ImportError:
+            pass
+        else:
+            paths.append(user_db_path(self.directory))
+        for path in paths:
             try:
-                st = (self.directory / name).stat()
-                stamp.append((name, st.st_mtime_ns, st.st_size))
+                st = path.stat()
+                stamp.append((str(path), st.st_mtime_ns, st.st_size))
             except OSError:
-                stamp.append((name, 0, 0))
+                stamp.append((str(path), 0, 0))
         text = json.dumps([kind, axis, extra, stamp], sort_keys=True, separators=(",", ":"), default=str)
         return hashlib.sha256(text.encode()).hexdigest()
 

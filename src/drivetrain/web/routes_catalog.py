@@ -1,5 +1,5 @@
 """Routes of the catalog: filter and sort motors and gearboxes, one item, a motor's envelope, and
-importing the user's own rows; with the table queries behind them.
+importing, editing and removing the user's own rows with their history; with the table queries behind them.
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from fastapi import FastAPI, File, Form, Query, UploadFile
+from fastapi import FastAPI, File, Form, Query, Request, UploadFile
 from fastapi import Path as PathParam
 
 from drivetrain.errors import InputError, InputErrors
@@ -26,6 +26,7 @@ rest of the path (``{...:path}``) and the page sends it percent-encoded."""
 
 MotorSort = Literal["id", "vendor", "series", "rated_power", "rated_torque", "peak_torque", "rated_speed",
                     "max_speed", "rotor_inertia", "mass", "flange", "voltage"]
+Origin = Literal["all", "builtin", "user"]
 GearboxSort = Literal["id", "vendor", "series", "ratio", "stages", "rated_output_torque", "max_output_torque",
                       "efficiency", "max_input_speed", "inertia_input", "backlash", "mass"]
 
@@ -59,22 +60,28 @@ def _page(table: Any, mask: np.ndarray, sort: str, order: str, offset: int, limi
     return {"total": len(sub), "offset": offset, "limit": limit, "items": items}
 
 
+def _origin_mask(table: Any, origin: str) -> np.ndarray:
+    """Rows of the shipped catalog ("builtin"), of yours ("user") or all."""
+    mask: np.ndarray = np.ones(len(table), dtype=bool) if origin == "all" else table.origin == origin
+    return mask
+
+
 def motors_page(vendor: str | None, kind: str | None, voltage: str | None, flange: str | None, q: str | None,
-                sort: str, order: str, offset: int, limit: int) -> dict[str, Any]:
+                sort: str, order: str, offset: int, limit: int, origin: str = "all") -> dict[str, Any]:
     from drivetrain import catalog
 
     table = engine(lambda: catalog.motors(vendor=vendor or None, kind=kind or None, voltage=voltage or None,
                                           flange=flange or None))
-    return _page(table, _text_mask(table, q), sort, order, offset, limit)
+    return _page(table, _text_mask(table, q) & _origin_mask(table, origin), sort, order, offset, limit)
 
 
 def gearboxes_page(vendor: str | None, series: str | None, kind: str | None, ratio_min: float | None,
                    ratio_max: float | None, q: str | None, sort: str, order: str, offset: int,
-                   limit: int) -> dict[str, Any]:
+                   limit: int, origin: str = "all") -> dict[str, Any]:
     from drivetrain import catalog
 
     table = catalog.gearboxes(vendor=vendor or None, series=series or None, kind=kind or None)
-    mask = _text_mask(table, q)
+    mask = _text_mask(table, q) & _origin_mask(table, origin)
     if ratio_min is not None:
         mask &= table.ratio >= ratio_min
     if ratio_max is not None:
@@ -91,6 +98,13 @@ def facets() -> dict[str, Any]:
             "gearbox_vendors": sorted(set(g.vendor.tolist())), "gearbox_series": sorted(set(g.series.tolist()) - {""}),
             "gearbox_kinds": sorted(set(g.kind.tolist())), "motor_voltages": volts}
 
+
+
+def utc_now() -> str:
+    """The time of an upload, as recorded in the rows' source."""
+    import datetime as dt
+
+    return dt.datetime.now(dt.UTC).strftime("%Y-%m-%d %H:%M:%S UTC")
 
 
 def rename_import_error(exc: InputError, tmp: str, shown: str) -> InputError:
@@ -121,10 +135,11 @@ def register(app: FastAPI, ctx: Context) -> None:
         order: Literal["asc", "desc"] = "asc",
         offset: Annotated[int, Query(ge=0, le=1_000_000)] = 0,
         limit: Annotated[int, Query(ge=1, le=500)] = 50,
+        origin: Annotated[Origin, Query(description="shipped rows (builtin), yours (user) or all")] = "all",
     ) -> dict[str, Any]:
         """Motors of the shipped and user catalogs (SI, units in the keys), filtered and sorted."""
         need_catalog()
-        return await blocking(motors_page, vendor, kind, voltage, flange, q, sort, order, offset, limit)
+        return await blocking(motors_page, vendor, kind, voltage, flange, q, sort, order, offset, limit, origin)
 
     @app.get("/api/catalog/gearboxes", response_model=CatalogPage, tags=["catalog"])
     async def catalog_gearboxes(
@@ -138,11 +153,12 @@ def register(app: FastAPI, ctx: Context) -> None:
         order: Literal["asc", "desc"] = "asc",
         offset: Annotated[int, Query(ge=0, le=1_000_000)] = 0,
         limit: Annotated[int, Query(ge=1, le=500)] = 50,
+        origin: Annotated[Origin, Query(description="shipped rows (builtin), yours (user) or all")] = "all",
     ) -> dict[str, Any]:
         """Gearboxes (one row per model and ratio), filtered and sorted."""
         need_catalog()
         return await blocking(gearboxes_page, vendor, series, kind, ratio_min, ratio_max, q, sort, order, offset,
-                              limit)
+                              limit, origin)
 
     @app.get("/api/catalog/items/{item_id:path}", tags=["catalog"])
     async def catalog_item(item_id: _CATALOG_ID) -> dict[str, Any]:
@@ -169,8 +185,11 @@ def register(app: FastAPI, ctx: Context) -> None:
     async def catalog_import(
         file: Annotated[UploadFile, File(description="a CSV or JSON file of motors, gearboxes, drives or curves")],
         kind: Annotated[Literal["motor", "gearbox", "drive", "curve"] | None, Form()] = None,
+        replace: Annotated[bool, Form(description="update rows of your catalog with the same id")] = False,
     ) -> dict[str, Any]:
-        """Import your own catalog rows: all rows are checked first; every bad cell is reported (422)."""
+        """Import your own catalog rows: all rows are checked first; every bad cell is reported (422).
+
+        Rows that name no source record the uploaded file's name and the time of the upload (UTC)."""
         need_catalog()
         from drivetrain import catalog
 
@@ -185,7 +204,9 @@ def register(app: FastAPI, ctx: Context) -> None:
         try:
             path.write_bytes(data)
             try:
-                rep = await blocking(lambda: catalog.import_file(path, kind, directory=directory))
+                uploaded = f"uploaded file {shown + suffix} at {utc_now()}"
+                rep = await blocking(lambda: catalog.import_file(path, kind, directory=directory, replace=replace,
+                                                                 source=uploaded))
             except InputError as exc:
                 raise rename_import_error(exc, str(path), shown + suffix) from None
         finally:
@@ -193,3 +214,42 @@ def register(app: FastAPI, ctx: Context) -> None:
         message = str(rep).replace(str(path), shown + suffix)
         return {"table": rep.table, "rows": rep.rows, "curve_points": rep.curve_points, "ids": list(rep.ids),
                 "message": message}
+
+    @app.delete("/api/catalog/items/{item_id:path}", tags=["catalog"])
+    async def catalog_remove(item_id: _CATALOG_ID) -> dict[str, Any]:
+        """Remove one row of your catalog (a motor with its curve points); shipped rows cannot be removed."""
+        need_catalog()
+        from drivetrain.catalog import manage
+
+        count = await blocking(lambda: manage.remove([item_id], directory=directory, source="web catalog"))
+        return {"removed": count, "id": item_id, "message": f"removed {item_id} from your catalog"}
+
+    @app.patch("/api/catalog/items/{item_id:path}", tags=["catalog"])
+    async def catalog_edit(item_id: _CATALOG_ID, request: Request) -> dict[str, Any]:
+        """Change fields of one row of your catalog: a JSON object of field (or ``name [unit]``) to value;
+        null clears a field. The row is validated as an import is; the answer is the row as stored."""
+        need_catalog()
+        import json
+
+        from drivetrain.catalog import manage
+
+        try:
+            changes = json.loads(await request.body() or b"null")
+        except ValueError:
+            raise InputError("body", "must be a JSON object of field: value", has_value=False) from None
+        if not isinstance(changes, dict):
+            raise InputError("body", "must be a JSON object of field: value", has_value=False)
+        record: dict[str, Any] = plain(await blocking(
+            lambda: manage.update(item_id, changes, directory=directory, source="web catalog edit")))
+        return record
+
+    @app.get("/api/catalog/history", tags=["catalog"])
+    async def catalog_history(
+        item_id: Annotated[str | None, Query(alias="id", max_length=200, description="only this id")] = None,
+    ) -> dict[str, Any]:
+        """The changes to your catalog, oldest first: imports, replacements, edits and removals."""
+        need_catalog()
+        from drivetrain.catalog import manage
+
+        entries = await blocking(lambda: manage.history(item_id, directory=directory))
+        return {"entries": plain(entries)}

@@ -1,4 +1,5 @@
-// The catalog browser: filter and sort motors and gearboxes, a motor's envelope, CSV import.
+// The catalog browser: filter and sort motors and gearboxes, a motor's envelope, CSV import, and your
+// own rows edited, removed and their history shown.
 
 import { el } from "./dom.js";
 import { api, ApiError } from "./api.js";
@@ -6,6 +7,26 @@ import { drawEnvelope } from "./plots.js";
 import { fmt } from "./results.js";
 
 const RPM = 60 / (2 * Math.PI);
+const UNVERIFIED = " †";
+
+// Fields of your rows the detail panel edits, with the unit the value is typed in (import headers).
+const EDIT_FIELDS = {
+  motor: [
+    ["rated_torque [N*m]", "rated_torque_Nm", 1], ["peak_torque [N*m]", "peak_torque_Nm", 1],
+    ["rated_speed [rpm]", "rated_speed_rad_s", RPM], ["max_speed [rpm]", "max_speed_rad_s", RPM],
+    ["rotor_inertia [kg*cm^2]", "rotor_inertia_kgm2", 1e4], ["voltage [V]", "voltage_V", 1],
+    ["source", "source"], ["notes", "notes"],
+  ],
+  gearbox: [
+    ["ratio", "ratio", 1], ["efficiency", "efficiency", 1], ["rated_output_torque [N*m]", "rated_output_torque_Nm", 1],
+    ["max_output_torque [N*m]", "max_output_torque_Nm", 1], ["max_input_speed [rpm]", "max_input_speed_rad_s", RPM],
+    ["inertia_input [kg*cm^2]", "inertia_input_kgm2", 1e4], ["source", "source"], ["notes", "notes"],
+  ],
+  drive: [
+    ["continuous_current [A]", "continuous_current_A", 1], ["peak_current [A]", "peak_current_A", 1],
+    ["voltage [V]", "voltage_V", 1], ["source", "source"], ["notes", "notes"],
+  ],
+};
 const ARCMIN = (180 / Math.PI) * 60;
 
 const MOTOR_COLUMNS = [
@@ -114,6 +135,7 @@ export class CatalogView {
           f.motor_kinds.includes(DEFAULT_KIND) ? DEFAULT_KIND : ""),
         selectOf("flt-voltage", "Voltage class", "voltage", f.motor_voltages.map((v) => `${v} V`), "any voltage"),
         inputOf("flt-flange", "Flange", "flange", "e.g. 80 mm"),
+        selectOf("flt-origin", "Rows", "origin", ["builtin", "user"], "shipped and yours"),
       );
     } else {
       box.replaceChildren(
@@ -123,6 +145,7 @@ export class CatalogView {
         selectOf("flt-kind", "Kind", "kind", f.gearbox_kinds, "all kinds"),
         inputOf("flt-rmin", "Ratio from", "ratio_min", "e.g. 3"),
         inputOf("flt-rmax", "to", "ratio_max", "e.g. 10"),
+        selectOf("flt-origin", "Rows", "origin", ["builtin", "user"], "shipped and yours"),
       );
     }
   }
@@ -182,10 +205,14 @@ export class CatalogView {
         let v = item[c.key];
         if (typeof v === "number" && c.k) v = v * c.k;
         const text = typeof v === "number" ? fmt(v) : v === null || v === undefined || v === "" ? "–" : String(v);
-        if (k === 0 && this.table === "motors") {
-          const b = el("button", { type: "button", class: "link id", text, title: `Show the envelope and data of ${text}` });
-          b.addEventListener("click", () => this.showMotor(item.id));
-          tr.append(el("th", { scope: "row" }, b));
+        if (k === 0) {
+          const motor = this.table === "motors";
+          const b = el("button", { type: "button", class: "link id", text,
+            title: motor ? `Show the envelope and data of ${text}` : `Show the data of ${text}` });
+          b.addEventListener("click", () => (motor ? this.showMotor(item.id) : this.showItem(item.id)));
+          // the dagger is drawn by CSS (th.unverified::after), so the cell's text stays the id
+          tr.append(el("th", { scope: "row", class: item.unverified ? "unverified" : undefined,
+            title: item.unverified ? `unverified: ${item.unverified_reason}` : undefined }, b));
         } else {
           tr.append(k === 0 ? el("th", { scope: "row", text, title: text }) : el("td", { text, title: text.length > 14 ? text : undefined }));
         }
@@ -208,25 +235,108 @@ export class CatalogView {
       ]);
       drawEnvelope(this.n.envelope, env);
       const scaled = (v, k) => (typeof v === "number" ? fmt(v * k) : "–");
-      const keys = [
-        ["vendor", item.vendor], ["series", item.series], ["origin", item.origin],
+      this.renderItem(item, [
         ["rated / peak torque", `${scaled(item.rated_torque_Nm, 1)} / ${scaled(item.peak_torque_Nm, 1)} N·m`],
         ["rated / max speed", `${scaled(item.rated_speed_rad_s, RPM)} / ${scaled(item.max_speed_rad_s, RPM)} rpm`],
         ["rotor inertia", `${scaled(item.rotor_inertia_kgm2, 1e4)} kg·cm²`],
-        ["source", item.source], ["notes", item.notes],
-      ];
-      const dl = el("dl", { class: "detail" });
-      for (const [k, v] of keys) dl.append(el("dt", { text: k }), el("dd", { text: v === null || v === undefined || v === "" ? "–" : String(v) }));
-      this.n.detail.replaceChildren(el("h3", { text: id }), dl);
+      ]);
     } catch (err) {
       this.n.detail.replaceChildren(el("p", { class: "field-error", role: "alert", text: err.message }));
     }
+  }
+
+  async showItem(id) {
+    try {
+      const item = await api.get(`/api/catalog/items/${encodeURIComponent(id)}`);
+      const scaled = (v, k) => (typeof v === "number" ? fmt(v * k) : "–");
+      this.renderItem(item, item.table === "gearbox" ? [
+        ["ratio, efficiency", `${scaled(item.ratio, 1)}, ${scaled(item.efficiency, 1)}`],
+        ["rated / max output torque", `${scaled(item.rated_output_torque_Nm, 1)} / ${scaled(item.max_output_torque_Nm, 1)} N·m`],
+        ["input inertia", `${scaled(item.inertia_input_kgm2, 1e4)} kg·cm²`],
+      ] : []);
+    } catch (err) {
+      this.n.detail.replaceChildren(el("p", { class: "field-error", role: "alert", text: err.message }));
+    }
+  }
+
+  // The detail of one row: its values, sources per field group, the unverified flag, and for your own
+  // rows an edit form, a remove button and the history of the row.
+  renderItem(item, values) {
+    const keys = [["vendor", item.vendor], ["series", item.series],
+      ["origin", item.origin === "user" ? "your catalog" : "shipped catalog"], ...values,
+      ["source", item.source], ["notes", item.notes]];
+    for (const [group, where] of Object.entries(item.sources || {})) keys.push([`source: ${group}`, where]);
+    keys.push(["verified", item.unverified ? `no: ${item.unverified_reason}` : "yes"]);
+    const dl = el("dl", { class: "detail" });
+    for (const [k, v] of keys) dl.append(el("dt", { text: k }), el("dd", { text: v === null || v === undefined || v === "" ? "–" : String(v) }));
+    const parts = [el("h3", { text: item.id })];
+    if (item.unverified) {
+      parts.push(el("p", { class: "unverified-note", text: `${UNVERIFIED.trim()} unverified: ${item.unverified_reason}` }));
+    }
+    parts.push(dl);
+    if (item.origin === "user") parts.push(this.editor(item));
+    this.n.detail.replaceChildren(...parts);
+  }
+
+  editor(item) {
+    const form = el("form", { class: "edit-form", "aria-label": `Edit ${item.id}` });
+    const fields = EDIT_FIELDS[item.table] || [];
+    fields.forEach(([name, key, k], i) => {
+      const v = item[key];
+      const shown = typeof v === "number" ? String(Number((v * k).toPrecision(12))) : v === null || v === undefined ? "" : String(v);
+      const input = el("input", { id: `edit-${i}`, name, type: "text", value: shown, "data-old": shown, spellcheck: "false", autocomplete: "off" });
+      form.append(el("label", { for: `edit-${i}`, text: name }), input);
+    });
+    const save = el("button", { type: "submit", text: "Save changes" });
+    const remove = el("button", { type: "button", class: "danger", text: "Remove from your catalog" });
+    const hist = el("button", { type: "button", class: "link", text: "History" });
+    const out = el("div", { role: "status", "aria-live": "polite" });
+    form.append(save, remove, hist, out);
+    form.addEventListener("submit", async (e) => {
+      e.preventDefault();
+      const changes = {};
+      for (const input of form.querySelectorAll("input")) {
+        if (input.value !== input.dataset.old) changes[input.name] = input.value.trim() === "" ? null : input.value;
+      }
+      if (!Object.keys(changes).length) { out.replaceChildren(el("p", { class: "muted", text: "Nothing changed." })); return; }
+      try {
+        const updated = await api.patch(`/api/catalog/items/${encodeURIComponent(item.id)}`, changes);
+        this.setStatus(`saved ${item.id}`);
+        this.renderItem(updated, []);
+        this.load();
+      } catch (err) {
+        out.replaceChildren(el("p", { class: "field-error", role: "alert", text: err.message }));
+      }
+    });
+    remove.addEventListener("click", async () => {
+      if (!window.confirm(`Remove ${item.id} from your catalog?`)) return;
+      try {
+        const rep = await api.del(`/api/catalog/items/${encodeURIComponent(item.id)}`);
+        this.setStatus(rep.message);
+        this.n.detail.replaceChildren(el("p", { class: "ok-text", text: rep.message }));
+        this.load();
+      } catch (err) {
+        out.replaceChildren(el("p", { class: "field-error", role: "alert", text: err.message }));
+      }
+    });
+    hist.addEventListener("click", async () => {
+      try {
+        const h = await api.get(`/api/catalog/history?id=${encodeURIComponent(item.id)}`);
+        const list = el("ol", { class: "history" });
+        for (const e of h.entries) list.append(el("li", { text: `${e.at} ${e.action} (${e.source || "–"})` }));
+        out.replaceChildren(h.entries.length ? list : el("p", { class: "muted", text: "No changes recorded." }));
+      } catch (err) {
+        out.replaceChildren(el("p", { class: "field-error", role: "alert", text: err.message }));
+      }
+    });
+    return form;
   }
 
   async importFile() {
     const out = this.n.importResult;
     const data = new FormData(this.n.importForm);
     if (!data.get("kind")) data.delete("kind");
+    if (!data.get("replace")) data.delete("replace");
     const file = data.get("file");
     if (!file || !file.name) {
       out.replaceChildren(el("p", { class: "field-error", text: "Choose a CSV or JSON file first." }));
