@@ -41,7 +41,8 @@ def data_dir(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
 def client(data_dir: Path) -> Iterator[TestClient]:
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("DRIVETRAIN_DATA_DIR", str(data_dir))
-        with TestClient(create_app(data_dir), base_url=BASE) as c:
+        app = create_app(data_dir)
+        with TestClient(app, base_url=BASE, headers={"x-drivetrain-token": app.state.token}) as c:
             yield c
 
 
@@ -269,8 +270,11 @@ def test_host_and_origin_are_checked(client: TestClient) -> None:
     body = assert_error(client.post("/api/projects", json={"name": "x", "yaml": "a: 1"},
                                     headers={"origin": "https://attacker.example"}), 403)
     assert body["field"] == "origin"
-    ok = client.post("/api/yaml/parse", json={"yaml": "a: 1"}, headers={"origin": "http://127.0.0.1:8000"})
+    ok = client.post("/api/yaml/parse", json={"yaml": "a: 1"}, headers={"origin": "http://127.0.0.1"})
     assert ok.status_code == 200
+    body = assert_error(client.post("/api/yaml/parse", json={"yaml": "a: 1"},
+                                    headers={"origin": "http://127.0.0.1:8000"}), 403)  # another port
+    assert body["field"] == "origin"
 
 
 def test_request_bodies_are_limited(client: TestClient) -> None:
