@@ -295,11 +295,13 @@ def test_no_request_path_reaches_the_file_system(client: TestClient) -> None:
         assert "FastAPI" not in r.text and "def create_app" not in r.text
 
 
-def test_a_slow_request_is_stopped_with_a_message(data_dir: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    def slow(axis: dict[str, Any]) -> dict[str, Any]:
-        time.sleep(2.0)
-        return {}
+def slow(axis: dict[str, Any]) -> dict[str, Any]:
+    """A sizing that takes 2 s (module level: the app runs it in a worker process)."""
+    time.sleep(2.0)
+    return {}
 
+
+def test_a_slow_request_is_stopped_with_a_message(data_dir: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("DRIVETRAIN_DATA_DIR", str(data_dir))
     monkeypatch.setattr(web_app, "size_payload", slow)
     with TestClient(create_app(data_dir, timeout=0.3), base_url=BASE) as c:

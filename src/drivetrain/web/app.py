@@ -63,6 +63,7 @@ from drivetrain.web.models import ERRORS, MAX_TEXT_BYTES
 from drivetrain.web.payload import WEB_POINTS_PER_PHASE, candidate_axis, candidate_payload, encode, plain, size_payload
 from drivetrain.web.routes_catalog import MAX_UPLOAD_BYTES
 from drivetrain.web.store import ENV_DATA_DIR, StoreError, default_data_dir
+from drivetrain.web.workers import WorkerPool
 
 __all__ = ["LOOPBACK_HOSTS", "MAX_BODY_BYTES", "MAX_TEXT_BYTES", "MAX_UPLOAD_BYTES", "WEB_POINTS_PER_PHASE",
            "ApiError", "Guard", "ResultCache", "allowed_methods", "candidate_axis", "candidate_payload",
@@ -275,7 +276,14 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
     # Heavy work (sizing, reports, imports) runs on a few long-lived threads: a bounded queue, and
     # the same threads' memory reused rather than a new thread's each time.
     pools: list[ThreadPoolExecutor] = []
+    workers: list[WorkerPool] = []
     pools_lock = threading.Lock()
+
+    def worker_pool() -> WorkerPool:
+        with pools_lock:
+            if not workers:
+                workers.append(WorkerPool(MAX_PARALLEL_WORK, directory))
+            return workers[0]
 
     def work_pool() -> ThreadPoolExecutor:
         with pools_lock:
@@ -285,10 +293,13 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
 
     @contextlib.asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        worker_pool().start()  # the sizing processes warm up while the server starts
         yield
-        with pools_lock:  # a later request (a test client restarting the app) makes a new pool
+        with pools_lock:  # a later request (a test client restarting the app) makes new pools
             while pools:
                 pools.pop().shutdown(wait=False, cancel_futures=True)
+            while workers:
+                workers.pop().close()
 
     app = FastAPI(title="drivetrain", version=__version__, responses=ERRORS, default_response_class=SafeJSONResponse,
                   lifespan=lifespan,
@@ -311,6 +322,10 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
         except BaseException:
             future.cancel()
             raise
+
+    async def isolated(fn: Callable[..., T], *args: Any) -> T:
+        """Run ``fn`` in a sizing process; a request that times out kills it (a new one takes its place)."""
+        return await worker_pool().run(fn, *args)
 
     async def light(fn: Callable[..., T], *args: Any) -> T:
         return await anyio.to_thread.run_sync(fn, *args, abandon_on_cancel=True)
@@ -401,7 +416,7 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
 
     app.mount("/static", StaticFiles(directory=STATIC_DIR, follow_symlink=False), name="static")
 
-    context = Context(store=store, cache=cache, directory=directory, blocking=blocking, light=light,
+    context = Context(store=store, cache=cache, directory=directory, blocking=blocking, light=light, isolated=isolated,
                       temp_path=temp_path, size_payload=size_payload)
     for module in (routes_meta, routes_sizing, routes_reports, routes_projects, routes_catalog):
         module.register(app, context)
