@@ -306,6 +306,7 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
                   description="Size servo axes: the JSON API of `drivetrain serve`. The axis is the JSON form of "
                               "the axis file (docs/axis-file.md); quantities are numbers in SI or text with units.")
     app.state.store = store
+    app.state.sizing_workers = worker_pool  # the app's WorkerPool (made on first use)
     app.state.data_dir = directory
     token = token or os.environ.get(ENV_TOKEN) or secrets.token_urlsafe(32)
     app.state.token = token

@@ -120,6 +120,10 @@ def _serve(conn: Connection, data_dir: str) -> None:
         size_payload(WARM_AXIS)
     except Exception:  # a broken catalog: the requests will say so
         pass
+    try:
+        conn.send(("ready", None))
+    except (EOFError, OSError):
+        return
     while True:
         try:
             fn, args = conn.recv()
@@ -147,11 +151,22 @@ class _Worker:
                                                 name="drivetrain-sizing", daemon=True)
         self.process.start()
         child.close()
+        self.ready = False
+
+    def poll_ready(self, timeout: float = 0.0) -> bool:
+        """Whether the worker has warmed up (reads its "ready" message, waiting at most ``timeout`` s)."""
+        if not self.ready and self.conn.poll(timeout):
+            kind, _ = self.conn.recv()
+            self.ready = kind == "ready"
+        return self.ready
 
     def call(self, fn: Callable[..., Any], args: tuple[Any, ...]) -> tuple[str, Any]:
         self.conn.send((fn, args))
-        answer: tuple[str, Any] = self.conn.recv()
-        return answer
+        while True:
+            answer: tuple[str, Any] = self.conn.recv()
+            if answer[0] != "ready":
+                return answer
+            self.ready = True
 
     def kill(self) -> None:
         with contextlib.suppress(OSError, ValueError):
@@ -184,12 +199,14 @@ class WorkerPool:
         with self.lock:
             if self.closed:
                 raise ApiError(503, "the server is stopping")
-            while self.idle:
-                worker = self.idle.pop()
-                if worker.process.is_alive():
-                    return worker
+            for worker in [w for w in self.idle if not w.process.is_alive()]:
+                self.idle.remove(worker)
                 worker.kill()
                 self.count -= 1
+            if self.idle:  # a warm worker first
+                worker = next((w for w in reversed(self.idle) if w.poll_ready()), self.idle[-1])
+                self.idle.remove(worker)
+                return worker
             if self.count < self.size:
                 self.count += 1
                 try:
@@ -236,6 +253,16 @@ class WorkerPool:
             raise _error_from(value)
         result: T = value
         return result
+
+    def wait_ready(self, timeout: float) -> bool:
+        """Start the workers and wait until every idle one has warmed up (at most ``timeout`` s)."""
+        import time
+
+        self.start()
+        deadline = time.monotonic() + timeout
+        with self.lock:
+            workers = list(self.idle)
+        return all(w.poll_ready(max(0.0, deadline - time.monotonic())) for w in workers)
 
     def close(self) -> None:
         """Stop every worker (idle ones now; busy ones when their request ends)."""
