@@ -155,9 +155,12 @@ class _Worker:
 
     def poll_ready(self, timeout: float = 0.0) -> bool:
         """Whether the worker has warmed up (reads its "ready" message, waiting at most ``timeout`` s)."""
-        if not self.ready and self.conn.poll(timeout):
-            kind, _ = self.conn.recv()
-            self.ready = kind == "ready"
+        try:
+            if not self.ready and self.conn.poll(timeout):
+                kind, _ = self.conn.recv()
+                self.ready = kind == "ready"
+        except (EOFError, OSError):  # it died while starting: the next take replaces it
+            return False
         return self.ready
 
     def call(self, fn: Callable[..., Any], args: tuple[Any, ...]) -> tuple[str, Any]:
