@@ -47,7 +47,7 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 from drivetrain import __version__
 from drivetrain.errors import InputError
 from drivetrain.web import routes_catalog, routes_meta, routes_projects, routes_reports, routes_sizing
-from drivetrain.web.cli import ENV_TOKEN
+from drivetrain.web.cli import ENV_SERVERS, ENV_TOKEN
 from drivetrain.web.common import (
     ApiError,
     Context,
@@ -282,7 +282,7 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
     def worker_pool() -> WorkerPool:
         with pools_lock:
             if not workers:
-                workers.append(WorkerPool(MAX_PARALLEL_WORK, directory))
+                workers.append(WorkerPool(sizing_processes(), directory))
             return workers[0]
 
     def work_pool() -> ThreadPoolExecutor:
@@ -439,6 +439,16 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
 
     app.openapi = openapi  # type: ignore[method-assign]
     return app
+
+
+def sizing_processes() -> int:
+    """Sizing processes of one server process: MAX_PARALLEL_WORK, shared among the server processes
+    of ``serve --workers N`` (at least one each)."""
+    try:
+        servers = max(1, int(os.environ.get(ENV_SERVERS, "1")))
+    except ValueError:
+        servers = 1
+    return max(1, MAX_PARALLEL_WORK // servers)
 
 
 def allowed_methods(app: FastAPI, path: str) -> list[str]:

@@ -23,6 +23,8 @@ ENV_ANY_HOST = "DRIVETRAIN_SERVE_ANY_HOST"
 """Set to "1" by ``serve --workers N`` on a non-loopback address: the workers answer any Host."""
 ENV_TOKEN = "DRIVETRAIN_SERVE_TOKEN"
 """The page's anti-forgery token, set by ``serve --workers N`` so that every worker shares it."""
+ENV_SERVERS = "DRIVETRAIN_SERVE_WORKERS"
+"""The number of server processes of ``serve --workers N``, set for its workers."""
 APP_FACTORY = "drivetrain.web.cli:app_from_env"
 
 
@@ -176,6 +178,7 @@ def _run_workers(args: argparse.Namespace) -> int:
     os.environ[ENV_ANY_HOST] = "0" if loopback else "1"
     # One anti-forgery token for every worker: the page from one worker posts to any other.
     os.environ[ENV_TOKEN] = secrets.token_urlsafe(32)
+    os.environ[ENV_SERVERS] = str(args.workers)  # the workers share the cores for their sizing processes
     sock = bind(args.host, args.port)
     if not loopback:
         print(f"warning: serving on {args.host}: anyone who can reach this address can use the app and its "
