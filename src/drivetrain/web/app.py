@@ -21,9 +21,11 @@ route modules share.
 from __future__ import annotations
 
 import contextlib
+import html
 import logging
 import os
 import re
+import secrets
 import tempfile
 import threading
 import time
@@ -37,7 +39,7 @@ import anyio.to_thread
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.openapi.utils import get_openapi
-from fastapi.responses import FileResponse, JSONResponse
+from fastapi.responses import FileResponse, JSONResponse, Response
 from fastapi.staticfiles import StaticFiles
 from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
@@ -45,6 +47,7 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 from drivetrain import __version__
 from drivetrain.errors import InputError
 from drivetrain.web import routes_catalog, routes_machine, routes_meta, routes_projects, routes_reports, routes_sizing
+from drivetrain.web.cli import ENV_SERVERS, ENV_TOKEN
 from drivetrain.web.common import (
     ApiError,
     Context,
@@ -60,6 +63,7 @@ from drivetrain.web.models import ERRORS, MAX_TEXT_BYTES
 from drivetrain.web.payload import WEB_POINTS_PER_PHASE, candidate_axis, candidate_payload, encode, plain, size_payload
 from drivetrain.web.routes_catalog import MAX_UPLOAD_BYTES
 from drivetrain.web.store import ENV_DATA_DIR, StoreError, default_data_dir
+from drivetrain.web.workers import WorkerPool
 
 __all__ = ["LOOPBACK_HOSTS", "MAX_BODY_BYTES", "MAX_TEXT_BYTES", "MAX_UPLOAD_BYTES", "WEB_POINTS_PER_PHASE",
            "ApiError", "Guard", "ResultCache", "allowed_methods", "candidate_axis", "candidate_payload",
@@ -100,11 +104,12 @@ class Guard:
     )
 
     def __init__(self, app: ASGIApp, allowed_hosts: Sequence[str] | None, max_body: int, upload_body: int,
-                 timeout: float, report_timeout: float) -> None:
+                 timeout: float, report_timeout: float, token: str = "") -> None:
         self.app = app
         self.allowed = None if allowed_hosts is None else {h.lower() for h in allowed_hosts}
         self.max_body, self.upload_body = max_body, upload_body
         self.timeout, self.report_timeout = timeout, report_timeout
+        self.token = token
 
     @staticmethod
     def _host_of(value: str) -> str:
@@ -112,6 +117,51 @@ class Guard:
         if value.startswith("["):
             return value[: value.find("]") + 1] if "]" in value else value
         return value.rsplit(":", 1)[0] if value.count(":") == 1 else value
+
+    @staticmethod
+    def origin_of(scheme: str, authority: str) -> tuple[str, str, int] | None:
+        """(scheme, host, port) of a URL's scheme and authority, the default port filled in."""
+        scheme, authority = scheme.strip().lower(), authority.strip().lower()
+        if scheme not in ("http", "https") or not authority or "@" in authority:
+            return None
+        m = re.fullmatch(r"(\[[0-9a-f:.]+\]|[^:\[\]/]+)(?::(\d{1,5}))?", authority)
+        if m is None:
+            return None
+        port = int(m.group(2)) if m.group(2) else (443 if scheme == "https" else 80)
+        return scheme, m.group(1), port
+
+    @classmethod
+    def origin_of_url(cls, url: str) -> tuple[str, str, int] | None:
+        """(scheme, host, port) of an Origin or Referer value (None for "null" or anything else)."""
+        m = re.match(r"^([a-z][a-z0-9+.-]*)://([^/?#]*)", url.strip().lower())
+        return None if m is None else cls.origin_of(m.group(1), m.group(2))
+
+    def cross_site(self, scope: Scope, headers: dict[str, str]) -> tuple[str, str] | None:
+        """Why a state-changing request may come from another page, and the header at fault (None: it may not).
+
+        The page's origin must be exactly the one served here (scheme, host and port): from the
+        Origin header, else the Referer. A request naming neither is not a browser's form or
+        fetch, unless it is a kind a page on another origin can send without asking first (a
+        form or text body): such bodies carry the page's token (``X-Drivetrain-Token``), which
+        another origin cannot read. A JSON body from another origin needs a CORS preflight,
+        which this server never grants.
+        """
+        served = self.origin_of(str(scope.get("scheme", "http")), headers.get("host", ""))
+        claimed = headers.get("origin")
+        if claimed is None and headers.get("referer"):
+            claimed = headers["referer"]
+        if claimed is not None and (served is None or self.origin_of_url(claimed) != served):
+            return (f"requests from another origin are refused (this server is "
+                    f"{'://'.join(map(str, served[:2])) + ':' + str(served[2]) if served else 'unknown'})",
+                    "origin" if "origin" in headers else "referer")
+        media = headers.get("content-type", "").split(";", 1)[0].strip().lower()
+        has_body = media != "" or headers.get("content-length", "0") not in ("0", "") or "transfer-encoding" in headers
+        if has_body and media != "application/json":
+            given = headers.get("x-drivetrain-token", "")
+            if not self.token or not secrets.compare_digest(given.encode("latin-1"), self.token.encode("latin-1")):
+                return (f"a {media or 'untyped'} body needs the page's X-Drivetrain-Token header "
+                        "(send JSON, or use the page)", "x-drivetrain-token")
+        return None
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http":
@@ -123,12 +173,10 @@ class Guard:
             await _send_json(send, 403, f"host {host or '(none)'} is not served here; use 127.0.0.1 or localhost",
                              "host")
             return
-        origin = headers.get("origin")
-        if origin and scope["method"] not in ("GET", "HEAD", "OPTIONS"):
-            m = re.match(r"^[a-z][a-z0-9+.-]*://(.+)$", origin.strip().lower())
-            same = {host} if self.allowed is None else self.allowed
-            if m is None or self._host_of(m.group(1)) not in same:
-                await _send_json(send, 403, "requests from another origin are refused", "origin")
+        if scope["method"] not in ("GET", "HEAD", "OPTIONS"):
+            refused = self.cross_site(scope, headers)
+            if refused is not None:
+                await _send_json(send, 403, *refused)
                 return
         path: str = scope.get("path", "")
         limit = self.upload_body if path.endswith("/import") or path.endswith("/upload") else self.max_body
@@ -171,6 +219,15 @@ class Guard:
             if not started:
                 await _send_json(send, 503, f"the request took longer than {timeout:g} s and was stopped", None,
                                  {"retry-after": "5"})
+        except Exception as exc:
+            # Answered here rather than by Starlette's outermost handler, which sends its answer and
+            # then re-raises, so the server closes the connection; here the connection is kept.
+            log.error("unexpected error in %s %s", scope["method"], path, exc_info=exc)
+            if not started:
+                await _send_json(send, 500, f"internal error ({type(exc).__name__}); the server log has the details",
+                                 None)
+            else:
+                raise
 
 
 class _BodyTooLarge(Exception):
@@ -196,13 +253,16 @@ async def _send_json(send: Send, status: int, detail: str, field: str | None,
 
 
 def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | None = LOOPBACK_HOSTS,
-               max_body: int = MAX_BODY_BYTES, timeout: float = REQUEST_TIMEOUT_S) -> FastAPI:
+               max_body: int = MAX_BODY_BYTES, timeout: float = REQUEST_TIMEOUT_S, token: str | None = None) -> FastAPI:
     """The FastAPI application.
 
     ``data_dir`` holds the project database, the user catalog and temporary files (default:
     ``$DRIVETRAIN_DATA_DIR`` or ``~/.local/share/drivetrain``); when given, it is also exported
     as ``$DRIVETRAIN_DATA_DIR`` so the catalog and sizing read the same folder. ``allowed_hosts``
-    are the Host names served (None: any, for a deliberate non-loopback bind).
+    are the Host names served (None: any, for a deliberate non-loopback bind). ``token`` is the
+    page's anti-forgery token (``X-Drivetrain-Token``, needed by form and text bodies; default:
+    ``$DRIVETRAIN_SERVE_TOKEN``, which ``serve --workers N`` shares between its workers, else a
+    new random one); ``app.state.token`` holds it.
     """
     from drivetrain.web.store import Store
 
@@ -216,7 +276,14 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
     # Heavy work (sizing, reports, imports) runs on a few long-lived threads: a bounded queue, and
     # the same threads' memory reused rather than a new thread's each time.
     pools: list[ThreadPoolExecutor] = []
+    workers: list[WorkerPool] = []
     pools_lock = threading.Lock()
+
+    def worker_pool() -> WorkerPool:
+        with pools_lock:
+            if not workers:
+                workers.append(WorkerPool(sizing_processes(), directory))
+            return workers[0]
 
     def work_pool() -> ThreadPoolExecutor:
         with pools_lock:
@@ -226,19 +293,25 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
 
     @contextlib.asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        worker_pool().start()  # the sizing processes warm up while the server starts
         yield
-        with pools_lock:  # a later request (a test client restarting the app) makes a new pool
+        with pools_lock:  # a later request (a test client restarting the app) makes new pools
             while pools:
                 pools.pop().shutdown(wait=False, cancel_futures=True)
+            while workers:
+                workers.pop().close()
 
     app = FastAPI(title="drivetrain", version=__version__, responses=ERRORS, default_response_class=SafeJSONResponse,
                   lifespan=lifespan,
                   description="Size servo axes: the JSON API of `drivetrain serve`. The axis is the JSON form of "
                               "the axis file (docs/axis-file.md); quantities are numbers in SI or text with units.")
     app.state.store = store
+    app.state.sizing_workers = worker_pool  # the app's WorkerPool (made on first use)
     app.state.data_dir = directory
+    token = token or os.environ.get(ENV_TOKEN) or secrets.token_urlsafe(32)
+    app.state.token = token
     app.add_middleware(Guard, allowed_hosts=allowed_hosts, max_body=max_body, upload_body=MAX_UPLOAD_BYTES,
-                       timeout=timeout, report_timeout=REPORT_TIMEOUT_S)
+                       timeout=timeout, report_timeout=REPORT_TIMEOUT_S, token=token)
 
     async def blocking(fn: Callable[..., T], *args: Any) -> T:
         """Run ``fn`` on the work pool; a request that times out drops its job if it has not started."""
@@ -250,6 +323,10 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
         except BaseException:
             future.cancel()
             raise
+
+    async def isolated(fn: Callable[..., T], *args: Any) -> T:
+        """Run ``fn`` in a sizing process; a request that times out kills it (a new one takes its place)."""
+        return await worker_pool().run(fn, *args)
 
     async def light(fn: Callable[..., T], *args: Any) -> T:
         return await anyio.to_thread.run_sync(fn, *args, abandon_on_cancel=True)
@@ -322,10 +399,12 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
 
     # ------------------------------------------------------------------ page and static files
 
+    page = (STATIC_DIR / "index.html").read_text(encoding="utf-8").replace(
+        "<head>\n", f'<head>\n  <meta name="drivetrain-token" content="{html.escape(token)}">\n', 1)
+
     @app.get("/", include_in_schema=False)
-    async def index() -> FileResponse:
-        return FileResponse(STATIC_DIR / "index.html", media_type="text/html; charset=utf-8",
-                            headers={"Cache-Control": "no-cache"})
+    async def index() -> Response:
+        return Response(page, media_type="text/html; charset=utf-8", headers={"Cache-Control": "no-store"})
 
     @app.get("/static/vendor/plotly.min.js", include_in_schema=False)
     async def plotly_js() -> FileResponse:
@@ -338,7 +417,7 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
 
     app.mount("/static", StaticFiles(directory=STATIC_DIR, follow_symlink=False), name="static")
 
-    context = Context(store=store, cache=cache, directory=directory, blocking=blocking, light=light,
+    context = Context(store=store, cache=cache, directory=directory, blocking=blocking, light=light, isolated=isolated,
                       temp_path=temp_path, size_payload=size_payload)
     for module in (routes_meta, routes_sizing, routes_reports, routes_projects, routes_catalog, routes_machine):
         module.register(app, context)
@@ -360,6 +439,16 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
 
     app.openapi = openapi  # type: ignore[method-assign]
     return app
+
+
+def sizing_processes() -> int:
+    """Sizing processes of one server process: MAX_PARALLEL_WORK, shared among the server processes
+    of ``serve --workers N`` (at least one each)."""
+    try:
+        servers = max(1, int(os.environ.get(ENV_SERVERS, "1")))
+    except ValueError:
+        servers = 1
+    return max(1, MAX_PARALLEL_WORK // servers)
 
 
 def allowed_methods(app: FastAPI, path: str) -> list[str]:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import ipaddress
 import os
+import secrets
 import socket
 import sys
 from pathlib import Path
@@ -20,6 +21,10 @@ MAX_WORKERS = 32
 """Most worker processes ``--workers`` accepts."""
 ENV_ANY_HOST = "DRIVETRAIN_SERVE_ANY_HOST"
 """Set to "1" by ``serve --workers N`` on a non-loopback address: the workers answer any Host."""
+ENV_TOKEN = "DRIVETRAIN_SERVE_TOKEN"
+"""The page's anti-forgery token, set by ``serve --workers N`` so that every worker shares it."""
+ENV_SERVERS = "DRIVETRAIN_SERVE_WORKERS"
+"""The number of server processes of ``serve --workers N``, set for its workers."""
 APP_FACTORY = "drivetrain.web.cli:app_from_env"
 
 
@@ -171,6 +176,9 @@ def _run_workers(args: argparse.Namespace) -> int:
     loopback = is_loopback(args.host)
     # Always set, so a value left in the user's environment cannot lift the loopback Host check.
     os.environ[ENV_ANY_HOST] = "0" if loopback else "1"
+    # One anti-forgery token for every worker: the page from one worker posts to any other.
+    os.environ[ENV_TOKEN] = secrets.token_urlsafe(32)
+    os.environ[ENV_SERVERS] = str(args.workers)  # the workers share the cores for their sizing processes
     sock = bind(args.host, args.port)
     if not loopback:
         print(f"warning: serving on {args.host}: anyone who can reach this address can use the app and its "

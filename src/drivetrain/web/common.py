@@ -16,6 +16,7 @@ from fastapi import Request
 from fastapi.responses import JSONResponse
 
 from drivetrain.errors import InputError, InputErrors
+from drivetrain.motion.profiles import MAX_PROFILE_STEPS
 from drivetrain.web.models import check_unicode
 from drivetrain.web.store import Store
 
@@ -32,7 +33,9 @@ class Runner(Protocol):
 class Context:
     """One app's state the routes need: its project store, sizing cache, data folder and runners.
 
-    ``blocking`` runs heavy work (sizing, reports, imports) on the app's bounded work pool;
+    ``isolated`` runs a sizing in one of the app's worker processes (``drivetrain.web.workers``),
+    which the request's time limit stops: its function and arguments must pickle;
+    ``blocking`` runs other heavy work (reports, imports) on the app's bounded work pool;
     ``light`` runs quick file and database calls on AnyIO's threads; ``temp_path`` makes a
     temporary file inside the data folder (the caller removes it); ``size_payload`` is the
     sizing behind ``/api/size`` (``drivetrain.web.payload.size_payload``, as ``create_app``
@@ -44,6 +47,7 @@ class Context:
     directory: Path
     blocking: Runner
     light: Runner
+    isolated: Runner
     temp_path: Callable[[str], Path]
     size_payload: Callable[[dict[str, Any]], dict[str, Any]]
 
@@ -197,7 +201,10 @@ def axis_body(description: str, complete: bool = True) -> dict[str, Any]:
 
 
 async def axis_from(request: Request) -> dict[str, Any]:
-    """The request's JSON body as an axis mapping (422 naming the problem otherwise)."""
+    """The request's JSON body as an axis mapping (422 naming the problem otherwise).
+
+    A profile longer than the axis file allows is refused here, before any work is queued.
+    """
     import json
 
     raw = await request.body()
@@ -212,6 +219,10 @@ async def axis_from(request: Request) -> dict[str, Any]:
         raise InputError("body", "must be a JSON object with the axis keys (axis, mechanism, transmission, profile, "
                          "motor)", type(data).__name__)
     check_unicode(data, "")
+    profile = data.get("profile")
+    if isinstance(profile, list) and len(profile) > MAX_PROFILE_STEPS:
+        raise InputError("profile", f"has {len(profile)} moves and dwells; at most {MAX_PROFILE_STEPS} are accepted "
+                         "(a cycle that long is better split into the axis's typical cycles)", has_value=False)
     return data
 
 

@@ -21,22 +21,26 @@ from drivetrain.web.common import (
     safe_filename,
 )
 from drivetrain.web.models import YAML_FILE, AxisOut, CandidateOut, SizeOut, YamlIn
-from drivetrain.web.payload import candidate_payload, encode
+from drivetrain.web.payload import candidate_payload
+from drivetrain.web.workers import encoded
 
 
 def register(app: FastAPI, ctx: Context) -> None:
     """Add the sizing and axis-file routes to ``app``."""
-    cache, blocking, light, size_payload = ctx.cache, ctx.blocking, ctx.light, ctx.size_payload
+    cache, isolated, light, size_payload = ctx.cache, ctx.isolated, ctx.light, ctx.size_payload
 
     @app.post("/api/size", response_model=SizeOut, tags=["sizing"],
               openapi_extra={"requestBody": axis_body("the axis to size")})
     async def size_axis(request: Request) -> Response:
-        """Size an axis (the JSON form of the axis file): the result, the sampled cycle and envelopes."""
+        """Size an axis (the JSON form of the axis file): the result, the sampled cycle and envelopes.
+
+        The sizing runs in a worker process; at the request's time limit it is stopped (503).
+        """
         axis = await axis_from(request)
         key = cache.key("size", axis)
         body = cache.get(key)
         if body is None:
-            body = await blocking(lambda: encode(size_payload(axis)))
+            body = await isolated(encoded, size_payload, axis)
             cache.put(key, body)
         return Response(body, media_type="application/json")
 
@@ -53,7 +57,7 @@ def register(app: FastAPI, ctx: Context) -> None:
         key = cache.key("candidate", axis, motor, gearbox)
         body = cache.get(key)
         if body is None:
-            body = await blocking(lambda: encode(candidate_payload(axis, motor, gearbox or None)))
+            body = await isolated(encoded, candidate_payload, axis, motor, gearbox or None)
             cache.put(key, body)
         return Response(body, media_type="application/json")
 

@@ -18,8 +18,12 @@ async function parse(response) {
   return response.text();
 }
 
+// The server's anti-forgery token, written into the page: form and text bodies need it (another
+// origin cannot read the page, so it cannot send it).
+const TOKEN = document.querySelector('meta[name="drivetrain-token"]')?.content || "";
+
 export async function request(method, url, body, { signal, raw = false } = {}) {
-  const init = { method, headers: {}, signal };
+  const init = { method, headers: { "x-drivetrain-token": TOKEN }, signal };
   if (body instanceof FormData) {
     init.body = body;
   } else if (body !== undefined) {

@@ -140,6 +140,7 @@ function renderResult(payload) {
   $("result-body").classList.remove("stale");
   R.renderBanner($("result-banner"), r);
   if (payload.notes && payload.notes.length) $("result-banner").append(el("span", { class: "muted small", text: ` (${payload.notes.join("; ")})` }));
+  R.renderWarnings($("result-warnings"), r);
   R.renderChecks($("checks"), r, payload.electrical);
   R.renderMetrics($("metrics"), r, payload.motion);
   const hasMechanism = R.renderMechanism($("mechanism"), r, payload.modes);
@@ -162,6 +163,7 @@ function renderError(err) {
   const banner = $("result-banner");
   banner.className = "banner bad";
   $("result-body").classList.add("stale");
+  $("result-warnings").hidden = true;
   if (err instanceof ApiError && err.status === 422) {
     const shown = form.showErrors(err.errors);
     banner.textContent = shown.length

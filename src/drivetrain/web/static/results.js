@@ -292,3 +292,19 @@ export function renderMechanism(node, result, modes) {
   node.replaceChildren(...parts);
   return true;
 }
+
+// The result's warnings (an answer out of all scale with the load, e.g. a unit slip): one line each,
+// above the checks; hidden when there are none.
+export function renderWarnings(node, result) {
+  const list = Array.isArray(result.warnings) ? result.warnings : [];
+  node.hidden = !list.length;
+  if (!list.length) {
+    node.replaceChildren();
+    return;
+  }
+  const title = list.length === 1 ? "Warning: " : `${list.length} warnings: `;
+  node.replaceChildren(
+    el("strong", { text: title }),
+    el("ul", { class: "warning-list" }, ...list.map((w) => el("li", { text: String(w) }))),
+  );
+}
