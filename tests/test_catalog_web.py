@@ -29,7 +29,9 @@ def client(tmp_path: Path) -> Iterator[TestClient]:
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("DRIVETRAIN_DATA_DIR", str(tmp_path))
         mp.setenv("DRIVETRAIN_CATALOG", "")
-        with TestClient(create_app(tmp_path), base_url=BASE) as c:
+        app = create_app(tmp_path)
+        # the page's token, as the page sends it on form bodies (drivetrain.web.app.Guard)
+        with TestClient(app, base_url=BASE, headers={"x-drivetrain-token": app.state.token}) as c:
             yield c
 
 
