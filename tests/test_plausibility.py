@@ -191,3 +191,12 @@ def test_no_shipped_example_is_warned(path: Path) -> None:
     if not axis.spec.profile:
         pytest.skip("no profile")
     assert sanity_warnings(axis, duty_cycle(axis)) == []
+
+
+def test_warnings_lead_the_report_notes() -> None:
+    """The report says a warning first, as the CLI prints it and the web page shows it."""
+    from drivetrain.report.model import build_report
+
+    notes = build_report(size(table(90, 0.2))).notes
+    assert notes[0].startswith("Warning: ") and "times its weight at its rim" in notes[0]
+    assert not any(n.startswith("Warning: ") for n in build_report(size(table("90 deg", 0.5))).notes)

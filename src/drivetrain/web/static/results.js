@@ -93,7 +93,8 @@ export function renderBanner(node, result) {
     const c = v.candidate;
     node.replaceChildren(
       el("strong", { text: `Selected motor: ${c.motor}` }),
-      ` (${c.vendor})${c.gearbox ? ` with gearbox ${c.gearbox}, ratio ${fmt(c.ratio)}` : ", direct drive"}: ` +
+      ` (${c.vendor})${c.gearbox ? ` with gearbox ${c.gearbox}, ratio ${fmt(c.ratio)}`
+        : s.transmission_gearbox ? `, on the axis's ${s.transmission_gearbox}` : ", direct drive"}: ` +
         `${s.passing} of ${s.evaluated} combinations pass.`,
     );
   } else {
