@@ -404,7 +404,7 @@ def test_database_holds_every_shipped_row_in_si(use_data_dir: Path) -> None:
     assert len(catalog.motors(kind="ac_servo")) == 297
     assert len(catalog.gearboxes(kind="servo_gearbox")) == 713 + 68
     assert len(catalog.gearboxes(kind="small_gearhead")) == 300
-    assert len(catalog.drives()) == 19  # data/drives_servo.csv
+    assert len(catalog.drives()) == 44  # data/drives_servo.csv
     row = catalog.get("HG-KR43")
     assert row["rated_speed_rad_s"] == pytest.approx(3000 * RPM)
     assert row["max_speed_rad_s"] == pytest.approx(6000 * RPM)

@@ -180,7 +180,10 @@ def test_fanuc_rated_torques_are_flagged_derived() -> None:
 
 def test_shipped_drives_are_queryable_with_unknown_currents_as_nan() -> None:
     d = catalog.drives()
-    assert len(d) == 19 and d.continuous_current.shape == (19,)
+    assert len(d) == 44 and d.continuous_current.shape == (44,)
+    # MR-J4-_B manual 11 (b) p. 11-13: MR-J4-40B capacitor charging 11 J; 400 V class from the suffix 4
+    mj4 = catalog.drives(ids=["MR-J4-40B", "MR-J4-60B4"])
+    assert mj4.absorbable_energy.tolist() == [11.0, 12.0] and mj4.voltage.tolist() == [200.0, 400.0]
     yaskawa = catalog.drives(vendor="yaskawa", voltage="200 V")
     assert len(yaskawa) == 4 and np.isnan(yaskawa.continuous_current).all()
     # Yaskawa Sigma-7S manual 12.8.6 p. 12-37: SGD7S-2R8A absorbs 31.7 J
@@ -227,7 +230,7 @@ def test_cli_list_json_and_table(capsys: pytest.CaptureFixture[str]) -> None:
     assert "T2B N·m" in out and "n1max rpm" in out and "bore mm" in out
     assert cli.main(["catalog", "list", "--kind", "drive"]) == 0
     out = capsys.readouterr().out
-    assert "drives (19 of 19)" in out and "SGD7S-R70A" in out
+    assert "drives (44 of 44)" in out and "SGD7S-R70A" in out
 
 
 def test_cli_show_prints_provenance(capsys: pytest.CaptureFixture[str]) -> None:
