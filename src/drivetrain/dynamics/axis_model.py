@@ -4,7 +4,8 @@
 ``dynamics: {chain: [...]}`` of the axis file or from the stiffness, damping and backlash of
 its transmission elements (``model_from_stages``), with the motor the axis names or selects
 (a selected catalog gearbox enters with its catalog stiffness and backlash). ``simulate_axis``
-runs the closed-loop simulation on the axis's own duty-cycle profile.
+runs the closed-loop simulation on the axis's own duty-cycle profile, with the mechanism's own
+spring following the load where the axis file gives its stiffness data (``with_mechanism_spring``).
 
 The ``dynamics:`` block (all optional)::
 
