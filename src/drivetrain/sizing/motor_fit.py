@@ -48,9 +48,10 @@ class Demand:
         return float(np.sum(self.weights * np.abs(self.omega)) / self.period)
 
 
-def demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: float, load_inertia: float,
-           bins: int = 64) -> Demand:
-    """Reduce samples to a Demand: speed bins and the convex hull of (alpha, T) in each."""
+def binned_points(omega: Array, alpha: Array, torque: Array,
+                  bins: int) -> tuple[Array, Array, NDArray[np.intp], NDArray[np.intp], Array]:
+    """The distinct (alpha, T) points of each speed bin, sorted by (bin, alpha, T), with each used bin's
+    start and stop index into them and its upper edge speed [rad/s]."""
     w = np.abs(omega)
     top = float(w.max()) if w.size else 0.0
     edges = np.linspace(0.0, top if top > 0 else 1.0, bins + 1)
@@ -64,6 +65,13 @@ def demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: fl
     bins_used, starts = np.unique(b_s, return_index=True)
     stops = np.append(starts[1:], len(b_s))
     speeds = edges[bins_used + 1]
+    return a_s, t_s, starts, stops, speeds
+
+
+def demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: float, load_inertia: float,
+           bins: int = 64) -> Demand:
+    """Reduce samples to a Demand: speed bins and the convex hull of (alpha, T) in each."""
+    a_s, t_s, starts, stops, speeds = binned_points(omega, alpha, torque, bins)
     # points of each bin are sorted by (alpha, T): the monotone chain needs no further sort
     a_l, t_l = a_s.tolist(), t_s.tolist()
     verts = [_chain(a_l[s:e], t_l[s:e]) for s, e in zip(starts.tolist(), stops.tolist(), strict=True)]

@@ -12,7 +12,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from drivetrain.sizing.motor_fit import _COLLINEAR, Demand
+from drivetrain.sizing.motor_fit import _COLLINEAR, Demand, binned_points
 
 Array = NDArray[np.float64]
 
@@ -81,18 +81,7 @@ def _hulls(x: Array, y: Array, starts: NDArray[np.int64], stops: NDArray[np.int6
 def fast_demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: float, load_inertia: float,
                 bins: int = 64) -> Demand:
     """``motor_fit.demand`` with the hulls compiled: the same bins, points, vertices and padding."""
-    w = np.abs(omega)
-    top = float(w.max()) if w.size else 0.0
-    edges = np.linspace(0.0, top if top > 0 else 1.0, bins + 1)
-    idx = np.clip(np.searchsorted(edges, w, side="left") - 1, 0, bins - 1)
-    order = np.lexsort((torque, alpha, idx))
-    b_s, a_s, t_s = idx[order], alpha[order], torque[order]
-    keep = np.ones(len(b_s), dtype=bool)
-    keep[1:] = (np.diff(b_s) != 0) | (np.diff(a_s) != 0) | (np.diff(t_s) != 0)
-    b_s, a_s, t_s = b_s[keep], a_s[keep], t_s[keep]
-    bins_used, starts = np.unique(b_s, return_index=True)
-    stops = np.append(starts[1:], len(b_s))
-    speeds = edges[bins_used + 1]
+    a_s, t_s, starts, stops, speeds = binned_points(omega, alpha, torque, bins)
     verts, count = _hulls(a_s, t_s, starts.astype(np.int64), stops.astype(np.int64))
     width = int(count.max())
     first = np.concatenate([[0], np.cumsum(count)[:-1]])
