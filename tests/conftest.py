@@ -11,3 +11,19 @@ def _data_dir(tmp_path_factory: pytest.TempPathFactory) -> None:
     os.environ.pop("DRIVETRAIN_CATALOG", None)  # a shared user catalog of the machine is never touched
     if "DRIVETRAIN_TEST_KEEP_DATA_DIR" not in os.environ:
         os.environ["DRIVETRAIN_DATA_DIR"] = str(Path(tmp_path_factory.mktemp("drivetrain-data")))
+
+
+def family_motor_rows() -> int:
+    """Rows of the vendor-sourced motor family files (``motors_<vendor>_<family>.csv``), counted from the files.
+
+    The shipped AC servos are the 297 configurator rows plus these; tests that count shipped motors add it.
+    """
+    import csv
+    import io
+
+    from drivetrain.catalog.db import shipped_text
+    from drivetrain.catalog.schema import MOTOR, SHIPPED_FILES
+
+    base = ("motors_ac_servo.csv", "motors_small_dc.csv")
+    files = [f.filename for f in SHIPPED_FILES if f.table is MOTOR and f.filename not in base]
+    return sum(len(list(csv.DictReader(io.StringIO(shipped_text(name))))) for name in files)

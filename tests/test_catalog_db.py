@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import family_motor_rows
 from drivetrain import catalog
 from drivetrain.catalog import cli, db
 from drivetrain.errors import InputError
@@ -60,7 +61,7 @@ def meta(path: Path, key: str) -> str:
 def test_built_on_first_use_in_the_data_dir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     empty = tmp_path / "nothing-yet"
     monkeypatch.setenv(db.ENV_DATA_DIR, str(empty))
-    assert len(catalog.motors(kind="ac_servo")) == 297
+    assert len(catalog.motors(kind="ac_servo")) == 297 + family_motor_rows()
     assert (empty / db.BUILTIN_NAME).exists()
     assert not (empty / db.USER_NAME).exists()  # queries never create the user database
     assert meta(empty / db.BUILTIN_NAME, "data_version") == catalog.DATA_VERSION
@@ -84,7 +85,7 @@ def test_rebuilt_when_the_data_version_changes(data_dir: Path, monkeypatch: pyte
     monkeypatch.setattr(db, "_verified", set())
     db.builtin_db(data_dir)
     assert meta(path, "data_version") == "9999.01-1"
-    assert len(catalog.motors()) == 595
+    assert len(catalog.motors()) == 595 + family_motor_rows()
 
 
 def test_a_damaged_shipped_database_is_rebuilt(data_dir: Path, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -111,7 +112,7 @@ def test_imports_never_touch_the_shipped_database(data_dir: Path, user_motors: N
 
 def test_queries_see_the_union_flagged_by_origin(user_motors: None) -> None:
     m = catalog.motors()
-    assert len(m) == 595 + 2
+    assert len(m) == 595 + family_motor_rows() + 2
     assert list(m.ids[-2:]) == ["U-400", "U-200"]  # shipped rows first, then imports in order
     assert set(m.origin[:-2]) == {"builtin"} and set(m.origin[-2:]) == {"user"}
     assert catalog.get("U-400")["origin"] == "user"
@@ -160,6 +161,7 @@ def test_gearbox_filters() -> None:
 
 def test_motor_table_arrays_rows_and_take() -> None:
     m = catalog.motors(vendor="Mitsubishi")
+    m = m.take(np.flatnonzero(m.series != "HG-KN"))  # the 42 configurator rows; HG-KN has its own file
     assert m.rated_torque.dtype == np.float64 and len(m.rated_torque) == len(m) == 42
     assert np.all(np.isnan(m.stall_torque))  # Mitsubishi rows carry no stall torque
     assert not m.approx_rated.any()

@@ -333,6 +333,12 @@ SHIPPED_FILES: tuple[ShippedFile, ...] = (
         )
         for family in ("ag2250", "ag2400", "ag3400")
     ),
+    # data/SOURCES.md, "Vendor-sourced motor families": one file per family, every number read from the vendor
+    # document named in its row (source_document, source_section, source_page, source_url)
+    *(
+        ShippedFile(f"motors_{family}.csv", MOTOR, "ac_servo", model_pattern=r"^(.*)$")
+        for family in ("mitsubishi_hg_kn",)
+    ),
     ShippedFile("gearboxes_small.csv", GEARBOX, "small_gearhead", unverified=_MGDB),
     ShippedFile("drives.csv", DRIVE, "servo_drive"),
     # data/SOURCES.md, "Drives": every number read from the vendor document named in its row
