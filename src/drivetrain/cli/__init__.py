@@ -23,6 +23,7 @@ from drivetrain.cli.commands import jsonable as _jsonable
 
 __all__ = ["EXIT_FAILS", "EXIT_INPUT", "EXIT_OK", "_jsonable", "build_parser", "main"]
 
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every sub-command."""
     parser = argparse.ArgumentParser(prog="drivetrain", description="Size and analyse servo axes.")
