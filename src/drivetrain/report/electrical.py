@@ -18,8 +18,8 @@ from drivetrain.report.plots import COLORS, Band, Note, Panel, PlotSpec, Trace
 
 if TYPE_CHECKING:
     from drivetrain.axis.electrical import MotorElectrical
-    from drivetrain.report.focus import Focus
     from drivetrain.report.blocks import Table
+    from drivetrain.report.focus import Focus
     from drivetrain.sizing.result import SizingResult
 
 REGEN_COLORS = {"bus": "#ef6c00", "resistor": "#c62828", "capacitor": "#2e7d32", "supply": "#6a1b9a"}
