@@ -20,8 +20,13 @@ from typing import Any
 from drivetrain.cli import commands
 from drivetrain.cli.commands import EXIT_FAILS, EXIT_INPUT, EXIT_OK
 from drivetrain.cli.commands import jsonable as _jsonable
+from drivetrain.units import UNIT_CHOICES
 
 __all__ = ["EXIT_FAILS", "EXIT_INPUT", "EXIT_OK", "_jsonable", "build_parser", "main"]
+
+
+UNITS_HELP = ("units of the tables (and of the report): si (N*m, kg*cm^2, mm), imperial (lbf*in, lb*in^2, in, "
+              "lbf), or as-given (those of the axis file); shaft speeds stay rpm, power W, energy J")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -38,7 +43,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print only the JSON result on standard output")
     p.add_argument("--csv", metavar="FILE", help="write the sampled time series to FILE")
     p.add_argument("--report", metavar="FILE", help="write an HTML (.html) or PDF (.pdf) report")
-    p.add_argument("--units", choices=["si", "imperial", "as-given"], default="si", help="units of the report")
+    p.add_argument("--units", choices=UNIT_CHOICES, default="si", help=UNITS_HELP)
     p.add_argument("--explain", metavar="MODEL", help="say why a catalog motor was accepted or rejected")
     p.add_argument("--points", type=int, default=64, help="samples per profile phase (default 64)")
     p.add_argument("--all", action="store_true",
@@ -50,11 +55,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("axis")
     p.add_argument("--json", action="store_true")
     p.add_argument("--top", type=int, default=10)
+    p.add_argument("--units", choices=UNIT_CHOICES, default="si", help=UNITS_HELP)
     p.set_defaults(handler=commands.select)
 
     p = sub.add_parser("modes", help="natural frequencies, two-mass resonance and critical speeds of the axis")
     p.add_argument("axis")
     p.add_argument("--json", action="store_true", help="print only the JSON on standard output")
+    p.add_argument("--units", choices=UNIT_CHOICES, default="si", help=UNITS_HELP)
     p.set_defaults(handler=commands.modes)
 
     p = sub.add_parser("simulate", help="closed-loop nonlinear simulation of the axis on its own profile")
@@ -64,6 +71,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", metavar="FILE", help="write a figure (PNG, PDF or SVG) to FILE")
     p.add_argument("--cycles", type=int, default=None, help="profile repetitions (default: dynamics.cycles or 1)")
     p.add_argument("--bandwidth", type=float, default=None, help="velocity-loop bandwidth [Hz] (default: tuned)")
+    p.add_argument("--units", choices=UNIT_CHOICES, default="si", help=UNITS_HELP)
     p.set_defaults(handler=commands.simulate)
 
     p = sub.add_parser("machine", help="machine projects: several axes on shared DC buses, one report and BOM")

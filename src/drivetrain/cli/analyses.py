@@ -8,6 +8,8 @@ from __future__ import annotations
 import sys
 from typing import Any
 
+from drivetrain.cli.quantities import TableUnits
+
 
 def print_machine(out: dict[str, Any]) -> None:
     """The machine: its axes, DC buses, phasing and bill of materials."""
@@ -55,14 +57,14 @@ def print_machine(out: dict[str, Any]) -> None:
     console.print(t)
 
 
-def print_modes(out: dict[str, Any], inertias: int) -> None:
+def print_modes(out: dict[str, Any], inertias: int, units: TableUnits | None = None) -> None:
     """Natural frequencies, resonance, critical speeds and the first mode across the stroke."""
     from rich.console import Console
 
     console = Console(width=None if sys.stdout.isatty() else 120)
     console.print(f"[bold]{out['axis']}[/] with motor {out['motor']}: {inertias} inertias at the motor shaft")
     if "modes" in out:
-        _print_modes_across(console, out["modes"])
+        _print_modes_across(console, out["modes"], units or TableUnits())
     if not out["natural_frequencies_Hz"]:
         console.print("rigid drive train: no stiffness given (add stiffness to a coupling, gearbox or belt, or "
                       "a dynamics.chain), so there is no resonance to report")
@@ -74,18 +76,32 @@ def print_modes(out: dict[str, Any], inertias: int) -> None:
                       f"{c['speed_rpm']:.0f} rpm")
 
 
-def _print_modes_across(console: Any, modes: dict[str, Any]) -> None:
+def _position(x: float, u: TableUnits) -> str:
+    """A position on the stroke [m]: whole mm, or in the system's length unit."""
+    return f"{x * 1e3:.0f} mm" if u.system == "si" else u.q(x, "length", "mm", spec=".3g")
+
+
+def _stiffness(k: float, u: TableUnits) -> str:
+    """A mechanism stiffness [N/m] in the system's unit, three significant digits, no exponent."""
+    text = u.num(k, "linear_stiffness", spec=".3g")
+    if "e" in text:
+        text = f"{float(text):,.0f}"
+    return f"{text} {u.unit('linear_stiffness', 'N/um')}"
+
+
+def _print_modes_across(console: Any, modes: dict[str, Any], u: TableUnits) -> None:
     from rich.table import Table
 
     console.print(f"with the mechanism's stiffness: lowest first mode {modes['f1_min_Hz']:.1f} Hz at position "
-                  f"{modes['worst_position_m'] * 1e3:.0f} mm; weakest link: {modes['weakest_link']}")
+                  f"{_position(modes['worst_position_m'], u)}; weakest link: {modes['weakest_link']}")
     rows = modes["f1_by_position"]
     t = Table(title="first natural frequency across the stroke")
     for col in ("position", "f1", "mechanism stiffness"):
         t.add_column(col, justify="right")
     for r in rows[:: max(1, len(rows) // 10)] + ([rows[-1]] if (len(rows) - 1) % max(1, len(rows) // 10) else []):
-        t.add_row(f"{r['position_m'] * 1e3:.0f} mm", f"{r['f1_Hz']:.1f} Hz",
-                  f"{r['axial_stiffness_N_per_m'] / 1e6:.3g} N/um")
+        k = r["axial_stiffness_N_per_m"]
+        t.add_row(_position(r["position_m"], u), f"{r['f1_Hz']:.1f} Hz",
+                  f"{k / 1e6:.3g} N/um" if u.system == "si" else _stiffness(k, u))
     console.print(t)
     for c in modes.get("checks", []):
         verdict = "[green]ok[/]" if c["ok"] else "[red]FAIL[/]"
@@ -93,10 +109,13 @@ def _print_modes_across(console: Any, modes: dict[str, Any]) -> None:
                       f"(margin {c['margin']:+.0%}) {verdict}; {c['note']}")
 
 
-def print_simulation(out: dict[str, Any]) -> None:
+def print_simulation(out: dict[str, Any], units: TableUnits | None = None) -> None:
     """The closed-loop simulation in one table."""
     from rich.console import Console
     from rich.table import Table
+
+    u = units or TableUnits()
+    torque = u.unit("torque", "N*m")
 
     t = Table(title=f"{out['axis']}: closed-loop simulation")
     t.add_column("quantity")
@@ -107,7 +126,9 @@ def print_simulation(out: dict[str, Any]) -> None:
     t.add_row("load vibration amplitude", f"{out['load_vibration_amplitude_rad'] * 1e3:.4g} mrad")
     settle = [f"{v * 1e3:.1f}" if v is not None else "-" for v in out["settling_time_s"]]
     t.add_row("settling time per stop", ", ".join(settle) + " ms")
-    t.add_row("peak / RMS motor torque", f"{out['peak_torque_Nm']:.4g} / {out['rms_torque_Nm']:.4g} N*m")
-    t.add_row("peak shaft torque per spring", ", ".join(f"{v:.4g}" for v in out["peak_shaft_torque_Nm"]) + " N*m")
+    t.add_row("peak / RMS motor torque",
+              f"{u.num(out['peak_torque_Nm'], 'torque')} / {u.num(out['rms_torque_Nm'], 'torque')} {torque}")
+    t.add_row("peak shaft torque per spring",
+              ", ".join(u.num(v, "torque") for v in out["peak_shaft_torque_Nm"]) + f" {torque}")
     t.add_row("motor energy", f"{out['energy_J']:.4g} J")
     Console(width=None if sys.stdout.isatty() else 120).print(t)

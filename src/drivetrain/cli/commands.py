@@ -81,9 +81,10 @@ def size(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(jsonable(result.to_dict()), indent=2))
         return _exit_code(result)
+    from drivetrain.cli.quantities import TableUnits
     from drivetrain.cli.sizing import print_sizing
 
-    print_sizing(result)
+    print_sizing(result, TableUnits(args.units, result.axis.raw))
     for warning in result.extras.get("warnings", []):
         print(f"warning: {warning}")
     if explanation:
@@ -154,8 +155,9 @@ def modes(args: argparse.Namespace) -> int:
         print(json.dumps(jsonable(out), indent=2))
         return 0
     from drivetrain.cli.analyses import print_modes
+    from drivetrain.cli.quantities import TableUnits
 
-    print_modes(out, len(dyn.chain.inertia))
+    print_modes(out, len(dyn.chain.inertia), TableUnits(args.units, axis.raw))
     return 0
 
 
@@ -183,8 +185,9 @@ def simulate(args: argparse.Namespace) -> int:
         print(json.dumps(jsonable(out), indent=2))
         return 0
     from drivetrain.cli.analyses import print_simulation
+    from drivetrain.cli.quantities import TableUnits
 
-    print_simulation(out)
+    print_simulation(out, TableUnits(args.units, axis.raw))
     for path, what in ((args.csv, "time series"), (args.plot, "figure")):
         if path:
             print(f"{what} written to {Path(path).resolve()}")
@@ -200,9 +203,10 @@ def select(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(jsonable(result.to_dict()), indent=2))
     else:
+        from drivetrain.cli.quantities import TableUnits
         from drivetrain.cli.sizing import print_sizing
 
-        print_sizing(result)
+        print_sizing(result, TableUnits(args.units, axis.raw))
     return _exit_code(result)
 
 

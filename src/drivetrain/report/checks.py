@@ -34,14 +34,14 @@ CHECK_NAMES: dict[str, str] = {
 }
 """Readable names of the motor checks."""
 
-_CHECK_QUANTITY: dict[str, str] = {"N*m": "torque", "Nm": "torque", "rpm": "angular_speed", "kg*m^2": "inertia",
+CHECK_QUANTITY: dict[str, str] = {"N*m": "torque", "Nm": "torque", "rpm": "angular_speed", "kg*m^2": "inertia",
                                    "W": "power", "N": "force", "s": "time", "J": "energy", "m/s^2": "acceleration"}
 EXTRA_CHECKS = ("slip_check", "brake_check", "guide", "gearbox_checks")
 """Keys of ``SizingResult.extras`` that hold the axis's own checks (one check, or a report with ``checks``)."""
 
 
 def _check_quantity(unit: str) -> str | None:
-    return _CHECK_QUANTITY.get(unit)
+    return CHECK_QUANTITY.get(unit)
 
 
 def check_value(value: float, unit: str, du: DisplayUnits) -> str:

@@ -22,13 +22,11 @@ from drivetrain.report.display import (
     quantity_of,
 )
 from drivetrain.report.focus import Focus
+from drivetrain.units import quantity_of_key
 
 if TYPE_CHECKING:
     from drivetrain.sizing.result import SizingResult
 
-_SUFFIX_QUANTITY: tuple[tuple[str, str], ...] = (("_m_s2", "acceleration"), ("_kgm2", "inertia"), ("_Nm", "torque"),
-                                                 ("_N", "force"), ("_W", "power"), ("_J", "energy"), ("_s", "time"),
-                                                 ("_m", "length"))
 MAX_CANDIDATE_ROWS = 25
 
 
@@ -41,11 +39,10 @@ def _extra_values(result: SizingResult, du: DisplayUnits) -> list[tuple[str, str
             if isinstance(value, str):
                 rows.append((f"{label}{key.replace('_', ' ')}", value))
             return
-        for suffix, q in _SUFFIX_QUANTITY:
-            if key.endswith(suffix):
-                name = key[: -len(suffix)].replace("_", " ")
-                rows.append((f"{label}{name}", du.fmt(float(value), q)))
-                return
+        named = quantity_of_key(key)
+        if named is not None:
+            rows.append((f"{label}{named[0].replace('_', ' ')}", du.fmt(float(value), named[1])))
+            return
         rows.append((f"{label}{key.replace('_', ' ')}", fmt_number(float(value))))
 
     for key, value in sorted(result.extras.items()):
