@@ -16,7 +16,7 @@ import math
 import re
 import tokenize
 from functools import lru_cache
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Final
 
 from drivetrain.errors import InputError
 
@@ -343,3 +343,60 @@ def convert(value: float, quantity: str, unit: str) -> float:
         return to_rpm(value)
     ureg = registry()
     return float(ureg.Quantity(value, QUANTITIES[quantity][0] or "dimensionless").to(_normalise(unit)).magnitude)
+
+
+# --------------------------------------------------------------------------- display unit systems
+# The one table of display units: the report (drivetrain.report.display), the CLI tables and the
+# study summary all convert through it.
+
+UNIT_CHOICES: Final = ("si", "imperial", "as-given")
+"""``--units``: SI, imperial, or the units the axis file used."""
+
+SI_UNITS: Final[dict[str, str]] = {
+    "torque": "N*m",
+    "angular_speed": "rpm",
+    "inertia": "kg*cm^2",
+    "length": "mm",
+    "speed": "m/s",
+    "acceleration": "m/s^2",
+    "jerk": "m/s^3",
+    "angle": "deg",
+    "angular_acceleration": "rad/s^2",
+    "angular_jerk": "rad/s^3",
+    "mass": "kg",
+    "force": "N",
+    "power": "W",
+    "energy": "J",
+    "time": "s",
+    "linear_stiffness": "N/um",
+}
+"""Display units of ``--units si`` (motion-control habits: N·m, rpm, kg·cm², mm)."""
+
+IMPERIAL_UNITS: Final[dict[str, str]] = {
+    **SI_UNITS,
+    "torque": "lbf*in",
+    "inertia": "lb*in^2",
+    "length": "in",
+    "speed": "in/s",
+    "acceleration": "in/s^2",
+    "jerk": "in/s^3",
+    "mass": "lb",
+    "force": "lbf",
+    "linear_stiffness": "lbf/in",
+}
+"""Display units of ``--units imperial`` (US servo catalogs: lbf·in, rpm, lb·in², in); speed of a shaft
+stays rpm, power W, energy J."""
+
+KEY_SUFFIXES: Final[tuple[tuple[str, str], ...]] = (
+    ("_m_s2", "acceleration"), ("_kgm2", "inertia"), ("_Nm", "torque"), ("_N", "force"), ("_W", "power"),
+    ("_J", "energy"), ("_s", "time"), ("_m", "length"))
+"""The unit suffixes of result keys (``rms_torque_Nm``, ``load_inertia_kgm2``) and the quantity each
+names, longest match first; every such key holds an SI value."""
+
+
+def quantity_of_key(key: str) -> tuple[str, str] | None:
+    """(name without the suffix, quantity) of a result key with an SI unit suffix, or None."""
+    for suffix, quantity in KEY_SUFFIXES:
+        if key.endswith(suffix) and len(key) > len(suffix):
+            return key[: -len(suffix)], quantity
+    return None

@@ -22,6 +22,12 @@ kernels as soon as this module is imported.
 
 ``tests/test_dynamics_simulate.py`` runs both on the same two-mass axis and asserts they agree.
 
+Size: the two kernels and the layout of their packed arguments (the ``N_*``, ``P_*``, ``I_*`` indices they
+read as compile-time constants) stay in this one file. numba's cache is checked against the file that
+holds each kernel only, and a global is frozen into the cached code: with the layout in another file, a
+change to it would leave the cached kernels reading the old layout (numba docs, "Cache invalidation",
+https://numba.readthedocs.io/en/stable/user/jit.html#cache). And the kernels call no helpers (below).
+
 Compilation: the per-inertia friction/gear update is written once inside a loop over the inertias
 (numba compiles it once; LLVM unrolls the two-inertia loop), and no helper functions are called, so
 nothing is left as a call in the time loop and the first compile stays short. ``no_rewrites`` skips

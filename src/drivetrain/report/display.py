@@ -19,44 +19,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from drivetrain.errors import InputError
+from drivetrain.units import IMPERIAL_UNITS, SI_UNITS, UNIT_CHOICES
+
+__all__ = ["IMPERIAL_UNITS", "SI_UNITS", "UNIT_CHOICES", "DisplayUnits", "UnitsChoice", "display_units", "fmt_number",
+           "fmt_percent", "pretty_unit"]
 
 if TYPE_CHECKING:
     from matplotlib.ft2font import FT2Font
 
 UnitsChoice = Literal["si", "imperial", "as-given"]
-UNIT_CHOICES: Final = ("si", "imperial", "as-given")
-
-SI_UNITS: Final[dict[str, str]] = {
-    "torque": "N*m",
-    "angular_speed": "rpm",
-    "inertia": "kg*cm^2",
-    "length": "mm",
-    "speed": "m/s",
-    "acceleration": "m/s^2",
-    "jerk": "m/s^3",
-    "angle": "deg",
-    "angular_acceleration": "rad/s^2",
-    "angular_jerk": "rad/s^3",
-    "mass": "kg",
-    "force": "N",
-    "power": "W",
-    "energy": "J",
-    "time": "s",
-}
-"""Display units of ``--units si`` (motion-control habits: N·m, rpm, kg·cm², mm)."""
-
-IMPERIAL_UNITS: Final[dict[str, str]] = {
-    **SI_UNITS,
-    "torque": "lbf*in",
-    "inertia": "lb*in^2",
-    "length": "in",
-    "speed": "in/s",
-    "acceleration": "in/s^2",
-    "jerk": "in/s^3",
-    "mass": "lb",
-    "force": "lbf",
-}
-"""Display units of ``--units imperial`` (US servo catalogs: lbf·in, rpm, lb·in², in)."""
 
 # Quantities tried, in order, when guessing what a unit string in the axis file measures.
 _GUESS_ORDER: Final = ("length", "mass", "time", "inertia", "force", "speed", "angular_speed", "acceleration",

@@ -18,8 +18,8 @@ from drivetrain.report.plots import COLORS, Band, Note, Panel, PlotSpec, Trace
 
 if TYPE_CHECKING:
     from drivetrain.axis.electrical import MotorElectrical
+    from drivetrain.report.blocks import Table
     from drivetrain.report.focus import Focus
-    from drivetrain.report.model import Table
     from drivetrain.sizing.result import SizingResult
 
 REGEN_COLORS = {"bus": "#ef6c00", "resistor": "#c62828", "capacitor": "#2e7d32", "supply": "#6a1b9a"}
@@ -125,7 +125,7 @@ def supply_curve_traces(result: SizingResult, du: DisplayUnits) -> list[Trace]:
 
 def electrical_table(result: SizingResult, du: DisplayUnits) -> Table | None:
     """Drive, motor currents, winding temperature and regen as one table with the checks' margins."""
-    from drivetrain.report.model import Cell, Table
+    from drivetrain.report.blocks import Cell, Table
 
     elec, drive, rg = blocks(result)
     if not elec and drive is None and rg is None:

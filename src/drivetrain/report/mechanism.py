@@ -15,8 +15,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from drivetrain.report.blocks import Cell, Table
+from drivetrain.report.checks import check_value
 from drivetrain.report.display import DisplayUnits, fmt_number, fmt_percent
-from drivetrain.report.model import Cell, Table, check_value
 from drivetrain.report.plots import COLORS, Note, Panel, PlotSpec, Trace, VLine
 
 if TYPE_CHECKING:

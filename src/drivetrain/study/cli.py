@@ -28,6 +28,8 @@ def add_parser(subparsers: Any) -> None:
     p.add_argument("--resume", action="store_true", help="continue from the partial result of an interrupted run")
     p.add_argument("--yes", action="store_true", help="run a design of more than a million variants")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--units", choices=("si", "imperial"), default="si",
+                   help="units of the summary's objective (the result table stays SI, its columns name their unit)")
     p.set_defaults(handler=run)
 
 
@@ -51,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
     console.print(f"{len(df)} variants, {n_ok} pass every check")
     if result.best is not None:
         b = result.best
-        console.print(f"best: {b['objective']} = {b['value']:.6g} at " +
+        console.print(f"best: {objective_text(b['objective'], b['value'], args.units)} at " +
                       ", ".join(f"{k} = {v}" for k, v in b["parameters"].items()))
         sel = b["result"].get("selection", {}).get("selected") or {}
         if sel:
@@ -60,3 +62,15 @@ def run(args: argparse.Namespace) -> int:
         console.print(f"wrote {f}")
     sys.stdout.flush()
     return 0
+
+
+def objective_text(column: str, value: float, system: str = "si") -> str:
+    """``column = value`` of the best variant; in imperial a column with an SI unit suffix (``rms_torque_Nm``)
+    is converted through ``drivetrain.units.IMPERIAL_UNITS`` (``rms_torque = 4.112 lbf*in``)."""
+    from drivetrain.units import IMPERIAL_UNITS, SI_UNITS, convert, quantity_of_key
+
+    named = quantity_of_key(column) if system == "imperial" else None
+    if named is None or IMPERIAL_UNITS.get(named[1], "") == SI_UNITS.get(named[1], ""):
+        return f"{column} = {value:.6g}"
+    unit = IMPERIAL_UNITS[named[1]]
+    return f"{named[0]} = {convert(value, named[1], unit):.6g} {unit}"

@@ -1,0 +1,137 @@
+"""Command line: ``drivetrain size AXIS``, ``drivetrain catalog ...``, ``drivetrain modes AXIS`` ...
+
+No physics here: each command calls the library and formats its result. Bad input prints one
+line naming the field and exits with status 2, without a traceback; ``size`` and ``select`` exit 0
+when the motor or the selection passes and 1 when the axis was sized but nothing passes. Heavy modules are
+imported inside the handlers so ``drivetrain --help`` stays fast.
+
+The package: this module parses the command line and maps errors to exit codes; ``commands`` runs
+each sub-command and writes its files; ``sizing`` prints the tables of a sizing result (``size``,
+``select``) and ``analyses`` those of ``modes``, ``simulate`` and ``machine size``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from drivetrain.cli import commands
+from drivetrain.cli.commands import EXIT_FAILS, EXIT_INPUT, EXIT_OK
+from drivetrain.cli.commands import jsonable as _jsonable
+from drivetrain.units import UNIT_CHOICES
+
+__all__ = ["EXIT_FAILS", "EXIT_INPUT", "EXIT_OK", "_jsonable", "build_parser", "main"]
+
+
+UNITS_HELP = ("units of the tables (and of the report): si (N*m, kg*cm^2, mm), imperial (lbf*in, lb*in^2, in, "
+              "lbf), or as-given (those of the axis file); shaft speeds stay rpm, power W, energy J")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with every sub-command."""
+    parser = argparse.ArgumentParser(prog="drivetrain", description="Size and analyse servo axes.")
+    parser.add_argument("--version", action="store_true", help="print the version and exit")
+    parser.add_argument("--catalog", dest="user_catalog", metavar="FILE.sqlite",
+                        help="your catalog file, e.g. one a team shares (default: $DRIVETRAIN_CATALOG, else "
+                             "user.sqlite in the data folder); the shipped data is read beside it")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+
+    p = sub.add_parser("size", help="duty cycle at the motor shaft, motor checks and selection")
+    p.add_argument("axis", help="axis file (YAML)")
+    p.add_argument("--json", action="store_true", help="print only the JSON result on standard output")
+    p.add_argument("--csv", metavar="FILE", help="write the sampled time series to FILE")
+    p.add_argument("--report", metavar="FILE", help="write an HTML (.html) or PDF (.pdf) report")
+    p.add_argument("--units", choices=UNIT_CHOICES, default="si", help=UNITS_HELP)
+    p.add_argument("--explain", metavar="MODEL", help="say why a catalog motor was accepted or rejected")
+    p.add_argument("--points", type=int, default=64, help="samples per profile phase (default 64)")
+    p.add_argument("--all", action="store_true",
+                   help="list every passing motor-gearbox pair, not only the best configuration of each motor")
+    p.add_argument("--aas", metavar="FILE", help="write an IDTA 02021 sizing submodel (AAS JSON) to FILE")
+    p.set_defaults(handler=commands.size)
+
+    p = sub.add_parser("select", help="same as size, with a catalog selection even if the axis names a motor")
+    p.add_argument("axis")
+    p.add_argument("--json", action="store_true")
+    p.add_argument("--top", type=int, default=10)
+    p.add_argument("--units", choices=UNIT_CHOICES, default="si", help=UNITS_HELP)
+    p.set_defaults(handler=commands.select)
+
+    p = sub.add_parser("modes", help="natural frequencies, two-mass resonance and critical speeds of the axis")
+    p.add_argument("axis")
+    p.add_argument("--json", action="store_true", help="print only the JSON on standard output")
+    p.add_argument("--units", choices=UNIT_CHOICES, default="si", help=UNITS_HELP)
+    p.set_defaults(handler=commands.modes)
+
+    p = sub.add_parser("simulate", help="closed-loop nonlinear simulation of the axis on its own profile")
+    p.add_argument("axis")
+    p.add_argument("--json", action="store_true", help="print only the JSON on standard output")
+    p.add_argument("--csv", metavar="FILE", help="write the simulated time series to FILE")
+    p.add_argument("--plot", metavar="FILE", help="write a figure (PNG, PDF or SVG) to FILE")
+    p.add_argument("--cycles", type=int, default=None, help="profile repetitions (default: dynamics.cycles or 1)")
+    p.add_argument("--bandwidth", type=float, default=None, help="velocity-loop bandwidth [Hz] (default: tuned)")
+    p.add_argument("--units", choices=UNIT_CHOICES, default="si", help=UNITS_HELP)
+    p.set_defaults(handler=commands.simulate)
+
+    p = sub.add_parser("machine", help="machine projects: several axes on shared DC buses, one report and BOM")
+    msub = p.add_subparsers(dest="machine_command", metavar="ACTION", required=True)
+    q = msub.add_parser("size", help="size every axis, the DC bus(es), braking resistors and supply; BOM")
+    q.add_argument("machine", help="machine file (YAML, docs/machine.md)")
+    q.add_argument("--json", action="store_true", help="print only the JSON result on standard output")
+    q.add_argument("--report", metavar="FILE", help="write an HTML (.html) or PDF (.pdf) machine report")
+    q.add_argument("--aas", metavar="FILE", help="write an IDTA 02021 sizing submodel (AAS JSON) to FILE")
+    q.add_argument("--samples", type=int, default=500, help="random-phasing samples for free axes (default 500)")
+    q.add_argument("--seed", type=int, default=0, help="seed of the random phasing (default 0)")
+    q.set_defaults(handler=commands.machine_size)
+
+    _optional_parser(sub, "drivetrain.catalog.cli")
+    _optional_parser(sub, "drivetrain.web.cli")
+    _optional_parser(sub, "drivetrain.study.cli")
+    return parser
+
+
+def _optional_parser(sub: Any, module: str) -> None:
+    """Register a sub-command group that lives with its subsystem."""
+    import importlib
+
+    try:
+        mod = importlib.import_module(module)
+    except ModuleNotFoundError as exc:
+        if exc.name and module.startswith(exc.name):
+            return
+        raise
+    mod.add_parser(sub)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point: returns the exit status (0 passes, 1 sized but nothing passes, 2 bad input)."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.version:
+        from drivetrain import __version__
+
+        print(__version__)
+        return 0
+    handler: Callable[[argparse.Namespace], int] | None = getattr(args, "handler", None)
+    if handler is None:
+        parser.print_help()
+        return EXIT_INPUT
+    from drivetrain.errors import InputError
+
+    try:
+        if getattr(args, "user_catalog", None):
+            from drivetrain.catalog.cli import use_catalog
+
+            use_catalog(args.user_catalog)
+        return handler(args)
+    except InputError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        return 0
+
+

@@ -1,0 +1,243 @@
+"""The sub-commands of the core CLI: each loads its input, calls the library and writes its files.
+
+Tables go to ``drivetrain.cli.sizing`` and ``drivetrain.cli.analyses``; every heavy module is imported
+inside the command that needs it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+EXIT_OK = 0
+"""``size``/``select``: the given motor, or the selection, passes every check."""
+EXIT_FAILS = 1
+"""``size``/``select``: sized, but the motor (or every candidate, or an axis check) fails; the answer is printed."""
+EXIT_INPUT = 2
+"""Bad input: one line naming the field, no traceback."""
+
+
+def _write_atomic(path: str, text: str, field: str = "--csv") -> None:
+    """Write a file through a unique temporary sibling and rename, so a reader never sees half of it."""
+    from drivetrain.report import write_atomic
+
+    def write(tmp: Path) -> None:
+        tmp.write_text(text, encoding="utf-8")
+
+    write_atomic(path, write, field)
+
+
+PLOT_SUFFIXES = (".png", ".svg", ".pdf")
+"""Figure formats ``simulate --plot`` writes, chosen by the file's suffix."""
+
+
+def _check_outputs(args: argparse.Namespace) -> None:
+    """Refuse an output path that cannot be written before the work that fills it."""
+    from drivetrain.report import REPORT_SUFFIXES, check_target
+
+    for name in ("csv", "report", "plot"):
+        path = getattr(args, name, None)
+        if path:
+            check_target(path, f"--{name}")
+    report = getattr(args, "report", None)
+    if report and Path(report).suffix.lower() not in REPORT_SUFFIXES:
+        from drivetrain.errors import InputError
+
+        raise InputError("--report", "must end in .html or .pdf", report)
+    plot = getattr(args, "plot", None)
+    if plot and Path(plot).suffix.lower() not in PLOT_SUFFIXES:
+        from drivetrain.errors import InputError
+
+        raise InputError("--plot", f"must end in {', '.join(PLOT_SUFFIXES)}", plot)
+
+
+def size(args: argparse.Namespace) -> int:
+    from drivetrain.errors import InputError
+    from drivetrain.sizing.result import size
+
+    if args.points < 3 or args.points > 100_000:
+        raise InputError("--points", "must be between 3 and 100000", args.points)
+    _check_outputs(args)
+    try:
+        result = size(args.axis, points_per_phase=args.points, all_pairs=args.all)
+    except InputError as exc:
+        if exc.field == "points_per_phase":
+            raise InputError("--points", exc.rule, args.points) from None
+        raise
+    explanation = result.explain(args.explain) if args.explain else ""
+    if args.csv:
+        _write_csv(args.csv, result.series())
+    if args.report:
+        from drivetrain.report import write_report
+
+        write_report(result, args.report, units=args.units)
+    if args.aas:
+        from drivetrain.machine.aas import axis_aas
+
+        _write_atomic(args.aas, json.dumps(axis_aas(jsonable(result.to_dict())), indent=2))
+    if args.json:
+        print(json.dumps(jsonable(result.to_dict()), indent=2))
+        return _exit_code(result)
+    from drivetrain.cli.quantities import TableUnits
+    from drivetrain.cli.sizing import print_sizing
+
+    print_sizing(result, TableUnits(args.units, result.axis.raw))
+    for warning in result.extras.get("warnings", []):
+        print(f"warning: {warning}")
+    if explanation:
+        print(explanation)
+    if args.csv:
+        print(f"time series written to {args.csv}")
+    if args.report:
+        print(f"report written to {Path(args.report).resolve()}")
+    return _exit_code(result)
+
+
+def _exit_code(result: Any) -> int:
+    """0 when the given motor or the selection (and the axis's own checks) pass, 1 when not."""
+    return EXIT_OK if result.ok else EXIT_FAILS
+
+
+def machine_size(args: argparse.Namespace) -> int:
+    from drivetrain.machine.result import size_machine
+
+    result = size_machine(args.machine, phasing_samples=args.samples, seed=args.seed)
+    out = jsonable(result.to_dict())
+    if args.aas:
+        from drivetrain.machine.aas import machine_aas
+
+        _write_atomic(args.aas, json.dumps(machine_aas(out), indent=2))
+    if args.report:
+        from drivetrain.report.machine import write_machine_report
+
+        write_machine_report(result, args.report)
+    if args.json:
+        print(json.dumps(out, indent=2))
+        return 0
+    from drivetrain.cli.analyses import print_machine
+
+    print_machine(out)
+    if args.report:
+        print(f"report written to {Path(args.report).resolve()}")
+    if args.aas:
+        print(f"AAS submodel written to {Path(args.aas).resolve()}")
+    return 0
+
+
+def modes(args: argparse.Namespace) -> int:
+    from drivetrain.axis.model import load_axis
+    from drivetrain.dynamics import modes_summary
+    from drivetrain.dynamics.axis_model import model
+    from drivetrain.dynamics.linear import critical_speeds, excitation_orders
+
+    axis = load_axis(args.axis)
+    dyn = model(axis)
+    out: dict[str, Any] = {"axis": axis.name, "motor": dyn.motor, **modes_summary(dyn.chain)}
+    if axis.spec.profile and out["natural_frequencies_Hz"]:
+        from drivetrain.duty.cycle import duty_cycle
+
+        ratio = math.prod(s.ratio for s in dyn.stages) / axis.total_ratio
+        top = float(abs(duty_cycle(axis).omega).max()) * ratio
+        out["critical_speeds"] = [
+            {"excitation": c.excitation, "order": c.order, "speed_rpm": c.speed_rad_s * 60 / (2 * math.pi),
+             "natural_frequency_Hz": c.frequency_hz}
+            for c in critical_speeds(out["natural_frequencies_Hz"], 0.0, top, excitation_orders())]
+    if axis.spec.profile and "chain" not in (axis.spec.dynamics or {}):
+        from drivetrain.dynamics.mechanism_modes import modes_across_stroke
+
+        across = modes_across_stroke(axis, dyn.stages, dyn.motor_inertia)
+        if across is not None:
+            out["modes"] = across
+    if args.json:
+        print(json.dumps(jsonable(out), indent=2))
+        return 0
+    from drivetrain.cli.analyses import print_modes
+    from drivetrain.cli.quantities import TableUnits
+
+    print_modes(out, len(dyn.chain.inertia), TableUnits(args.units, axis.raw))
+    return 0
+
+
+def simulate(args: argparse.Namespace) -> int:
+    from drivetrain.axis.model import load_axis
+    from drivetrain.dynamics.axis_model import simulate_axis
+
+    _check_outputs(args)
+    axis = load_axis(args.axis)
+    res = simulate_axis(axis, cycles=args.cycles, velocity_bandwidth_hz=args.bandwidth)
+    out = {"axis": axis.name, **res.to_dict()}
+    if args.csv:
+        import io
+
+        buf = io.StringIO()
+        res.to_pandas().to_csv(buf)
+        _write_atomic(args.csv, buf.getvalue(), "--csv")
+    if args.plot:
+        from drivetrain.report import write_atomic
+
+        fig = res.plot()
+        fmt = Path(args.plot).suffix.lower().lstrip(".")
+        write_atomic(args.plot, lambda tmp: fig.savefig(tmp, dpi=120, format=fmt), "--plot")
+    if args.json:
+        print(json.dumps(jsonable(out), indent=2))
+        return 0
+    from drivetrain.cli.analyses import print_simulation
+    from drivetrain.cli.quantities import TableUnits
+
+    print_simulation(out, TableUnits(args.units, axis.raw))
+    for path, what in ((args.csv, "time series"), (args.plot, "figure")):
+        if path:
+            print(f"{what} written to {Path(path).resolve()}")
+    return 0
+
+
+def select(args: argparse.Namespace) -> int:
+    from drivetrain.axis.model import load_axis
+    from drivetrain.sizing.result import size
+
+    axis = load_axis(args.axis)
+    result = size(axis)
+    if args.json:
+        print(json.dumps(jsonable(result.to_dict()), indent=2))
+    else:
+        from drivetrain.cli.quantities import TableUnits
+        from drivetrain.cli.sizing import print_sizing
+
+        print_sizing(result, TableUnits(args.units, axis.raw))
+    return _exit_code(result)
+
+
+def _write_csv(path: str, cols: dict[str, Any]) -> None:
+    import io
+
+    import numpy as np
+
+    names = list(cols)
+    data = np.column_stack([np.asarray(cols[n], dtype=float) for n in names])
+    buf = io.StringIO()
+    np.savetxt(buf, data, delimiter=",", header=",".join(names), comments="", fmt="%.9g")
+    _write_atomic(path, buf.getvalue())
+
+
+def jsonable(obj: Any) -> Any:
+    """Plain JSON types; non-finite floats become null."""
+    import numpy as np
+
+    if isinstance(obj, dict):
+        return {str(k): jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [jsonable(v) for v in obj]
+    if isinstance(obj, (np.floating, float)):
+        f = float(obj)
+        return f if math.isfinite(f) else None
+    if isinstance(obj, (np.integer,)):
+        return int(obj)
+    if isinstance(obj, np.bool_):
+        return bool(obj)
+    if isinstance(obj, np.ndarray):
+        return jsonable(obj.tolist())
+    return obj
+

@@ -1,0 +1,236 @@
+"""The tables of a sizing result (``drivetrain size`` and ``select``): demand, checks, electrical, candidates."""
+
+from __future__ import annotations
+
+import math
+import sys
+from typing import Any
+
+from drivetrain.cli.quantities import TableUnits
+
+
+def print_sizing(result: Any, units: TableUnits | None = None) -> None:
+    """The demand at the motor shaft, every check block, and the ranked candidates with the selection."""
+    from rich.console import Console
+    from rich.table import Table
+
+    u = units or TableUnits()
+    console = Console(width=None if sys.stdout.isatty() else 120)
+    m = result.metrics
+    torque = u.unit("torque", "N*m")
+    t = Table(title=f"{result.axis.name}: demand at the motor shaft (rotor excluded)")
+    t.add_column("quantity")
+    t.add_column("value", justify="right")
+    rows = [
+        ("cycle time", f"{m['cycle_time_s']:.4g} s"),
+        ("load inertia at motor", u.q(m["load_inertia_kgm2"], "inertia", "kg*cm^2", 1e4)),
+        ("peak torque", f"{u.q(m['peak_torque_Nm'], 'torque', 'N*m')} at {m['peak_torque_speed_rpm']:.0f} rpm"),
+        ("RMS torque", u.q(m["rms_torque_Nm"], "torque", "N*m")),
+        ("accel / run / decel torque (move 1)",
+         " / ".join(u.num(m[k], "torque") for k in ("accel_torque_Nm", "run_torque_Nm", "decel_torque_Nm"))
+         + f" {torque}"),
+        ("holding torque", u.q(m["holding_torque_Nm"], "torque", "N*m")),
+        ("max / mean speed", f"{m['max_speed_rpm']:.0f} / {m['mean_speed_rpm']:.0f} rpm"),
+        ("peak / average power", f"{m['peak_power_W']:.4g} / {m['average_power_W']:.4g} W"),
+        ("regenerated energy per cycle", f"{m['regen_energy_J'] + 0.0:.4g} J"),
+    ]
+    for extra_key, label in (("gearbox_torque", "gearbox output torque"),):
+        if extra_key in m:
+            rows.append((label, str(m[extra_key])))
+    for k, v in rows:
+        t.add_row(k, v)
+    console.print(t)
+    mech = result.extras.get("mechanism_checks")
+    if mech:
+        _print_checks(console, f"mechanism {result.axis.mechanism.type}",
+                      {"ok": all(c["ok"] for c in mech), "checks": mech}, u)
+    if result.motor is not None:
+        _print_checks(console, f"motor {result.motor['name']}", result.motor, u)
+        _print_electrical(console, result, u)
+    gear = result.extras.get("gearbox_checks")
+    if gear:
+        _print_checks(console, "gearbox ratings (transmission)", gear, u)
+    if result.candidates:
+        _print_candidates(console, result, u)
+
+
+def _pct(margin: float | None) -> str:
+    if margin is None:
+        return "n/a"
+    p = margin * 100.0
+    return f"{p:+.2g} %" if p != 0.0 and abs(p) < 0.1 else f"{p:+.1f} %"
+
+
+def _print_checks(console: Any, title: str, block: dict[str, Any], u: TableUnits) -> None:
+    from rich.table import Table
+
+    t = Table(title=f"{title}: {'OK' if block['ok'] else 'FAILS'}")
+    for col in ("check", "required", "available", "margin", "result"):
+        t.add_column(col, justify="right" if col != "check" else "left")
+    for c in block["checks"]:
+        approx = " (approx. envelope)" if c.get("approximate") else ""
+        stage = f" [{c['stage']}]" if c.get("stage") else ""
+        status = c.get("status") or ("pass" if c["ok"] else "fail")
+        t.add_row(c["name"] + stage + approx, u.check(c["required"], c["unit"]), u.check(c["available"], c["unit"]),
+                  _pct(c["margin"]), {"pass": "yes", "fail": "NO"}.get(status, status))
+    console.print(t)
+    for c in block["checks"]:
+        if c.get("note"):
+            console.print(f"  {c['name']}: {c['note']}")
+    if "inertia_ratio" in block:
+        console.print(f"inertia ratio J_L/J_M = {block['inertia_ratio']:.3g} "
+                      f"(lecture: below 5:1 recommended, 1:1 ideal); "
+                      f"t_am = {block['min_accel_time_s']:.4g} s, t_dm = {block['min_decel_time_s']:.4g} s")
+
+
+def _print_electrical(console: Any, result: Any, u: TableUnits) -> None:
+    """The electrical half of a given motor: supply, envelope source, currents, winding, drive, regen."""
+    _print_electrical_blocks(console, result.motor, result.extras.get("drive"), result.extras.get("regen"), u)
+
+
+def _drive_label(drive: dict[str, Any] | None) -> str:
+    """A candidate's drive in one cell: its id and status (unknown / none / fails)."""
+    if not drive:
+        return "-"
+    status = drive.get("status", "ok" if drive.get("ok") else "fails")
+    return f"{drive.get('id') or '-'}" + ("" if status == "ok" else f" ({status})")
+
+
+def _print_selected_electrical(console: Any, pick: dict[str, Any], u: TableUnits) -> None:
+    """The selected candidate's drive, electrical figures and regen block (drivetrain.sizing.drive_select)."""
+    drive = pick.get("drive")
+    if drive and drive.get("status") in ("unknown", "none"):
+        console.print(f"drive: {drive.get('id') or 'none'} ({drive['status']}: {drive.get('reason', '')})")
+        drive = None
+    elec = pick.get("electrical") or {}
+    if elec.get("note"):
+        console.print(f"electrical: {elec['note']}")
+    _print_electrical_blocks(console, {**elec, "checks": elec.get("checks", [])}, drive, pick.get("regen"), u)
+    if elec.get("checks"):
+        _print_checks(console, f"motor {pick['motor']} electrical",
+                      {"ok": all(c["ok"] for c in elec["checks"]), "checks": elec["checks"]}, u)
+
+
+def _print_electrical_blocks(console: Any, m: dict[str, Any], drive: dict[str, Any] | None,
+                             rg: dict[str, Any] | None, u: TableUnits) -> None:
+    if m.get("rms_current_A") is None:
+        if rg is not None:
+            _print_regen(console, rg)
+        if drive is not None:
+            _print_checks(console, f"drive {drive['id']}", drive, u)
+        return
+    bus = m.get("dc_bus_voltage_V")
+    supply = m.get("supply_voltage_V")
+    where = (f"supply {supply:.0f} V, DC bus {bus:.0f} V" if supply and bus else
+             (f"DC bus {bus:.0f} V" if bus else "supply voltage not given"))
+    console.print(f"{where}; envelope: {m['envelope_source']}")
+    console.print(f"motor current: RMS {m['rms_current_A']:.4g} A, peak {m['peak_current_A']:.4g} A "
+                  f"(Kt {u.num(m['torque_constant_NmA'], 'torque')} {u.unit('torque', 'N*m')}/A)")
+    rise = m.get("winding_temperature_rise_K")
+    if rise is not None:
+        console.print(f"winding temperature rise {rise:.4g} K (allowed {m['winding_allowed_rise_K']:.4g} K at "
+                      f"{m['ambient_degC']:g} degC, {m['altitude_m']:g} m)")
+    if drive is not None:
+        _print_checks(console, f"drive {drive['id']}", drive, u)
+    if rg is not None:
+        _print_regen(console, rg)
+
+
+def _print_regen(console: Any, rg: dict[str, Any]) -> None:
+    if rg is not None:
+        window = (f", resistance {rg['resistor_min_ohm'] or 0:.4g} to {rg['resistor_max_ohm']:.4g} ohm"
+                  if rg.get("resistor_max_ohm") is not None else "")
+        builtin = {True: "; built-in resistor suffices", False: "; built-in resistor does NOT suffice",
+                   None: ""}[rg["builtin_resistor_sufficient"]]
+        console.print(f"regeneration into the bus {rg['energy_per_cycle_J']:.4g} J per cycle, capacitors "
+                      f"{rg['capacitor_absorbed_J']:.4g} J; braking resistor {rg['resistor_energy_per_cycle_J']:.4g} J "
+                      f"per cycle, peak {rg['resistor_peak_power_W']:.4g} W, average "
+                      f"{rg['resistor_average_power_W']:.4g} W{window}{builtin}")
+
+
+def _mounting(c: dict[str, Any], sel: dict[str, Any]) -> str:
+    """How the motor drives the axis: a catalog gearbox, the axis's own gearbox, or direct."""
+    if c.get("gearbox"):
+        return f"{c['gearbox']} (i = {c['ratio']:.4g})"
+    if sel.get("transmission_gearbox"):
+        return "axis gearbox"
+    return "direct"
+
+
+def _print_candidates(console: Any, result: Any, u: TableUnits) -> None:
+    from rich.table import Table
+
+    sel = result.selection or {}
+    per = "every passing pair" if sel.get("listing") == "all_pairs" else "best configuration of each motor"
+    t = Table(title=f"candidates: {sel.get('passing', '?')} of {sel.get('evaluated', '?')} configurations pass, "
+                    f"{sel.get('passing_motors', '?')} motors (ranked by {sel.get('objective', '?')}; {per}; "
+                    "rejected ones below with the reason)")
+    for col in ("rank", "motor", "vendor", "power", "flange", "gearbox", "J_L/J_M", "peak margin", "RMS margin",
+                "result / why not", "drive"):
+        t.add_column(col, no_wrap=col in ("motor", "gearbox"))
+    for c in result.candidates:
+        checks = {ch["name"]: ch for ch in c["checks"]}
+        if c["ok"]:
+            why = "yes" if not c.get("unknown") else "yes, unknown: " + ", ".join(c["unknown"])
+        else:
+            bad = sorted((ch for ch in c["checks"] if ch.get("status", "fail" if not ch["ok"] else "pass") == "fail"),
+                         key=lambda ch: (ch["name"] != "max_speed", ch["margin"] or 0.0))
+            why = "\n".join(f"{ch['name']} {_pct(ch['margin'])}" for ch in bad) or c["failed"]
+        power = c.get("rated_power_W")
+        flange = c.get("flange_mm")
+        motor = c["motor"] + (" †" if c.get("unverified") else "")
+        t.add_row(str(c["rank"]) if c.get("rank") else "-", motor, c.get("vendor", ""),
+                  "" if power is None or math.isnan(power) else f"{power:.0f} W",
+                  _flange(flange, u), _mounting(c, sel),
+                  f"{c['inertia_ratio']:.3g}", _pct(checks["peak_torque"]["margin"]),
+                  _pct(checks["rms_torque"]["margin"]), why, _drive_label(c.get("drive")))
+    console.print(t)
+    if any(c.get("unverified") for c in result.candidates):
+        console.print("† unverified catalog data (not traced to a vendor document, or a derived rating): "
+                      "see unverified_reason in --json, or `drivetrain catalog show ID`")
+    if sel.get("selected"):
+        pick = sel["selected"]
+        how = (f" + {pick['gearbox']} ({pick.get('gearbox_vendor') or 'catalog'}, i = {pick['ratio']:.4g})"
+               if pick.get("gearbox") else (f", on the axis's {sel['transmission_gearbox']}"
+                                            if sel.get("transmission_gearbox") else ", direct drive"))
+        console.print(f"selected: {pick['motor']} ({pick['vendor']}){how}")
+        _print_selected_electrical(console, pick, u)
+        if pick.get("unknown"):
+            console.print("  not judged (the catalog lacks the data): "
+                          + "; ".join(f"{ch['name']}: {ch.get('note', '')}" for ch in pick["checks"]
+                                      if ch.get("status") == "unknown"))
+        if sel.get("unverified"):
+            console.print(f"  {sel['unverified']}")
+        nxt = sel.get("next_smaller")
+        if nxt:
+            console.print(f"next smaller motor {nxt['motor']} fails:")
+            checks = {ch["name"]: ch for ch in nxt.get("checks", [])}
+            for line in nxt.get("failures") or [nxt["failed"]]:
+                console.print(f"  {_failure(line, checks, u)}")
+        opt = sel.get("optimal_ratio")
+        if opt:
+            near = opt.get("nearest_catalog_ratio")
+            console.print(f"optimal ratio for {opt['motor']}: {opt['min_rms_ratio']:.3g} (min RMS), "
+                          f"{opt['inertia_match_ratio']:.3g} (inertia match)"
+                          + (f", nearest catalog ratio {near:g}" if near else ""))
+    elif sel.get("advice"):
+        for line in str(sel["advice"]).splitlines():
+            console.print(f"[bold red]{line}[/]")
+
+
+def _flange(flange: float | None, u: TableUnits) -> str:
+    """A motor's flange size [mm as the catalog gives it]."""
+    if flange is None:
+        return ""
+    return f"{flange:.0f} mm" if u.system == "si" else u.q(flange * 1e-3, "length", "mm", spec=".3g")
+
+
+def _failure(line: str, checks: dict[str, dict[str, Any]], u: TableUnits) -> str:
+    """A failing check's sentence (drivetrain.sizing.reasons, SI) in the table's units."""
+    from drivetrain.sizing.reasons import percent
+
+    ch = checks.get(line.split(":", 1)[0])
+    if ch is None or ch["name"] == "mechanical_fit" or ch.get("margin") is None or not u.converts(ch["unit"]):
+        return line
+    avail = "n/a" if ch.get("available") is None else u.check(ch["available"], ch["unit"])
+    return f"{ch['name']}: required {u.check(ch['required'], ch['unit'])} > available {avail} ({percent(ch['margin'])})"
