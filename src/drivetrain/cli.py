@@ -144,6 +144,7 @@ def _cmd_size(args: argparse.Namespace) -> int:
             raise InputError("--points", exc.rule, args.points) from None
         raise
     explanation = result.explain(args.explain) if args.explain else ""
+    modes = _size_modes(result)
     if args.csv:
         _write_csv(args.csv, result.series())
     if args.report:
@@ -155,9 +156,16 @@ def _cmd_size(args: argparse.Namespace) -> int:
 
         _write_atomic(args.aas, json.dumps(axis_aas(_jsonable(result.to_dict())), indent=2))
     if args.json:
-        print(json.dumps(_jsonable(result.to_dict()), indent=2))
+        out = result.to_dict()
+        if modes is not None:
+            out["modes"] = modes
+        print(json.dumps(_jsonable(out), indent=2))
         return _exit_code(result)
     _print_table(result)
+    if modes is not None:
+        from rich.console import Console
+
+        _print_modes_across(Console(width=None if sys.stdout.isatty() else 120), modes)
     for warning in result.extras.get("warnings", []):
         print(f"warning: {warning}")
     if explanation:
@@ -167,6 +175,17 @@ def _cmd_size(args: argparse.Namespace) -> int:
     if args.report:
         print(f"report written to {Path(args.report).resolve()}")
     return _exit_code(result)
+
+
+def _size_modes(result: Any) -> dict[str, Any] | None:
+    """``modes`` of the sizing answer: f1 across the stroke with the mechanism's spring (docs/axis-file.md).
+
+    Computed here, in the face, because sizing (layer 4) may not import dynamics (layer 5); None
+    when the mechanism has no stiffness data or there is no motor. Reported, not part of ``ok``.
+    """
+    from drivetrain.dynamics.mechanism_modes import modes_of_result
+
+    return modes_of_result(result)
 
 
 def _exit_code(result: Any) -> int:
@@ -302,6 +321,9 @@ def _print_modes_across(console: Any, modes: dict[str, Any]) -> None:
                   f"{r['axial_stiffness_N_per_m'] / 1e6:.3g} N/um")
     console.print(t)
     for c in modes.get("checks", []):
+        if c.get("status") == "unknown":
+            console.print(f"{c['name']}: f1 {c['available']:.1f} Hz, [yellow]unknown[/]; {c['note']}")
+            continue
         verdict = "[green]ok[/]" if c["ok"] else "[red]FAIL[/]"
         console.print(f"{c['name']}: f1 {c['available']:.1f} Hz against {c['required']:.1f} Hz required "
                       f"(margin {c['margin']:+.0%}) {verdict}; {c['note']}")
