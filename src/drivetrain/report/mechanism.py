@@ -46,11 +46,12 @@ def _rows(checks: list[dict[str, Any]], du: DisplayUnits) -> list[list[Cell]]:
         style = {"pass": "pass", "fail": "fail"}.get(status, "muted")
         avail = c.get("available")
         finite = isinstance(avail, (int, float)) and math.isfinite(float(avail))
-        need = c.get("required")
-        known = isinstance(need, (int, float)) and math.isfinite(float(need))
+        raw = c.get("required")
+        need = float(raw) if isinstance(raw, (int, float)) else math.nan
+        known = math.isfinite(need)
         rows.append([
             Cell(MECHANISM_CHECK_NAMES.get(c["name"], c["name"].replace("_", " "))),
-            Cell(check_value(float(need), c["unit"], du) if known else "not stated"),
+            Cell(check_value(need, c["unit"], du) if known else "not stated"),
             Cell(check_value(float(avail or 0.0), c["unit"], du) if finite else "no limit"),
             Cell(fmt_percent(c.get("margin")) if known else "n/a", style),
             Cell(status.upper(), style),
