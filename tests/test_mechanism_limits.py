@@ -112,6 +112,36 @@ def test_thk_permissible_tensile_compressive_load() -> None:
     assert sl.permissible_tensile_compressive_load(0.020) == pytest.approx(116.0 * 400.0, rel=5e-3)
 
 
+# --- Ball screw: HIWIN's folded formulas (the shipped examples/ball_screw.yaml uses a HIWIN screw) ---
+# HIWIN GmbH, "Ballscrews & Accessories" BS-08-2-EN-1704-K, sec. 3.7.4-3.7.5, F 3.25-3.28 (p. 28;
+# copy read: github.com/ArtemFilin1990/Mar, "12_Прочее_сопутствующее/Прочее/Ballscrews.md"):
+# Fk = 4.072e5 fk dk^4 / ls^2 [N, mm], Fkmax = 0.5 Fk, fk 1 / 0.5 / 0.25 / 0.0625;
+# nk = 2.71e8 fn dk / ls^2 [min^-1, mm], nkmax = 0.8 nk, fn 1 / 0.692 / 0.446 / 0.147.
+
+@pytest.mark.parametrize(("mounting", "fk"), [
+    ("fixed_fixed", 1.0), ("fixed_supported", 0.5), ("supported_supported", 0.25), ("fixed_free", 0.0625)])
+def test_hiwin_buckling_formula(mounting: str, fk: float) -> None:
+    # HIWIN's constant is 4 pi^3 E / 64 with E = 210 GPa (4.070e5 N/mm^2); its mounting factors are
+    # THK's eta_1 / 4 exactly. Tolerance 0.1 % (the constant's four digits).
+    dk_mm, ls_mm = 17.32, 800.0
+    published = 0.5 * 4.072e5 * fk * dk_mm**4 / ls_mm**2
+    ours = float(sl.buckling_load(dk_mm / 1e3, ls_mm / 1e3, mounting, youngs_modulus=210e9))
+    assert ours == pytest.approx(published, rel=1e-3)
+
+
+@pytest.mark.parametrize(("mounting", "fn"), [
+    ("fixed_fixed", 1.0), ("fixed_supported", 0.692), ("supported_supported", 0.446)])
+def test_hiwin_critical_speed_formula(mounting: str, fn: float) -> None:
+    # Tolerance 2.5 %: HIWIN's 2.71e8 is 1 % below the beam formula with THK's E = 206 GPa and
+    # 7850 kg/m^3 (2.736e8), and its factors are the ratios lambda_1^2 / 4.73^2 to three digits
+    # (0.689, 0.441). Its fixed-free 0.147 lies 6 % below (1.875 / 4.73)^2 = 0.157 and is not
+    # compared here.
+    dk_mm, ls_mm = 17.32, 800.0
+    published = 0.8 * 2.71e8 * fn * dk_mm / ls_mm**2
+    ours = float(sl.critical_speed(dk_mm / 1e3, ls_mm / 1e3, mounting)) / RPM
+    assert ours == pytest.approx(published, rel=0.025)
+
+
 # --- Ball screw: hand-derived cases and invariants ---------------------------------------------
 
 def test_buckling_length_follows_thk_mounting_rules() -> None:

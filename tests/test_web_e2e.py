@@ -8,6 +8,7 @@ Set DRIVETRAIN_WEB_SCREENSHOTS=docs to write docs/web-editor.png and docs/web-ca
 
 from __future__ import annotations
 
+import copy
 import os
 import re
 import shutil
@@ -147,15 +148,31 @@ def set_leaves(page: Any, prefix: str, mapping: dict[str, Any]) -> None:
     for key, value in mapping.items():
         path = f"{prefix}.{key}" if prefix else key
         if isinstance(value, dict):
+            switch_on(page, path)
             set_leaves(page, path, value)
         else:
             set_field(page, path, value)
 
 
+def switch_on(page: Any, path: str) -> None:
+    """Tick the toggle of an optional section (``mechanism.screw``, ``guide``) if it has one and is off."""
+    toggle = "#f-" + re.sub(r"[^A-Za-z0-9]+", "-", path) + "-on"
+    if page.locator(toggle).count() and not page.is_checked(toggle):
+        page.check(toggle)
+
+
+def form_enterable(axis: dict[str, Any]) -> dict[str, Any]:
+    """The axis without what the form leaves to the YAML pane (mapping fields: a guide's moment factors)."""
+    out = copy.deepcopy(axis)
+    if isinstance(out.get("guide"), dict):
+        out["guide"].pop("moment_factors", None)
+    return out
+
+
 def build_through_the_form(page: Any, axis: dict[str, Any]) -> None:
     """Enter an axis file field by field, as a user would (every key must have an input)."""
     unsupported = set(axis) - {"axis", "gravity", "efficiency_model", "extra_inertia", "mechanism", "transmission",
-                               "profile", "motor"}
+                               "profile", "motor", "guide"}
     assert not unsupported, f"the e2e builder does not enter {unsupported}"
     for key in ("axis", "gravity", "efficiency_model", "extra_inertia"):
         if key in axis:
@@ -174,6 +191,9 @@ def build_through_the_form(page: Any, axis: dict[str, Any]) -> None:
         if "shape" in step:  # first: the jerk fraction appears for s-curves
             set_field(page, f"profile[{k}].shape", step.pop("shape"))
         set_leaves(page, f"profile[{k}]", step)
+    if "guide" in axis:
+        switch_on(page, "guide")
+        set_leaves(page, "guide", axis["guide"])
     motor = axis.get("motor")
     if motor is not None:
         page.check("#f-motor-on")
@@ -185,7 +205,7 @@ def build_through_the_form(page: Any, axis: dict[str, Any]) -> None:
 
 
 def test_build_size_save_reload_and_download(page: Any, server: tuple[str, Path], tmp_path: Path) -> None:
-    example = parse_yaml(EXAMPLE.read_text(encoding="utf-8"))
+    example = form_enterable(parse_yaml(EXAMPLE.read_text(encoding="utf-8")))
     build_through_the_form(page, example)
     assert yaml_pane(page) == example, "the form did not build the example axis"
     wait_sized(page)

@@ -120,11 +120,13 @@ def test_the_app_page_still_imports(page: Any, server: tuple[str, Path]) -> None
 
 
 def test_result_warnings_show_above_the_checks(page: Any) -> None:  # noqa: F811
-    page.select_option("#example-select", "ball_screw")
+    # The lead-screw example: the ball-screw example's screw limits would (rightly) refuse a 200 m
+    # stroke as an input error before any warning.
+    page.select_option("#example-select", "lead_screw")
     wait_sized(page)
     assert page.locator("#result-warnings").is_hidden()
-    text = EXAMPLE.read_text(encoding="utf-8")
-    slipped = text.replace("- {move: 200 mm,", "- {move: 200,", 1)  # a distance in mm written bare: 200 m
+    text = (EXAMPLE.parent / "lead_screw.yaml").read_text(encoding="utf-8")
+    slipped = text.replace("- {move: 50 mm,", "- {move: 50,", 1)  # a distance in mm written bare: 50 m
     assert slipped != text
     page.fill("#yaml-text", slipped)
     wait_until(page, "() => !document.getElementById('result-warnings').hidden")

@@ -64,7 +64,7 @@ def print_modes(out: dict[str, Any], inertias: int, units: TableUnits | None = N
     console = Console(width=None if sys.stdout.isatty() else 120)
     console.print(f"[bold]{out['axis']}[/] with motor {out['motor']}: {inertias} inertias at the motor shaft")
     if "modes" in out:
-        _print_modes_across(console, out["modes"], units or TableUnits())
+        print_modes_across(console, out["modes"], units or TableUnits())
     if not out["natural_frequencies_Hz"]:
         console.print("rigid drive train: no stiffness given (add stiffness to a coupling, gearbox or belt, or "
                       "a dynamics.chain), so there is no resonance to report")
@@ -89,7 +89,7 @@ def _stiffness(k: float, u: TableUnits) -> str:
     return f"{text} {u.unit('linear_stiffness', 'N/um')}"
 
 
-def _print_modes_across(console: Any, modes: dict[str, Any], u: TableUnits) -> None:
+def print_modes_across(console: Any, modes: dict[str, Any], u: TableUnits) -> None:
     from rich.table import Table
 
     console.print(f"with the mechanism's stiffness: lowest first mode {modes['f1_min_Hz']:.1f} Hz at position "
@@ -104,6 +104,9 @@ def _print_modes_across(console: Any, modes: dict[str, Any], u: TableUnits) -> N
                   f"{k / 1e6:.3g} N/um" if u.system == "si" else _stiffness(k, u))
     console.print(t)
     for c in modes.get("checks", []):
+        if c.get("status") == "unknown":
+            console.print(f"{c['name']}: f1 {c['available']:.1f} Hz, [yellow]unknown[/]; {c['note']}")
+            continue
         verdict = "[green]ok[/]" if c["ok"] else "[red]FAIL[/]"
         console.print(f"{c['name']}: f1 {c['available']:.1f} Hz against {c['required']:.1f} Hz required "
                       f"(margin {c['margin']:+.0%}) {verdict}; {c['note']}")

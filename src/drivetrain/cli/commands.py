@@ -68,6 +68,7 @@ def size(args: argparse.Namespace) -> int:
             raise InputError("--points", exc.rule, args.points) from None
         raise
     explanation = result.explain(args.explain) if args.explain else ""
+    modes = _size_modes(result)
     if args.csv:
         _write_csv(args.csv, result.series())
     if args.report:
@@ -79,12 +80,24 @@ def size(args: argparse.Namespace) -> int:
 
         _write_atomic(args.aas, json.dumps(axis_aas(jsonable(result.to_dict())), indent=2))
     if args.json:
-        print(json.dumps(jsonable(result.to_dict()), indent=2))
+        out = result.to_dict()
+        if modes is not None:
+            out["modes"] = modes
+        print(json.dumps(jsonable(out), indent=2))
         return _exit_code(result)
     from drivetrain.cli.quantities import TableUnits
     from drivetrain.cli.sizing import print_sizing
 
-    print_sizing(result, TableUnits(args.units, result.axis.raw))
+    units = TableUnits(args.units, result.axis.raw)
+    print_sizing(result, units)
+    if modes is not None:
+        import sys
+
+        from rich.console import Console
+
+        from drivetrain.cli.analyses import print_modes_across
+
+        print_modes_across(Console(width=None if sys.stdout.isatty() else 120), modes, units)
     for warning in result.extras.get("warnings", []):
         print(f"warning: {warning}")
     if explanation:
@@ -94,6 +107,17 @@ def size(args: argparse.Namespace) -> int:
     if args.report:
         print(f"report written to {Path(args.report).resolve()}")
     return _exit_code(result)
+
+
+def _size_modes(result: Any) -> dict[str, Any] | None:
+    """``modes`` of the sizing answer: f1 across the stroke with the mechanism's spring (docs/axis-file.md).
+
+    Computed here, in the face, because sizing (layer 4) may not import dynamics (layer 5); None
+    when the mechanism has no stiffness data or there is no motor. Reported, not part of ``ok``.
+    """
+    from drivetrain.dynamics.mechanism_modes import modes_of_result
+
+    return modes_of_result(result)
 
 
 def _exit_code(result: Any) -> int:

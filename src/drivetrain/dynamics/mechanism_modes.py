@@ -127,21 +127,18 @@ def modes_across_stroke(axis: Axis, stages: tuple[Any, ...], motor_inertia: floa
                            for x, f, k in zip(stiff.position, f1, stiff.axial, strict=True)],
         "velocity_bandwidth_Hz": bandwidth["velocity_bandwidth_Hz"],
         "bandwidth_source": bandwidth["bandwidth_source"],
+        "max_velocity_bandwidth_Hz": bandwidth["max_velocity_bandwidth_Hz"],
         "checks": [bandwidth["check"]],
     }
 
 
-def required_velocity_bandwidth(axis: Axis, chain: Any) -> tuple[float, str]:
+def required_velocity_bandwidth(axis: Axis) -> tuple[float | None, str]:
     """The velocity-loop bandwidth the axis asks for [Hz] and where it comes from.
 
     ``dynamics.loop.velocity_bandwidth`` when the axis file gives it (the bandwidth the
-    application needs). Otherwise the bandwidth the tuning rule (``control.tune``) reaches on
-    the same inertia taken rigid, with the loop settings of ``dynamics.loop`` (current-loop
-    bandwidth / 4 and the loop delay's 20 deg of phase): the bandwidth the drive would give a
-    rigid mechanism, which the resonance must not take away.
+    application needs); otherwise ``(None, "not stated")``: what the application needs is the
+    user's figure, and no default stands in for it (:func:`servo_bandwidth_check`).
     """
-    from drivetrain.dynamics.axis_model import servo_loop
-    from drivetrain.dynamics.chain import Chain
     from drivetrain.units import parse
 
     block = axis.spec.dynamics or {}
@@ -151,9 +148,22 @@ def required_velocity_bandwidth(axis: Axis, chain: Any) -> tuple[float, str]:
         if not (math.isfinite(f_v) and f_v > 0.0):
             raise InputError("dynamics.loop.velocity_bandwidth", "must be > 0 Hz", loop["velocity_bandwidth"])
         return float(f_v), "dynamics.loop.velocity_bandwidth"
+    return None, "not stated"
+
+
+def rigid_velocity_bandwidth(axis: Axis, chain: Any) -> float:
+    """The bandwidth the tuning rule (``control.tune``) reaches on the chain's inertia taken rigid [Hz].
+
+    With the loop settings of ``dynamics.loop`` (current-loop bandwidth / 4 and the loop delay's
+    20 deg of phase): what the drive would give a rigid mechanism. Reported for information when
+    the axis states no bandwidth; it is not a requirement.
+    """
+    from drivetrain.dynamics.axis_model import servo_loop
+    from drivetrain.dynamics.chain import Chain
+
     rigid = Chain(inertia=np.array([chain.total_inertia]), stiffness=np.zeros(0))
-    tuned = servo_loop(rigid, block)
-    return float(tuned.velocity_kp / (2.0 * math.pi * rigid.total_inertia)), "tuning rule on the rigid inertia"
+    tuned = servo_loop(rigid, axis.spec.dynamics or {})
+    return float(tuned.velocity_kp / (2.0 * math.pi * rigid.total_inertia))
 
 
 def servo_bandwidth_check(axis: Axis, chain: Any, f1_min: float, weakest: str,
@@ -164,16 +174,32 @@ def servo_bandwidth_check(axis: Axis, chain: Any, f1_min: float, weakest: str,
 
     ``chain`` at the worst position, ``f1_min`` [Hz] its first mode, ``weakest`` the weakest
     link's name; f_v [Hz] from :func:`required_velocity_bandwidth`; k :data:`BANDWIDTH_FACTOR`.
-    Returns {"velocity_bandwidth_Hz", "bandwidth_source", "check"}, the check shaped like
-    ``mechanism_checks`` (name, required, available, margin, ok, unit, source).
+    Returns {"velocity_bandwidth_Hz", "bandwidth_source", "max_velocity_bandwidth_Hz", "check"},
+    the check shaped like ``mechanism_checks`` (name, required, available, margin, ok, status,
+    unit, source). ``max_velocity_bandwidth_Hz`` = f1 / k is the highest velocity bandwidth the
+    mechanism allows. Without a stated f_v the check is ``unknown`` (required and margin NaN,
+    ``ok`` None): the application's bandwidth is an input, and a default (the drive's rigid
+    tuning, given in the note) would judge the mechanism against a loop nobody asked for.
     """
-    f_v, origin = required_velocity_bandwidth(axis, chain)
+    f_v, origin = required_velocity_bandwidth(axis)
+    f_max = f1_min / factor
+    base = {"name": "servo_bandwidth", "available": f1_min, "unit": "Hz", "source": SRC_BANDWIDTH,
+            "approximate": False}
+    if f_v is None:
+        rigid = rigid_velocity_bandwidth(axis, chain)
+        check = {**base, "required": math.nan, "margin": math.nan, "ok": None, "status": "unknown",
+                 "note": f"no dynamics.loop.velocity_bandwidth given: the bandwidth the axis needs is unknown; "
+                         f"f1 allows a velocity loop up to f1 / {factor:g} = {f_max:.1f} Hz (the default tuning "
+                         f"would reach {rigid:.1f} Hz on the rigid inertia); weakest link: {weakest}"}
+        return {"velocity_bandwidth_Hz": None, "bandwidth_source": origin, "max_velocity_bandwidth_Hz": f_max,
+                "check": check}
     required = factor * f_v
     margin = f1_min / required - 1.0
-    check = {"name": "servo_bandwidth", "required": required, "available": f1_min, "margin": margin,
-             "ok": bool(margin >= 0.0), "unit": "Hz", "source": SRC_BANDWIDTH, "approximate": False,
+    check = {**base, "required": required, "margin": margin, "ok": bool(margin >= 0.0),
+             "status": "pass" if margin >= 0.0 else "fail",
              "note": f"f1 >= {factor:g} x velocity bandwidth {f_v:.1f} Hz ({origin}); weakest link: {weakest}"}
-    return {"velocity_bandwidth_Hz": f_v, "bandwidth_source": origin, "check": check}
+    return {"velocity_bandwidth_Hz": f_v, "bandwidth_source": origin, "max_velocity_bandwidth_Hz": f_max,
+            "check": check}
 
 
 def modes_of_result(result: Any) -> dict[str, Any] | None:

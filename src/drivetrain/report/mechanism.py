@@ -43,15 +43,19 @@ MECHANISM_CHECK_NAMES: dict[str, str] = {
 def _rows(checks: list[dict[str, Any]], du: DisplayUnits) -> list[list[Cell]]:
     rows = []
     for c in checks:
-        ok = bool(c["ok"])
+        status = c.get("status") or ("pass" if c["ok"] else "fail")
+        style = {"pass": "pass", "fail": "fail"}.get(status, "muted")
         avail = c.get("available")
         finite = isinstance(avail, (int, float)) and math.isfinite(float(avail))
+        raw = c.get("required")
+        need = float(raw) if isinstance(raw, (int, float)) else math.nan
+        known = math.isfinite(need)
         rows.append([
             Cell(MECHANISM_CHECK_NAMES.get(c["name"], c["name"].replace("_", " "))),
-            Cell(check_value(c["required"], c["unit"], du)),
+            Cell(check_value(need, c["unit"], du) if known else "not stated"),
             Cell(check_value(float(avail or 0.0), c["unit"], du) if finite else "no limit"),
-            Cell(fmt_percent(c.get("margin")), "pass" if ok else "fail"),
-            Cell("PASS" if ok else "FAIL", "pass" if ok else "fail"),
+            Cell(fmt_percent(c.get("margin")) if known else "n/a", style),
+            Cell(status.upper(), style),
             Cell(str(c.get("source", "")) + (f" ({c['note']})" if c.get("note") else ""), "muted"),
         ])
     return rows
@@ -85,9 +89,17 @@ def modes_table(modes: dict[str, Any], du: DisplayUnits) -> Table:
     springs = ", ".join(f"{name} {fmt_number(k)} N·m/rad" for name, k in modes["springs_at_motor_Nm_per_rad"].items())
     note = (f"Lowest first mode {fmt_number(modes['f1_min_Hz'])} Hz at load position "
             f"{du.fmt(modes['worst_position_m'], 'length')} with motor {modes.get('motor', '')}; weakest link: "
-            f"{modes['weakest_link']} (springs at the motor shaft there: {springs}). Velocity bandwidth "
-            f"{fmt_number(modes['velocity_bandwidth_Hz'])} Hz from {modes['bandwidth_source']}.")
+            f"{modes['weakest_link']} (springs at the motor shaft there: {springs}). " + _bandwidth_text(modes))
     return _table("modes", "First mode across the stroke", rows, note)
+
+
+def _bandwidth_text(modes: dict[str, Any]) -> str:
+    """The velocity bandwidth the check used, or that none was stated, and the most f1 allows."""
+    allows = f"f1 allows up to {fmt_number(modes['max_velocity_bandwidth_Hz'])} Hz."
+    if modes.get("velocity_bandwidth_Hz") is None:
+        return f"Velocity bandwidth not stated (dynamics.loop.velocity_bandwidth): {allows}"
+    return (f"Velocity bandwidth {fmt_number(modes['velocity_bandwidth_Hz'])} Hz from {modes['bandwidth_source']}; "
+            f"{allows}")
 
 
 def modes_plot(modes: dict[str, Any], du: DisplayUnits) -> PlotSpec:
@@ -98,8 +110,8 @@ def modes_plot(modes: dict[str, Any], du: DisplayUnits) -> PlotSpec:
     label = du.label("length")
     traces = [Trace(x, f1, "first natural frequency f1", COLORS["position"], unit="Hz")]
     checks = modes.get("checks") or []
-    if checks:
-        need = float(checks[0]["required"])
+    need = float(checks[0]["required"]) if checks and checks[0]["required"] is not None else math.nan
+    if math.isfinite(need):
         traces.append(Trace(x, np.full_like(f1, need), "required: 2 × velocity bandwidth", COLORS["peak"],
                             dash="dash", unit="Hz"))
     worst = float(du.array(np.array([modes["worst_position_m"]]), "length")[0])

@@ -137,7 +137,7 @@ export function drawModes(node, modes) {
   const f1 = modes.f1_by_position.map((r) => r.f1_Hz);
   const data = [{ x, y: f1, name: "f1", mode: "lines", line: { color: COLORS[0], width: 2 } }];
   const check = (modes.checks || [])[0];
-  if (check) data.push({ x: [x[0], x[x.length - 1]], y: [check.required, check.required], name: "required: 2 × velocity bandwidth", mode: "lines", line: { color: COLORS[4], dash: "dash" } });
+  if (check && check.required !== null) data.push({ x: [x[0], x[x.length - 1]], y: [check.required, check.required], name: "required: 2 × velocity bandwidth", mode: "lines", line: { color: COLORS[4], dash: "dash" } });
   data.push({ x: [modes.worst_position_m * 1000], y: [modes.f1_min_Hz], name: `worst: ${modes.weakest_link}`, mode: "markers", marker: { color: COLORS[4], size: 9 } });
   window.Plotly.react(node, data, layout("First natural frequency across the stroke", {
     xaxis: { title: { text: "load position [mm]" } },

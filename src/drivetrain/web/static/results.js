@@ -270,24 +270,30 @@ export function renderMechanism(node, result, modes) {
     return false;
   }
   const unit = (u) => (u === "-" ? "" : u);
-  const rows = checks.map((c) => ({
-    cls: c.ok ? "" : "fail",
-    cells: [
-      MECHANISM_NAMES[c.name] || c.name.replace(/_/g, " "),
-      `${fmt(c.required)} ${unit(c.unit)}`.trim(),
-      c.available === null ? "no limit" : `${fmt(c.available)} ${unit(c.unit)}`.trim(),
-      pct(c.margin),
-      c.ok ? "ok" : "FAILS",
-      c.source + (c.note ? ` (${c.note})` : ""),
-    ],
-  }));
+  const rows = checks.map((c) => {
+    const unknown = c.status === "unknown";
+    return {
+      cls: unknown ? "unknown" : c.ok ? "" : "fail",
+      cells: [
+        MECHANISM_NAMES[c.name] || c.name.replace(/_/g, " "),
+        c.required === null ? "not stated" : `${fmt(c.required)} ${unit(c.unit)}`.trim(),
+        c.available === null ? "no limit" : `${fmt(c.available)} ${unit(c.unit)}`.trim(),
+        pct(c.margin),
+        unknown ? "unknown" : c.ok ? "ok" : "FAILS",
+        c.source + (c.note ? ` (${c.note})` : ""),
+      ],
+    };
+  });
   const parts = [el("div", { class: "table-wrap" }, table("Checks of the mechanism", ["check", "required", "available", "margin", "result", "source"], rows, "data mechanism-table"))];
   if (modes) {
     parts.push(el("p", {
       class: "muted modes-summary",
       text: `Lowest first mode ${fmt(modes.f1_min_Hz)} Hz at load position ${fmt(modes.worst_position_m * 1000)} mm ` +
-        `(motor ${modes.motor}); weakest link: ${modes.weakest_link}. Velocity bandwidth ${fmt(modes.velocity_bandwidth_Hz)} Hz ` +
-        `from ${modes.bandwidth_source}.`,
+        `(motor ${modes.motor}); weakest link: ${modes.weakest_link}. ` +
+        (modes.velocity_bandwidth_Hz === null
+          ? "Velocity bandwidth not stated (dynamics.loop.velocity_bandwidth); "
+          : `Velocity bandwidth ${fmt(modes.velocity_bandwidth_Hz)} Hz from ${modes.bandwidth_source}; `) +
+        `f1 allows up to ${fmt(modes.max_velocity_bandwidth_Hz)} Hz.`,
     }));
   }
   node.replaceChildren(...parts);
