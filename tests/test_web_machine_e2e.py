@@ -72,11 +72,11 @@ def test_machine_project_from_the_example(page: Any, server: tuple[str, Path], t
     motor_row = bom.filter(has_text="1FT7044-5AK7")
     assert motor_row.locator("td").nth(2).inner_text() == "5"
     assert "to choose" in bom.filter(has_text="braking resistor").inner_text()
+    screenshot(page, "web-machine.png")
     # each axis's result: the link opens its checks
     page.locator(".machine-table tbody tr").nth(3).locator("button.link").click()
     assert page.locator("#m-axis-Z-1").get_attribute("open") is not None
     assert page.locator("#m-axis-Z-1 .checks-table").is_visible()
-    screenshot(page, "web-machine.png")
 
     # a bad field: its error at that field (the API's 422 names axes[0].offset)
     page.fill("[data-field='axes[0].offset']", "-1 s")
