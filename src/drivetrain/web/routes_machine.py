@@ -11,6 +11,7 @@ name files on the server). No sizing of its own: ``drivetrain.machine`` computes
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any, Literal
 
@@ -128,7 +129,8 @@ def axis_rows(result: MachineResult) -> list[dict[str, Any]]:
             worst = min(checks, key=lambda c: c["margin"]) if checks else None
 
             def part(kind: str, items: list[dict[str, Any]] = parts) -> str | None:
-                names = [str(i["order_code"] or i.get("note") or "") for i in items if i["kind"] == kind]
+                names = [str(i["order_code"] or re.sub(r" \(transmission\[\d+\], ", " (", i.get("note") or ""))
+                         for i in items if i["kind"] == kind]
                 return "; ".join(n for n in names if n) or None
 
             failed = (d.get("motor") or {}).get("failed") or ""
