@@ -24,19 +24,19 @@ ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "machine" / "pick_and_place.yaml"
 
 
-def wait_machine(page: Any) -> None:
+def wait_machine(pg: Any) -> None:
     """Until the machine sizing asked for has answered."""
-    wait_until(page, "() => document.body.dataset.machine === 'idle'", timeout_s=90)
+    wait_until(pg, "() => document.body.dataset.machine === 'idle'", timeout_s=90)
 
 
-def size_now(page: Any) -> None:
-    page.evaluate("() => { document.body.dataset.machine = 'asked'; }")
-    page.click("#m-size")
-    wait_machine(page)
+def size_now(pg: Any) -> None:
+    pg.evaluate("() => { document.body.dataset.machine = 'asked'; }")
+    pg.click("#m-size")
+    wait_machine(pg)
 
 
-def bus_value(page: Any, label: str) -> str:
-    return str(page.locator(".bus-table tr", has_text=label).first.locator("td").first.inner_text())
+def bus_value(pg: Any, label: str) -> str:
+    return str(pg.locator(".bus-table tr", has_text=label).first.locator("td").first.inner_text())
 
 
 def sig4(x: float) -> str:
