@@ -180,3 +180,22 @@ def test_a_lossless_horizontal_cycle_returns_all_its_kinetic_energy(moves: list,
     np.testing.assert_allclose(np.sort(regen.events.bus_energy), np.sort(kinetic_energy(j, np.array(tops))),
                                rtol=1e-9)
     assert regen.shaft_energy == pytest.approx(load_metrics(duty, torque)["regen_energy_J"], rel=1e-12)
+
+
+@pytest.mark.parametrize("samples", [5, 12, 65, 1001])
+def test_resistor_peak_is_the_power_when_the_capacitors_are_full(samples: int) -> None:
+    """A braking ramp p_bus(t) = P0 (1 - t / T): the capacitors (E_C) are full at t* where
+    P0 t* - P0 t*^2 / (2 T) = E_C, so the resistor's peak is p(t*) = P0 sqrt(1 - 2 E_C / (P0 T)),
+    whatever the sampling (the power is linear between samples); Simpson-like weights too."""
+    p0, period, e_c = 600.0, 0.1, 5.0
+    t = np.linspace(0.0, period, samples)
+    shaft = -p0 * (1.0 - t / period) - 1e-9  # negative at t = T too: one event
+    exact = p0 * math.sqrt(1.0 - 2.0 * e_c / (p0 * period))
+    assert regen_cycle(t, shaft, capacitor_energy=e_c).resistor_peak_power == pytest.approx(exact, rel=1e-9)
+    if samples % 2:
+        h = t[1] - t[0]
+        w = np.full(samples, 2.0 * h / 3.0)
+        w[1::2] = 4.0 * h / 3.0
+        w[[0, -1]] = h / 3.0
+        simpson = regen_cycle(t, shaft, capacitor_energy=e_c, weights=w)
+        assert simpson.resistor_peak_power == pytest.approx(exact, rel=1e-9)

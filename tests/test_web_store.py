@@ -204,3 +204,47 @@ def test_killing_the_server_mid_stream_loses_no_acknowledged_save(tmp_path: Path
         if proc.poll() is None:
             proc.kill()
             proc.wait(timeout=10)
+
+
+def test_machine_projects_keep_their_kind_and_history(tmp_path: Path) -> None:
+    store = Store(tmp_path)
+    axis = store.create("X", text_of(1))
+    machine = store.create("M", "version: 1\naxes: []\n", kind="machine")
+    assert (axis.kind, machine.kind) == ("axis", "machine")
+    assert store.save(machine.id, "version: 1\naxes: [{project: 1}]\n").kind == "machine"
+    assert store.undo(machine.id).kind == "machine" and store.head(machine.id)[1].text == "version: 1\naxes: []\n"
+    assert store.duplicate(machine.id).kind == "machine"
+    assert [p.name for p in store.projects("machine")] == ["M (copy)", "M"]
+    assert [p.name for p in store.projects("axis")] == ["X"]
+    with pytest.raises(StoreError) as err:
+        store.create("Q", "a: 1", kind="gearbox")
+    assert err.value.field == "kind"
+
+
+def test_a_schema_1_database_is_upgraded_in_place(tmp_path: Path) -> None:
+    """A project database written before kinds existed: its projects become axis projects, nothing lost."""
+    conn = sqlite3.connect(tmp_path / DB_NAME)
+    conn.executescript("""
+        CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
+        CREATE TABLE projects (id INTEGER PRIMARY KEY AUTOINCREMENT, name TEXT NOT NULL, created REAL NOT NULL,
+                               updated REAL NOT NULL, head INTEGER NOT NULL);
+        CREATE TABLE versions (project_id INTEGER NOT NULL REFERENCES projects(id) ON DELETE CASCADE,
+                               version INTEGER NOT NULL, created REAL NOT NULL, text TEXT NOT NULL,
+                               restored_from INTEGER, note TEXT NOT NULL DEFAULT '',
+                               PRIMARY KEY (project_id, version));
+        INSERT INTO meta VALUES ('schema_version', '1');
+        INSERT INTO projects VALUES (1, 'old axis', 1.0, 2.0, 2);
+        INSERT INTO versions VALUES (1, 1, 1.0, 'axis: v1', NULL, 'created');
+        INSERT INTO versions VALUES (1, 2, 2.0, 'axis: v2', NULL, '');
+    """)
+    conn.close()
+    store = Store(tmp_path)
+    (old,) = store.projects()
+    assert (old.name, old.version, old.kind) == ("old axis", 2, "axis")
+    assert [v.text for v in store.versions(1)] == ["axis: v2", "axis: v1"]
+    assert store.create("M", "version: 1", kind="machine").kind == "machine"
+    assert Store(tmp_path).projects("machine")[0].name == "M"
+    conn = sqlite3.connect(tmp_path / DB_NAME)
+    assert conn.execute("SELECT value FROM meta WHERE key = 'schema_version'").fetchone()[0] == "2"
+    conn.close()
+    assert store.integrity() == "ok"

@@ -248,10 +248,51 @@ def regen_cycle(
     full = neg & (running > capacitor_energy)
     e_cap = np.minimum(e_bus, capacitor_energy)
     e_res = np.maximum(e_bus - capacitor_energy, 0.0)
-    peak_res = np.maximum.reduceat(np.where(full, bus, 0.0), start)
+    peak_res = np.where(e_res > 0.0, _resistor_peak(tt, bus, neg, label, start, capacitor_energy,
+                                                    np.maximum.reduceat(np.where(full, bus, 0.0), start)), 0.0)
     peak = np.maximum.reduceat(bus, start)
     events = RegenEvents(start, stop, tt[start], tt[stop - 1], e_shaft, e_cu, e_bus, e_cap, e_res, peak_res, peak)
     return Regen(events, per, bus, _returned(w, p_m))
+
+
+def _resistor_peak(t: FloatArray, bus: FloatArray, neg: NDArray[np.bool_], label: NDArray[np.int64],
+                   start: NDArray[np.int64], e_c: float, sampled: FloatArray) -> FloatArray:
+    r"""Largest bus power [W] of each event from the instant its capacitors are full.
+
+    The fill instant :math:`t^*` solves :math:`\int_{t_0}^{t^*} p_{bus}\,dt = E_C` with the bus
+    power linear between samples (the trapezoid integral, aligned in time; exact for the linear
+    power of a constant-torque ramp). Within its sample interval :math:`[t_k, t_{k+1}]`, with
+    :math:`h = t_{k+1} - t_k`, :math:`b_0, b_1` the bus powers and :math:`c = E_C - E(t_k)`:
+
+    .. math:: b_0\tau + \frac{b_1 - b_0}{2h}\tau^2 = c, \quad
+              \tau = \frac{2c}{b_0 + \sqrt{b_0^2 + 2 (b_1 - b_0) c / h}}, \quad
+              p^* = b_0 + (b_1 - b_0)\,\tau / h
+
+    and the peak is :math:`\max(p^*, \max_{t_k > t^*} p_{bus})`. Taking the first sample past
+    the fill instant instead (a sample-based peak) depends on where the samples fall: during a
+    braking ramp the power falls, so a coarser sampling reads a lower power than the one at
+    :math:`t^*`. An event whose trapezoid integral never exceeds E_C (it does only under the
+    caller's weights) keeps the sample-based peak ``sampled``.
+    """
+    n = t.size
+    c_trap = np.concatenate(([0.0], np.cumsum(0.5 * (bus[:-1] + bus[1:]) * np.diff(t))))
+    base = np.where(start > 0, c_trap[np.maximum(start - 1, 0)], 0.0)
+    running = c_trap - base[np.clip(label, 0, None)]
+    after = neg & (running > e_c)
+    k = np.minimum.reduceat(np.where(after, np.arange(n), n), start)
+    found = (k < n) & (k > 0)
+    k1 = np.where(found, k, 1)
+    k0 = k1 - 1
+    b0, b1 = bus[k0], bus[k1]
+    h = t[k1] - t[k0]
+    c = np.clip(e_c - running[k0] * (k0 >= start), 0.0, None)
+    h_safe = np.where(h > 0.0, h, 1.0)
+    disc = np.sqrt(np.maximum(b0**2 + 2.0 * (b1 - b0) * c / h_safe, 0.0))
+    den = b0 + disc
+    tau = np.where(den > 0.0, 2.0 * c / np.where(den > 0.0, den, 1.0), 0.0)
+    p_star = np.clip(b0 + (b1 - b0) * np.clip(tau / h_safe, 0.0, 1.0), np.minimum(b0, b1), np.maximum(b0, b1))
+    later = np.maximum.reduceat(np.where(after, bus, 0.0), start)
+    return np.where(found & (h > 0.0), np.maximum(p_star, later), sampled)
 
 
 def _returned(w: FloatArray, p_m: FloatArray) -> float:

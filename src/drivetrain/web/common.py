@@ -143,6 +143,21 @@ def parse_axis_text(text: str, field: str = "yaml") -> dict[str, Any]:
 
 
 
+def parse_machine_text(text: str, field: str = "yaml") -> dict[str, Any]:
+    """Machine YAML text to a mapping through the CLI's safe loader and limits (its keys checked when sized)."""
+    from drivetrain.axis.model import parse_yaml
+
+    try:
+        data = parse_yaml(text)
+    except InputError as exc:
+        raise InputError(field, exc.rule, exc.value, has_value=exc.has_value) from None
+    if not isinstance(data, dict):
+        raise InputError(field, "must be a mapping of machine keys (version, machine, cycle_time, supply, axes, buses)",
+                         type(data).__name__)
+    check_unicode(data, field)
+    return {str(k): v for k, v in data.items()}
+
+
 class ResultCache:
     """The last sizings, keyed by the axis and the catalog files' state (an import invalidates them).
 

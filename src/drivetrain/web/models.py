@@ -64,17 +64,21 @@ class ProjectOut(BaseModel):
     created: float = Field(description="seconds since the epoch")
     updated: float = Field(description="seconds since the epoch")
     version: int = Field(description="current version number")
+    kind: Literal["axis", "machine"] = Field(default="axis", description="an axis file or a machine file")
 
 
 class ProjectDetail(ProjectOut):
     yaml: str = Field(description="the axis as YAML text, as saved")
-    axis: dict[str, Any] | None = Field(description="the YAML parsed (null when it does not parse)")
+    axis: dict[str, Any] | None = Field(description="an axis project: the YAML parsed (null when it does not parse)")
+    machine: dict[str, Any] | None = Field(default=None, description="a machine project: the YAML parsed (null when "
+                                           "it does not parse)")
     yaml_error: ErrorOut | None = None
 
 
 class ProjectCreate(BaseModel):
     name: Text = Field(min_length=1, max_length=200)
-    yaml: Text = Field(max_length=MAX_TEXT_BYTES, description="the axis file text")
+    yaml: Text = Field(max_length=MAX_TEXT_BYTES, description="the axis (or machine) file text")
+    kind: Literal["axis", "machine"] = Field(default="axis", description="an axis project or a machine project")
 
 
 class ProjectSave(BaseModel):

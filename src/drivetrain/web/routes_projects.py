@@ -4,14 +4,21 @@ restore, undo and download.
 
 from __future__ import annotations
 
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
-from fastapi import FastAPI
+from fastapi import FastAPI, Query
 from fastapi import Path as PathParam
 from fastapi.responses import Response
 
 from drivetrain.errors import InputError
-from drivetrain.web.common import Context, attachment, error_body, parse_axis_text, safe_filename
+from drivetrain.web.common import (
+    Context,
+    attachment,
+    error_body,
+    parse_axis_text,
+    parse_machine_text,
+    safe_filename,
+)
 from drivetrain.web.models import (
     YAML_FILE,
     ProjectCreate,
@@ -32,29 +39,37 @@ def register(app: FastAPI, ctx: Context) -> None:
     """Add the project routes to ``app``."""
     store, light = ctx.store, ctx.light
 
-    def detail(info: Any, text: str, axis: dict[str, Any] | None = None) -> dict[str, Any]:
+    def detail(info: Any, text: str, parsed: dict[str, Any] | None = None) -> dict[str, Any]:
+        """The project with its text parsed as what it holds: ``axis`` or ``machine`` (the other null)."""
         out = info.to_dict()
         out["yaml"] = text
-        if axis is not None:
-            out["axis"], out["yaml_error"] = axis, None
+        key, other = ("machine", "axis") if info.kind == "machine" else ("axis", "machine")
+        out[other] = None
+        if parsed is not None:
+            out[key], out["yaml_error"] = parsed, None
             return out
         try:
-            out["axis"], out["yaml_error"] = parse_axis_text(text), None
+            out[key], out["yaml_error"] = parse_text(info.kind, text), None
         except InputError as exc:
-            out["axis"], out["yaml_error"] = None, error_body(exc)
+            out[key], out["yaml_error"] = None, error_body(exc)
         return out
 
+    def parse_text(kind: str, text: str) -> dict[str, Any]:
+        return parse_machine_text(text) if kind == "machine" else parse_axis_text(text)
+
     @app.get("/api/projects", response_model=list[ProjectOut], tags=["projects"])
-    async def list_projects() -> list[dict[str, Any]]:
-        """Every project, most recently saved first."""
-        return [p.to_dict() for p in await light(store.projects)]
+    async def list_projects(
+        kind: Annotated[Literal["axis", "machine"] | None, Query(description="only projects of this kind")] = None,
+    ) -> list[dict[str, Any]]:
+        """Every project (of ``kind``, if given), most recently saved first."""
+        return [p.to_dict() for p in await light(store.projects, kind)]
 
     @app.post("/api/projects", response_model=ProjectDetail, status_code=201, tags=["projects"])
     async def create_project(body: ProjectCreate) -> dict[str, Any]:
-        """A new project (version 1). The text must be YAML; it may still fail sizing (a draft)."""
-        axis = await light(parse_axis_text, body.yaml)
-        info = await light(store.create, body.name, body.yaml)
-        return detail(info, body.yaml, axis)
+        """A new axis or machine project (version 1). The text must be YAML; it may still fail sizing (a draft)."""
+        parsed = await light(parse_text, body.kind, body.yaml)
+        info = await light(lambda: store.create(body.name, body.yaml, kind=body.kind))
+        return detail(info, body.yaml, parsed)
 
     @app.get("/api/projects/{project_id}", response_model=ProjectDetail, tags=["projects"])
     async def get_project(project_id: _PROJECT_ID) -> dict[str, Any]:
@@ -65,9 +80,10 @@ def register(app: FastAPI, ctx: Context) -> None:
     @app.put("/api/projects/{project_id}", response_model=ProjectDetail, tags=["projects"])
     async def save_project(project_id: _PROJECT_ID, body: ProjectSave) -> dict[str, Any]:
         """Save the text as the next version (one transaction; refused if base_version is stale)."""
-        axis = await light(parse_axis_text, body.yaml)
+        current = await light(store.info, project_id)
+        parsed = await light(parse_text, current.kind, body.yaml)
         info = await light(store.save, project_id, body.yaml, body.base_version, body.note)
-        return detail(info, body.yaml, axis)
+        return detail(info, body.yaml, parsed)
 
     @app.patch("/api/projects/{project_id}", response_model=ProjectOut, tags=["projects"])
     async def rename_project(project_id: _PROJECT_ID, body: ProjectRename) -> dict[str, Any]:
@@ -113,7 +129,7 @@ def register(app: FastAPI, ctx: Context) -> None:
 
     @app.get("/api/projects/{project_id}/yaml", tags=["projects"], response_class=Response, responses=YAML_FILE)
     async def project_yaml(project_id: _PROJECT_ID) -> Response:
-        """The project's current axis file, as a download."""
+        """The project's current axis (or machine) file, as a download."""
         info, head = await light(store.head, project_id)
         return Response(head.text, media_type="application/yaml; charset=utf-8",
                         headers=attachment(safe_filename(info.name, ".yaml")))

@@ -8,7 +8,10 @@ save cut short leaves no trace. Versions are never rewritten; undo restores an e
 as a new save, so the history only grows.
 
 A project stores the axis as YAML text (the user's own units and layout); whether that text is
-a valid axis is the sizing's business, so a draft can be saved while it still has errors.
+a valid axis is the sizing's business, so a draft can be saved while it still has errors. Its
+``kind`` is ``axis`` (an axis file) or ``machine`` (a machine file, docs/machine.md, whose axes
+are inline or name saved axis projects); both keep the same history. A database written before
+kinds existed (schema 1) gains the column in place, every project in it an axis.
 """
 
 from __future__ import annotations
@@ -24,7 +27,9 @@ from typing import Any
 
 DB_NAME = "projects.sqlite"
 ENV_DATA_DIR = "DRIVETRAIN_DATA_DIR"
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
+KINDS = ("axis", "machine")
+"""What a project holds: an axis file or a machine file."""
 MAX_NAME = 200
 """Longest project name [characters]."""
 MAX_TEXT_BYTES = 1_000_000
@@ -37,7 +42,8 @@ _SCHEMA = (
         name TEXT NOT NULL,
         created REAL NOT NULL,
         updated REAL NOT NULL,
-        head INTEGER NOT NULL
+        head INTEGER NOT NULL,
+        kind TEXT NOT NULL DEFAULT 'axis'
     )""",
     """CREATE TABLE IF NOT EXISTS versions (
         project_id INTEGER NOT NULL REFERENCES projects(id) ON DELETE CASCADE,
@@ -90,6 +96,7 @@ class ProjectInfo:
     created: float
     updated: float
     version: int
+    kind: str = "axis"
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
@@ -124,6 +131,13 @@ def clean_name(name: Any) -> str:
     if any(not ch.isprintable() for ch in text):
         raise StoreError("must contain printable characters only", "name")
     return text
+
+
+def check_kind(kind: Any) -> str:
+    """A project kind: axis or machine."""
+    if kind not in KINDS:
+        raise StoreError(f"must be one of {', '.join(KINDS)}, got {kind!r}"[:200], "kind")
+    return str(kind)
 
 
 def _check_text(text: Any) -> str:
@@ -185,19 +199,38 @@ class Store:
                 conn.execute("ROLLBACK")
                 raise
             found = conn.execute("SELECT value FROM meta WHERE key = 'schema_version'").fetchone()[0]
+            if found == "1":
+                found = self._upgrade_from_1(conn)
             if found != str(SCHEMA_VERSION):
                 raise OSError(f"{self.path} has schema version {found}; this drivetrain reads {SCHEMA_VERSION}")
         finally:
             conn.close()
         self._ready = True
 
+    @staticmethod
+    def _upgrade_from_1(conn: sqlite3.Connection) -> str:
+        """Schema 1 to 2: the ``kind`` column (every earlier project is an axis), in one transaction."""
+        conn.execute("BEGIN IMMEDIATE")
+        try:
+            columns = {r[1] for r in conn.execute("PRAGMA table_info(projects)")}
+            if "kind" not in columns:
+                conn.execute("ALTER TABLE projects ADD COLUMN kind TEXT NOT NULL DEFAULT 'axis'")
+            conn.execute("UPDATE meta SET value = '2' WHERE key = 'schema_version'")
+            conn.execute("COMMIT")
+        except BaseException:
+            conn.execute("ROLLBACK")
+            raise
+        return "2"
+
     # ------------------------------------------------------------------ reading
 
-    def projects(self) -> list[ProjectInfo]:
-        """Every project, most recently saved first."""
+    def projects(self, kind: str | None = None) -> list[ProjectInfo]:
+        """Every project (of ``kind``, if given), most recently saved first."""
+        if kind is not None:
+            check_kind(kind)
         with self._connect() as conn:
-            rows = conn.execute("SELECT id, name, created, updated, head FROM projects "
-                                "ORDER BY updated DESC, id DESC").fetchall()
+            rows = conn.execute("SELECT id, name, created, updated, head, kind FROM projects "
+                                "WHERE ? IS NULL OR kind = ? ORDER BY updated DESC, id DESC", (kind, kind)).fetchall()
         return [ProjectInfo(*r) for r in rows]
 
     def info(self, project_id: int) -> ProjectInfo:
@@ -231,16 +264,16 @@ class Store:
 
     # ------------------------------------------------------------------ writing
 
-    def create(self, name: str, text: str, note: str = "created") -> ProjectInfo:
-        """A new project whose version 1 is ``text``."""
-        name, text = clean_name(name), _check_text(text)
+    def create(self, name: str, text: str, note: str = "created", kind: str = "axis") -> ProjectInfo:
+        """A new project of ``kind`` (axis or machine) whose version 1 is ``text``."""
+        name, text, kind = clean_name(name), _check_text(text), check_kind(kind)
         now = time.time()
         with self._write() as conn:
-            cur = conn.execute("INSERT INTO projects (name, created, updated, head) VALUES (?, ?, ?, 1)",
-                               (name, now, now))
+            cur = conn.execute("INSERT INTO projects (name, created, updated, head, kind) VALUES (?, ?, ?, 1, ?)",
+                               (name, now, now, kind))
             pid = int(cur.lastrowid or 0)
             conn.execute("INSERT INTO versions VALUES (?, 1, ?, ?, NULL, ?)", (pid, now, text, note))
-        return ProjectInfo(pid, name, now, now, 1)
+        return ProjectInfo(pid, name, now, now, 1, kind)
 
     def save(self, project_id: int, text: str, base_version: int | None = None, note: str = "") -> ProjectInfo:
         """Save ``text`` as the project's next version, in one transaction.
@@ -268,13 +301,14 @@ class Store:
         with self._write() as conn:
             info = self._info(conn, project_id)
             conn.execute("UPDATE projects SET name = ?, updated = ? WHERE id = ?", (name, now, project_id))
-        return ProjectInfo(info.id, name, info.created, now, info.version)
+        return ProjectInfo(info.id, name, info.created, now, info.version, info.kind)
 
     def duplicate(self, project_id: int, name: str | None = None) -> ProjectInfo:
         """A new project starting from this one's current version."""
         info, head = self.head(project_id)
         new_name = clean_name(name) if name is not None else clean_name(f"{info.name} (copy)"[:MAX_NAME])
-        return self.create(new_name, head.text, note=f"duplicated from project {info.id} version {info.version}")
+        return self.create(new_name, head.text, note=f"duplicated from project {info.id} version {info.version}",
+                           kind=info.kind)
 
     def delete(self, project_id: int) -> None:
         """Delete a project with its whole history."""
@@ -308,7 +342,7 @@ class Store:
 
     @staticmethod
     def _info(conn: sqlite3.Connection, project_id: int) -> ProjectInfo:
-        row = conn.execute("SELECT id, name, created, updated, head FROM projects WHERE id = ?",
+        row = conn.execute("SELECT id, name, created, updated, head, kind FROM projects WHERE id = ?",
                            (project_id,)).fetchone()
         if row is None:
             raise NotFound(f"no project with id {project_id}", "project_id")
@@ -330,7 +364,7 @@ class Store:
         conn.execute("INSERT INTO versions VALUES (?, ?, ?, ?, ?, ?)",
                      (info.id, version, now, text, restored_from, note))
         conn.execute("UPDATE projects SET head = ?, updated = ? WHERE id = ?", (version, now, info.id))
-        return ProjectInfo(info.id, info.name, info.created, now, version)
+        return ProjectInfo(info.id, info.name, info.created, now, version, info.kind)
 
     def integrity(self) -> str:
         """``PRAGMA integrity_check``: 'ok' for a consistent database."""

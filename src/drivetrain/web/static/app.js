@@ -6,6 +6,7 @@ import { el } from "./dom.js";
 import { api, ApiError, filenameOf, saveBlob } from "./api.js";
 import { CatalogView } from "./catalog.js";
 import { AxisForm } from "./form.js";
+import { MachineView } from "./machine.js";
 import * as plots from "./plots.js";
 import * as R from "./results.js";
 import { toYaml } from "./yaml.js";
@@ -263,7 +264,7 @@ function updateSaveState() {
 async function refreshProjects() {
   let list = [];
   try {
-    list = await api.get("/api/projects");
+    list = await api.get("/api/projects?kind=axis");
   } catch (err) {
     setStatus(err.message, true);
   }
@@ -470,13 +471,17 @@ async function downloadReport(format) {
 
 function showView(name) {
   const editor = name === "editor";
-  $("view-editor").hidden = !editor;
-  $("view-catalog").hidden = editor;
-  $("tab-editor").setAttribute("aria-pressed", String(editor));
-  $("tab-catalog").setAttribute("aria-pressed", String(!editor));
+  for (const v of ["editor", "machine", "catalog"]) {
+    $(`view-${v}`).hidden = v !== name;
+    $(`tab-${v}`).setAttribute("aria-pressed", String(v === name));
+  }
   setStatus("");
-  if (!editor) catalogView.open();
-  else if (state.payload) {
+  if (name === "catalog") catalogView.open();
+  else if (name === "machine") {
+    history.replaceState(null, "", machineView.project ? `#machine=${machineView.project.id}` : location.pathname);
+    machineView.open();
+  } else history.replaceState(null, "", state.project ? `#project=${state.project.id}` : location.pathname);
+  if (editor && state.payload) {
     plots.drawProfile($("plot-profile"), state.payload);
     plots.drawShaft($("plot-shaft"), state.payload);
     drawPlaneWithPicks([...state.picks.values()]);
@@ -484,6 +489,7 @@ function showView(name) {
 }
 
 let catalogView = null;
+let machineView = null;
 
 async function init() {
   const desc = await api.get("/api/form");
@@ -493,6 +499,24 @@ async function init() {
     prev: $("cat-prev"), next: $("cat-next"), page: $("cat-page"), envelope: $("plot-envelope"), detail: $("catalog-detail"),
     importForm: $("import-form"), importResult: $("import-result"),
   }, setStatus);
+  machineView = new MachineView({
+    setStatus,
+    openAxisProject: async (id) => {
+      showView("editor");
+      await openProject(id);
+    },
+    openAxis: (axis) => {
+      showView("editor");
+      state.project = null;
+      state.savedText = null;
+      $("project-name").value = "";
+      history.replaceState(null, "", location.pathname);
+      loadAxis(axis);
+      updateSaveState();
+      refreshProjects();
+      setStatus(`opened the machine's axis ${axis.axis || ""} (not saved)`);
+    },
+  });
 
   $("yaml-text").addEventListener("input", onYamlInput);
   $("new-project").addEventListener("click", newProject);
@@ -513,6 +537,7 @@ async function init() {
   $("report-pdf").addEventListener("click", () => downloadReport("pdf"));
   $("tab-editor").addEventListener("click", () => showView("editor"));
   $("tab-catalog").addEventListener("click", () => showView("catalog"));
+  $("tab-machine").addEventListener("click", () => showView("machine"));
   $("project-name").addEventListener("keydown", (e) => {
     if (e.key === "Enter") saveProject();
   });
@@ -541,9 +566,14 @@ async function init() {
     /* examples are optional */
   }
   const m = /^#project=(\d+)$/.exec(location.hash);
+  const mm = /^#machine=(\d+)$/.exec(location.hash);
   await refreshProjects();
   if (m) await openProject(Number(m[1]));
   else newProject();
+  if (mm) {
+    showView("machine");
+    await machineView.openProject(Number(mm[1]));
+  }
   document.body.dataset.ready = "1";
 }
 
