@@ -46,8 +46,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from drivetrain.axis.model import Axis
-from drivetrain.duty.cycle import duty_from_samples
+from drivetrain.duty.cycle import cubic_mean, duty_from_samples
 from drivetrain.sizing.candidates import FIT_BIT
+from drivetrain.sizing.checks import shock_factor
 from drivetrain.sizing.selection import (
     _closest_failing,
     _gearbox_options,
@@ -67,6 +68,7 @@ if TYPE_CHECKING:
     from drivetrain.duty.cycle import DutyCycle
     from drivetrain.motion.profiles import Cycle, Samples
     from drivetrain.sizing.candidates import Candidates
+    from drivetrain.sizing.motor_fit import Demand
     from drivetrain.sizing.result import SizingResult
 
 Array = NDArray[np.float64]
@@ -83,46 +85,89 @@ class Tables:
     gb: GearboxTable | None
     allow_direct: bool
     ratios: Array  # the ratio of each (ratio, efficiency) group, direct drive included where allowed
-    efficiencies: list[float]  # the distinct gearbox efficiencies of the groups
+    group_eff: Array  # the gearbox efficiency of each group
+    row_group: NDArray[np.intp]  # the group of each gearbox row
     size_key: Array  # the objective's motor size [W]
     order: NDArray[np.intp]  # motors by size key, ascending (stable; NaN last)
-    _subs: dict[bytes, MotorTable] = field(default_factory=dict)
+    _subs: dict[bytes, Any] = field(default_factory=dict)
 
     def sub_table(self, members: NDArray[np.intp]) -> MotorTable:
         """The motors ``members`` (ascending) as a table, kept for the next variant that needs them."""
-        key = members.tobytes()
+        return self._take(b"m" + members.tobytes(), self.motors, members)
+
+    def sub_gearboxes(self, rows: NDArray[np.intp]) -> GearboxTable | None:
+        """The gearbox rows ``rows`` (ascending) as a table (None when there are none), kept likewise."""
+        if self.gb is None or not len(rows):
+            return None
+        if len(rows) == len(self.gb):
+            return self.gb
+        return self._take(b"g" + rows.tobytes(), self.gb, rows)
+
+    def _take(self, key: bytes, table: Any, index: NDArray[np.intp]) -> Any:
         hit = self._subs.get(key)
         if hit is None:
-            if len(self._subs) > 2048:
+            if len(self._subs) > 4096:
                 self._subs.clear()
-            hit = self._subs[key] = self.motors.take(members)
+            hit = self._subs[key] = table.take(index)
         return hit
 
 
 def load_tables(axis: Axis, spec: SelectSpec) -> Tables:
     """The tables of a ``motor.select`` spec, as ``selection.select`` reads them."""
     motors, gb, allow_direct = catalog_tables(axis, spec)
-    ratio, eff, _, _ = _gearbox_options(gb, allow_direct)
+    ratio, eff, rows, row_start = _gearbox_options(gb, allow_direct)
+    row_group = np.zeros(0 if gb is None else len(gb), dtype=np.intp)
+    of_slot = np.repeat(np.arange(len(ratio)), np.diff(row_start))
+    row_group[rows[rows >= 0]] = of_slot[rows >= 0]
     size_key = _size_key(motors)
-    return Tables(motors=motors, gb=gb, allow_direct=allow_direct, ratios=ratio,
-                  efficiencies=list(dict.fromkeys(eff.tolist())), size_key=size_key,
-                  order=np.argsort(size_key, kind="stable"))
+    return Tables(motors=motors, gb=gb, allow_direct=allow_direct, ratios=ratio, group_eff=eff,
+                  row_group=row_group, size_key=size_key, order=np.argsort(size_key, kind="stable"))
 
 
-def feasible_motors(tb: Tables, duty: DutyCycle, margins: Margins, spec: SelectSpec) -> NDArray[np.bool_]:
-    """Motors that pass the max-speed and the inertia-ratio check behind at least one ratio: a
-    necessary condition of any passing candidate (a gearbox's input-speed limit only lowers the
-    available speed, its input inertia only adds to the load side), with a relative slack of 1e-9
-    so that a motor at a limit to rounding is evaluated."""
+@dataclass
+class Search:
+    """What one variant's search knows of it before any candidate is evaluated."""
+
+    feasible: NDArray[np.bool_]  # (group, motor): the max-speed and the inertia-ratio check can pass
+    row_ok: NDArray[np.bool_]  # gearbox rows whose own ratings (n1max, n1N, T2N, T2B) can pass
+
+
+def search_bounds(tb: Tables, duty: DutyCycle, margins: Margins, spec: SelectSpec) -> Search:
+    """Necessary conditions of a passing candidate, from the checks that depend on the motor and the
+    ratio alone or on the gearbox row alone (kernel.py computes them; here with a relative slack
+    of 1e-9, so that a candidate at a limit to rounding is evaluated, and an unknown rating kept):
+
+    * max speed: the motor's max speed >= the cycle's top speed x ratio x speed margin (a gearbox's
+      input-speed limit only lowers the available speed);
+    * inertia ratio: load inertia / ratio^2 <= limit x rotor inertia (a gearbox's input inertia only
+      adds to the load side);
+    * the gearbox row: n1max >= top speed x ratio x speed margin, n1N >= mean speed x ratio,
+      T2N >= cubic-mean output torque x torque margin, T2B >= peak output torque x torque margin x
+      shock factor. These do not depend on the motor.
+    """
     limit = margins.inertia_ratio if spec.max_inertia_ratio is None else min(spec.max_inertia_ratio,
                                                                              margins.inertia_ratio)
-    top = float(np.max(np.abs(duty.omega))) if duty.omega.size else 0.0
+    w = np.abs(duty.omega)
+    top = float(np.max(w)) if w.size else 0.0
     need = top * tb.ratios * margins.speed
     j_load = duty.load_inertia / tb.ratios**2
     m = tb.motors
-    speed_ok = ~(m.max_speed[None, :] < need[:, None] * (1.0 - 1e-9))  # an unknown max speed: kept
-    inertia_ok = ~(j_load[:, None] > limit * m.rotor_inertia[None, :] * (1.0 + 1e-9))
-    return np.asarray(np.any(speed_ok & inertia_ok, axis=0), dtype=bool)
+    lo, hi = 1.0 - 1e-9, 1.0 + 1e-9
+    speed_ok = ~(m.max_speed[None, :] < need[:, None] * lo)  # an unknown max speed: kept
+    inertia_ok = ~(j_load[:, None] > limit * m.rotor_inertia[None, :] * hi)
+    row_ok = np.zeros(0, dtype=bool)
+    if tb.gb is not None and len(tb.gb):
+        gb = tb.gb
+        ratio = tb.ratios[tb.row_group]
+        mean = float(np.sum(duty.weights * w)) / duty.period
+        t2b_need = (float(np.max(np.abs(duty.torque))) if duty.torque.size else 0.0) * margins.torque * \
+            shock_factor(duty.period, margins.gearbox_shock_factor)  # NaN: the T2B check is unknown
+        t2n_need = cubic_mean(duty.torque, duty.omega, duty.weights) * margins.torque
+        row_ok = ~((gb.max_input_speed < top * ratio * margins.speed * lo)
+                   | (gb.rated_input_speed < mean * ratio * lo)
+                   | (gb.rated_output_torque < t2n_need * lo)
+                   | (gb.max_output_torque < t2b_need * lo))
+    return Search(feasible=np.asarray(speed_ok & inertia_ok, dtype=bool), row_ok=np.asarray(row_ok, dtype=bool))
 
 
 def motoring_energy(duty: DutyCycle, rotor_inertia: float) -> float:
@@ -193,64 +238,88 @@ class Engine:
         if all_pairs:
             return select(axis, duty, spec, margins, all_pairs=True)
         tb = self.tables(axis, spec)
-        torques = [lossy_torque(axis, duty, e) for e in tb.efficiencies]
-        demands = dict(zip(tb.efficiencies, fast_demands(duty.omega, duty.alpha, torques, duty.weights, duty.period,
-                                                         duty.load_inertia), strict=True))
+        demands: dict[float, Demand] = {}
 
-        def ev(motors: MotorTable) -> Candidates:
-            return evaluate(axis, duty, motors, tb.gb, margins, allow_direct=tb.allow_direct,
+        def ev(motors: MotorTable, gb: GearboxTable | None, allow_direct: bool) -> Candidates:
+            _, effs, _, _ = _gearbox_options(gb, allow_direct)
+            missing = [e for e in dict.fromkeys(effs.tolist()) if e not in demands]
+            if missing:  # the hulls of the efficiencies not met before, in one compiled pass
+                torques = [lossy_torque(axis, duty, e) for e in missing]
+                demands.update(zip(missing, fast_demands(duty.omega, duty.alpha, torques, duty.weights, duty.period,
+                                                         duty.load_inertia), strict=True))
+            return evaluate(axis, duty, motors, gb, margins, allow_direct=allow_direct,
                             max_inertia_ratio=spec.max_inertia_ratio, strict=spec.unknown == "fail",
                             given_demands=demands)
 
-        found = _smallest_first(ev, tb, duty, margins, spec) if spec.objective == "smallest" else None
-        if found is None:  # every candidate, ranked as select ranks them
-            c = ev(tb.motors)
-            found = (c, tb.motors, ranked(c, tb.motors, tb.gb, spec.objective, duty))
-            return _summary(*found, tb, spec, duty, evaluated_all=True)
-        return _summary(*found, tb, spec, duty, evaluated_all=False)
+        if spec.objective == "smallest":
+            found = _smallest_first(ev, tb, search_bounds(tb, duty, margins, spec), duty)
+            if found is not None:
+                return _summary(*found, tb, spec, duty, evaluated_all=False)
+        # every candidate, ranked as select ranks them
+        c = ev(tb.motors, tb.gb, tb.allow_direct)
+        return _summary(c, tb.motors, tb.gb, ranked(c, tb.motors, tb.gb, spec.objective, duty), tb, spec, duty,
+                        evaluated_all=True)
 
 
-def _smallest_first(ev: Any, tb: Tables, duty: DutyCycle, margins: Margins,
-                    spec: SelectSpec) -> tuple[Candidates, MotorTable, NDArray[np.intp]] | None:
-    """The candidates of the motors that hold the best one, and their ranking; None when no feasible
-    motor has a passing candidate."""
-    order = tb.order[feasible_motors(tb, duty, margins, spec)[tb.order]]
+Found = tuple["Candidates", "MotorTable", "GearboxTable | None", NDArray[np.intp]]
+
+
+def _smallest_first(ev: Any, tb: Tables, bounds: Search, duty: DutyCycle) -> Found | None:
+    """The candidates that hold the best one (motors of the chunks with a passing candidate, the
+    gearbox rows any of them can pass with), and their ranking; None when no candidate passes."""
+    order = tb.order[np.any(bounds.feasible, axis=0)[tb.order]]
     passing_chunks: list[NDArray[np.intp]] = []
-    best: tuple[Candidates, MotorTable, NDArray[np.intp]] | None = None
+    best: Found | None = None
     start = 0
     while start < len(order):
         stop = min(start + CHUNK, len(order))
         while stop < len(order) and tb.size_key[order[stop]] == tb.size_key[order[stop - 1]]:
             stop += 1  # motors of equal size go in the same chunk
         members = np.sort(order[start:stop])
-        sub = tb.sub_table(members)
-        c = ev(sub)
         start = stop
-        if np.any(c.ok):
+        found = _evaluate_chunk(ev, tb, bounds, members)
+        if found is not None and np.any(found[0].ok):
             passing_chunks.append(members)
             if len(passing_chunks) > 1:  # rank the passing chunks' candidates together
-                members = np.sort(np.concatenate(passing_chunks))
-                sub = tb.sub_table(members)
-                c = ev(sub)
-            best = (c, sub, ranked(c, sub, tb.gb, "smallest", duty))
+                found = _evaluate_chunk(ev, tb, bounds, np.sort(np.concatenate(passing_chunks)))
+            assert found is not None
+            c, sub, gb = found
+            best = (c, sub, gb, ranked(c, sub, gb, "smallest", duty))
         if best is not None and (stop == len(order) or _beats_the_rest(best, tb, duty,
                                                                        float(tb.size_key[order[stop]]))):
             return best
     return best
 
 
-def _beats_the_rest(best: tuple[Candidates, MotorTable, NDArray[np.intp]], tb: Tables, duty: DutyCycle,
-                    next_size: float) -> bool:
+def _evaluate_chunk(ev: Any, tb: Tables, bounds: Search,
+                    members: NDArray[np.intp]) -> tuple[Candidates, MotorTable, GearboxTable | None] | None:
+    """The candidates of the motors ``members`` (ascending) that can pass, None when none can.
+
+    Only direct drive and the gearbox rows that pass their own ratings, of a ratio some of the
+    motors can pass the max-speed and inertia-ratio checks with, are evaluated: every other
+    candidate fails. The rows keep their catalog order, so the candidates keep theirs and
+    ``ranked`` breaks ties as over the whole catalog.
+    """
+    groups = np.any(bounds.feasible[:, members], axis=1)
+    direct = tb.allow_direct and bool(groups[0])
+    rows = np.flatnonzero(bounds.row_ok & groups[tb.row_group]) if tb.gb is not None else np.zeros(0, np.intp)
+    if not direct and not len(rows):
+        return None
+    sub, gb = tb.sub_table(members), tb.sub_gearboxes(rows)
+    return ev(sub, gb, direct), sub, gb
+
+
+def _beats_the_rest(best: Found, tb: Tables, duty: DutyCycle, next_size: float) -> bool:
     """The first ranked candidate ranks before every candidate of a motor of size key >= ``next_size``."""
-    c, sub, order = best
+    c, sub, gb, order = best
     k = order[:1]
-    obj = float(_objective(c, k, sub, tb.gb, "smallest", duty)[0])
+    obj = float(_objective(c, k, sub, gb, "smallest", duty)[0])
     known_fit = not (int(c.unknown[k[0]]) & FIT_BIT)
     return known_fit and math.isfinite(obj) and (math.isnan(next_size) or obj < next_size * 1e6)
 
 
-def _summary(c: Candidates, motors: MotorTable, order: NDArray[np.intp], tb: Tables, spec: SelectSpec,
-             duty: DutyCycle, evaluated_all: bool) -> dict[str, Any]:
+def _summary(c: Candidates, motors: MotorTable, gb: GearboxTable | None, order: NDArray[np.intp], tb: Tables,
+             spec: SelectSpec, duty: DutyCycle, evaluated_all: bool) -> dict[str, Any]:
     """``select``'s answer, keys as there: the first candidate, and the counts where every candidate
     was evaluated."""
     from drivetrain.sizing.reasons import candidate_dict
@@ -264,14 +333,14 @@ def _summary(c: Candidates, motors: MotorTable, order: NDArray[np.intp], tb: Tab
                         "unknown_by_check": c.unknowns()})
     if len(order):
         k = int(order[0])
-        first = candidate_dict(c, k, motors, tb.gb, 1)
+        first = candidate_dict(c, k, motors, gb, 1)
         summary["_best"] = k
         summary["selected"] = first
     else:
-        first = candidate_dict(c, int(_closest_failing(c, 1)[0]), motors, tb.gb, None)
+        first = candidate_dict(c, int(_closest_failing(c, 1)[0]), motors, gb, None)
     summary["_candidates"] = c
     summary["_ranked"] = order
-    summary["_tables"] = (motors, tb.gb)
+    summary["_tables"] = (motors, gb)
     return {"candidates": [first], "selection": summary}
 
 
@@ -283,4 +352,4 @@ def full_result(axis: Axis, points_per_phase: int = 64) -> dict[str, Any]:
     return answer(size(axis, points_per_phase))
 
 
-__all__ = ["CHUNK", "Engine", "Tables", "answer", "feasible_motors", "full_result", "load_tables", "motoring_energy"]
+__all__ = ["CHUNK", "Engine", "Tables", "answer", "full_result", "load_tables", "motoring_energy", "search_bounds"]
