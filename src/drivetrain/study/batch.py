@@ -199,8 +199,9 @@ def answer(r: SizingResult) -> dict[str, Any]:
 class Engine:
     """Sizes many axes against the catalog loaded once; a worker process keeps one engine."""
 
-    def __init__(self, points_per_phase: int = 64) -> None:
+    def __init__(self, points_per_phase: int = 64, drives: bool = False) -> None:
         self.points = points_per_phase
+        self.drives = drives  # the drive post-pass of size (a drive for the selected motor, its currents)
         self._tables: dict[str, Tables] = {}
         self._kinematics: dict[str, tuple[Cycle, Samples]] = {}
 
@@ -226,10 +227,11 @@ class Engine:
 
     def size(self, axis: Axis) -> dict[str, Any]:
         """A variant's result: ``answer(drivetrain.size(axis))`` with the batched selection (its
-        ``selection`` block holds the keys of :meth:`select`)."""
+        ``selection`` block holds the keys of :meth:`select`; the selected candidate's ``drive``,
+        ``electrical`` and ``regen`` only where the engine was made with ``drives``)."""
         from drivetrain.sizing.result import size
 
-        return answer(size(axis, self.points, duty=self.duty(axis), selector=self.select))
+        return answer(size(axis, self.points, duty=self.duty(axis), selector=self.select, drives=self.drives))
 
     def select(self, axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
                all_pairs: bool = False) -> dict[str, Any]:

@@ -45,6 +45,7 @@ class Plan:
     record: tuple[str, ...]
     points: int
     full: bool  # a recorded key needs the unbatched drivetrain.size
+    drives: bool = False  # a recorded key needs the drive post-pass (selection.selected.drive, ...)
 
     def axis_dict(self, values: tuple[Any, ...]) -> dict[str, Any]:
         from drivetrain.study.paths import set_path
@@ -59,13 +60,14 @@ class Plan:
 _ENGINE: Any = None
 
 
-def _engine(points: int) -> Any:
+def _engine(points: int, drives: bool = False) -> Any:
     """This process's engine (catalog tables loaded on its first selection, then kept)."""
     global _ENGINE
     from drivetrain.study.batch import Engine
 
     if _ENGINE is None or _ENGINE.points != points:
         _ENGINE = Engine(points)
+    _ENGINE.drives = drives
     return _ENGINE
 
 
@@ -75,7 +77,7 @@ def size_variant(plan: Plan, values: tuple[Any, ...]) -> dict[str, Any]:
     from drivetrain.study.batch import full_result
 
     axis = parse_axis(plan.axis_dict(values))
-    return full_result(axis, plan.points) if plan.full else _engine(plan.points).size(axis)
+    return full_result(axis, plan.points) if plan.full else _engine(plan.points, plan.drives).size(axis)
 
 
 def run_batch(plan: Plan, items: list[tuple[int, tuple[Any, ...]]]) -> list[dict[str, Any]]:
@@ -106,8 +108,12 @@ def make_plan(study: Study) -> Plan:
         k = study.spec.record.index(unknown[0])
         raise InputError(f"record[{k}]", "is not a key of the size result of the base axis (e.g. "
                          "selection.selected.motor, rms_torque_Nm, selection.passing)", unknown[0])
+    drives = False
+    if not covered:  # a key of the drive post-pass (selection.selected.drive.id, ...)?
+        drives = True
+        covered, _ = fast_covers(_engine(study.spec.points, drives).size(axis), full, study.spec.record)
     return Plan(base=study.base, parameters=study.parameters, record=tuple(study.spec.record),
-                points=study.spec.points, full=not covered)
+                points=study.spec.points, full=not covered, drives=drives and covered)
 
 
 # ---------------------------------------------------------------------------------------------
