@@ -130,6 +130,8 @@ class Search:
 
     feasible: NDArray[np.bool_]  # (group, motor): the max-speed and the inertia-ratio check can pass
     row_ok: NDArray[np.bool_]  # gearbox rows whose own ratings (n1max, n1N, T2N, T2B) can pass
+    pair_bound: Array  # (group, motor): no candidate's worst margin is above this (+inf: no bound)
+    row_bound: Array  # gearbox rows: likewise
 
 
 def search_bounds(tb: Tables, duty: DutyCycle, margins: Margins, spec: SelectSpec) -> Search:
@@ -144,6 +146,11 @@ def search_bounds(tb: Tables, duty: DutyCycle, margins: Margins, spec: SelectSpe
     * the gearbox row: n1max >= top speed x ratio x speed margin, n1N >= mean speed x ratio,
       T2N >= cubic-mean output torque x torque margin, T2B >= peak output torque x torque margin x
       shock factor. These do not depend on the motor.
+
+    The same margins bound a candidate's worst margin from above (the least of its known margins):
+    per (ratio group, motor) the max-speed margin and the inertia-ratio margin without the
+    gearbox's input inertia, per gearbox row the least margin of its own ratings; each bound is
+    raised by a relative 1e-9 against rounding, an unknown one is +inf.
     """
     limit = margins.inertia_ratio if spec.max_inertia_ratio is None else min(spec.max_inertia_ratio,
                                                                              margins.inertia_ratio)
@@ -155,7 +162,10 @@ def search_bounds(tb: Tables, duty: DutyCycle, margins: Margins, spec: SelectSpe
     lo, hi = 1.0 - 1e-9, 1.0 + 1e-9
     speed_ok = ~(m.max_speed[None, :] < need[:, None] * lo)  # an unknown max speed: kept
     inertia_ok = ~(j_load[:, None] > limit * m.rotor_inertia[None, :] * hi)
-    row_ok = np.zeros(0, dtype=bool)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        pair = np.fmin(m.max_speed[None, :] / need[:, None] - 1.0,
+                       limit * m.rotor_inertia[None, :] / j_load[:, None] - 1.0)
+    row_ok, row = np.zeros(0, dtype=bool), np.zeros(0)
     if tb.gb is not None and len(tb.gb):
         gb = tb.gb
         ratio = tb.ratios[tb.row_group]
@@ -163,11 +173,19 @@ def search_bounds(tb: Tables, duty: DutyCycle, margins: Margins, spec: SelectSpe
         t2b_need = (float(np.max(np.abs(duty.torque))) if duty.torque.size else 0.0) * margins.torque * \
             shock_factor(duty.period, margins.gearbox_shock_factor)  # NaN: the T2B check is unknown
         t2n_need = cubic_mean(duty.torque, duty.omega, duty.weights) * margins.torque
-        row_ok = ~((gb.max_input_speed < top * ratio * margins.speed * lo)
-                   | (gb.rated_input_speed < mean * ratio * lo)
-                   | (gb.rated_output_torque < t2n_need * lo)
-                   | (gb.max_output_torque < t2b_need * lo))
-    return Search(feasible=np.asarray(speed_ok & inertia_ok, dtype=bool), row_ok=np.asarray(row_ok, dtype=bool))
+        need_in = (top * ratio * margins.speed, mean * ratio, np.full(len(gb), t2n_need), np.full(len(gb), t2b_need))
+        rating = (gb.max_input_speed, gb.rated_input_speed, gb.rated_output_torque, gb.max_output_torque)
+        row_ok = ~np.any([r < n * lo for r, n in zip(rating, need_in, strict=True)], axis=0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            row = np.fmin.reduce([r / n - 1.0 for r, n in zip(rating, need_in, strict=True)])
+    return Search(feasible=np.asarray(speed_ok & inertia_ok, dtype=bool), row_ok=np.asarray(row_ok, dtype=bool),
+                  pair_bound=_raised(pair), row_bound=_raised(row))
+
+
+def _raised(bound: Array) -> Array:
+    """An upper bound raised by a relative 1e-9 against rounding; NaN (unknown) as +inf."""
+    return np.where(np.isnan(bound), np.inf, bound + 1e-9 * (1.0 + np.abs(np.nan_to_num(bound, posinf=0.0,
+                                                                                        neginf=0.0))))
 
 
 def motoring_energy(duty: DutyCycle, rotor_inertia: float) -> float:
@@ -254,9 +272,13 @@ class Engine:
                             given_demands=demands)
 
         if spec.objective == "smallest":
-            found = _smallest_first(ev, tb, search_bounds(tb, duty, margins, spec), duty)
+            bounds = search_bounds(tb, duty, margins, spec)
+            found = _smallest_first(ev, tb, bounds, duty)
             if found is not None:
                 return _summary(*found, tb, spec, duty, evaluated_all=False)
+            closest = _closest_of_all(ev, tb, bounds)
+            if closest is not None:  # nothing passes: the closest candidate, found without the counts
+                return _summary(*closest, np.zeros(0, dtype=np.intp), tb, spec, duty, evaluated_all=False)
         # every candidate, ranked as select ranks them
         c = ev(tb.motors, tb.gb, tb.allow_direct)
         return _summary(c, tb.motors, tb.gb, ranked(c, tb.motors, tb.gb, spec.objective, duty), tb, spec, duty,
@@ -309,6 +331,43 @@ def _evaluate_chunk(ev: Any, tb: Tables, bounds: Search,
         return None
     sub, gb = tb.sub_table(members), tb.sub_gearboxes(rows)
     return ev(sub, gb, direct), sub, gb
+
+
+def _closest_of_all(ev: Any, tb: Tables, bounds: Search) -> tuple[Candidates, MotorTable, GearboxTable | None] | None:
+    """When no candidate passes: the candidates among which the closest one of the whole catalog is
+    (``select``'s: the largest worst margin, ties in candidate order), None when it takes them all.
+
+    Every candidate's worst margin is at most its bound (``search_bounds``). The candidates with a
+    bound of at least ``tau`` are evaluated (the motors and gearbox rows that have one, so a few
+    more): first with ``tau`` that of the ``CHUNK`` motors of the largest bounds, then, if the best
+    worst margin ``w`` found is below ``tau``, with ``tau = w``. Every candidate left out then has a
+    worst margin below ``w``: the best found is the best of all, and candidates keep their order.
+    """
+    n_rows = 0 if tb.gb is None else len(tb.gb)
+    row_bound = bounds.row_bound if n_rows else np.zeros(0)
+    group_row = np.full(len(tb.ratios), -np.inf)  # the largest row bound of each group
+    np.maximum.at(group_row, tb.row_group, row_bound)
+    if tb.allow_direct:
+        group_row[0] = np.inf  # direct drive has no gearbox rating
+    pair = np.minimum(bounds.pair_bound, group_row[:, None])
+    motor = np.max(pair, axis=0)
+    tau = float(np.sort(motor)[::-1][min(CHUNK, len(motor)) - 1])
+    for _ in range(2):
+        if not math.isfinite(tau):
+            return None
+        members = np.flatnonzero(motor >= tau)
+        groups = np.any(pair[:, members] >= tau, axis=1)
+        direct = tb.allow_direct and bool(groups[0])
+        rows = np.flatnonzero((row_bound >= tau) & groups[tb.row_group]) if n_rows else np.zeros(0, np.intp)
+        if not direct and not len(rows):
+            return None
+        sub, gb = tb.sub_table(members), tb.sub_gearboxes(rows)
+        c = ev(sub, gb, direct)
+        w = float(c.worst_margin[_closest_failing(c, 1)[0]])
+        if w >= tau:
+            return c, sub, gb
+        tau = w
+    return None
 
 
 def _beats_the_rest(best: Found, tb: Tables, duty: DutyCycle, next_size: float) -> bool:
