@@ -40,6 +40,7 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -124,68 +125,83 @@ def load_tables(axis: Axis, spec: SelectSpec) -> Tables:
                   row_group=row_group, size_key=size_key, order=np.argsort(size_key, kind="stable"))
 
 
+SLACK = 1e-9
+"""Relative slack of the search's necessary conditions and bounds, against rounding."""
+
+
 @dataclass
 class Search:
-    """What one variant's search knows of it before any candidate is evaluated."""
+    """What one variant's search knows of it before any candidate is evaluated: margins that bound
+    every candidate's (``search_bounds``), NaN where a rating is unknown."""
 
-    feasible: NDArray[np.bool_]  # (group, motor): the max-speed and the inertia-ratio check can pass
-    row_ok: NDArray[np.bool_]  # gearbox rows whose own ratings (n1max, n1N, T2N, T2B) can pass
-    pair_bound: Array  # (group, motor): no candidate's worst margin is above this (+inf: no bound)
-    row_bound: Array  # gearbox rows: likewise
+    pair: Array  # (group, motor): the least of the max-speed and inertia-ratio margins
+    row: Array  # gearbox rows: the least margin of the row's own ratings
+
+    @cached_property
+    def feasible(self) -> NDArray[np.bool_]:
+        """(group, motor): the max-speed and the inertia-ratio check can pass."""
+        return np.asarray(~(self.pair < -SLACK), dtype=bool)
+
+    @cached_property
+    def row_ok(self) -> NDArray[np.bool_]:
+        """Gearbox rows whose own ratings (n1max, n1N, T2N, T2B) can pass."""
+        return np.asarray(~(self.row < -SLACK), dtype=bool)
+
+    @cached_property
+    def pair_bound(self) -> Array:
+        """(group, motor): no candidate's worst margin is above this (+inf: no bound)."""
+        return _raised(self.pair)
+
+    @cached_property
+    def row_bound(self) -> Array:
+        """Gearbox rows: likewise."""
+        return _raised(self.row)
 
 
 def search_bounds(tb: Tables, duty: DutyCycle, margins: Margins, spec: SelectSpec) -> Search:
-    """Necessary conditions of a passing candidate, from the checks that depend on the motor and the
-    ratio alone or on the gearbox row alone (kernel.py computes them; here with a relative slack
-    of 1e-9, so that a candidate at a limit to rounding is evaluated, and an unknown rating kept):
+    """Margins of the checks that depend on the motor and the ratio alone or on the gearbox row alone,
+    as kernel.py computes them:
 
-    * max speed: the motor's max speed >= the cycle's top speed x ratio x speed margin (a gearbox's
-      input-speed limit only lowers the available speed);
-    * inertia ratio: load inertia / ratio^2 <= limit x rotor inertia (a gearbox's input inertia only
-      adds to the load side);
-    * the gearbox row: n1max >= top speed x ratio x speed margin, n1N >= mean speed x ratio,
-      T2N >= cubic-mean output torque x torque margin, T2B >= peak output torque x torque margin x
-      shock factor. These do not depend on the motor.
+    * max speed: the motor's max speed / (the cycle's top speed x ratio x speed margin) - 1 (a
+      gearbox's input-speed limit only lowers the available speed);
+    * inertia ratio: limit x rotor inertia / (load inertia / ratio^2) - 1 (a gearbox's input
+      inertia only adds to the load side, so this is the largest over the gearbox rows);
+    * the gearbox row: n1max against the top speed x ratio x speed margin, n1N against the mean
+      speed x ratio, T2N against the cubic-mean output torque x torque margin, T2B against the peak
+      output torque x torque margin x shock factor. These do not depend on the motor.
 
-    The same margins bound a candidate's worst margin from above (the least of its known margins):
-    per (ratio group, motor) the max-speed margin and the inertia-ratio margin without the
-    gearbox's input inertia, per gearbox row the least margin of its own ratings; each bound is
-    raised by a relative 1e-9 against rounding, an unknown one is +inf.
+    A candidate whose pair or row margin is below -1e-9 fails (its check fails, whatever the other
+    half of the pair); a candidate's worst margin (the least of its known margins) is at most the
+    least of its pair's and its row's (each raised by a relative 1e-9 against rounding; unknown: +inf).
     """
     limit = margins.inertia_ratio if spec.max_inertia_ratio is None else min(spec.max_inertia_ratio,
                                                                              margins.inertia_ratio)
     w = np.abs(duty.omega)
     top = float(np.max(w)) if w.size else 0.0
-    need = top * tb.ratios * margins.speed
-    j_load = duty.load_inertia / tb.ratios**2
     m = tb.motors
-    lo, hi = 1.0 - 1e-9, 1.0 + 1e-9
-    speed_ok = ~(m.max_speed[None, :] < need[:, None] * lo)  # an unknown max speed: kept
-    inertia_ok = ~(j_load[:, None] > limit * m.rotor_inertia[None, :] * hi)
     with np.errstate(divide="ignore", invalid="ignore"):
+        need = top * tb.ratios * margins.speed
+        j_load = duty.load_inertia / tb.ratios**2
         pair = np.fmin(m.max_speed[None, :] / need[:, None] - 1.0,
                        limit * m.rotor_inertia[None, :] / j_load[:, None] - 1.0)
-    row_ok, row = np.zeros(0, dtype=bool), np.zeros(0)
-    if tb.gb is not None and len(tb.gb):
-        gb = tb.gb
-        ratio = tb.ratios[tb.row_group]
-        mean = float(np.sum(duty.weights * w)) / duty.period
-        t2b_need = (float(np.max(np.abs(duty.torque))) if duty.torque.size else 0.0) * margins.torque * \
-            shock_factor(duty.period, margins.gearbox_shock_factor)  # NaN: the T2B check is unknown
-        t2n_need = cubic_mean(duty.torque, duty.omega, duty.weights) * margins.torque
-        need_in = (top * ratio * margins.speed, mean * ratio, np.full(len(gb), t2n_need), np.full(len(gb), t2b_need))
-        rating = (gb.max_input_speed, gb.rated_input_speed, gb.rated_output_torque, gb.max_output_torque)
-        row_ok = ~np.any([r < n * lo for r, n in zip(rating, need_in, strict=True)], axis=0)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            row = np.fmin.reduce([r / n - 1.0 for r, n in zip(rating, need_in, strict=True)])
-    return Search(feasible=np.asarray(speed_ok & inertia_ok, dtype=bool), row_ok=np.asarray(row_ok, dtype=bool),
-                  pair_bound=_raised(pair), row_bound=_raised(row))
+        row = np.zeros(0)
+        if tb.gb is not None and len(tb.gb):
+            gb = tb.gb
+            ratio = tb.ratios[tb.row_group]
+            mean = float(np.sum(duty.weights * w)) / duty.period
+            t2b_need = (float(np.max(np.abs(duty.torque))) if duty.torque.size else 0.0) * margins.torque * \
+                shock_factor(duty.period, margins.gearbox_shock_factor)  # NaN: the T2B check is unknown
+            t2n_need = cubic_mean(duty.torque, duty.omega, duty.weights) * margins.torque
+            row = np.fmin(np.fmin(gb.max_input_speed / (top * margins.speed * ratio) - 1.0,
+                                  gb.rated_input_speed / (mean * ratio) - 1.0),
+                          np.fmin(gb.rated_output_torque / t2n_need - 1.0, gb.max_output_torque / t2b_need - 1.0))
+    return Search(pair=pair, row=row)
 
 
 def _raised(bound: Array) -> Array:
-    """An upper bound raised by a relative 1e-9 against rounding; NaN (unknown) as +inf."""
-    return np.where(np.isnan(bound), np.inf, bound + 1e-9 * (1.0 + np.abs(np.nan_to_num(bound, posinf=0.0,
-                                                                                        neginf=0.0))))
+    """An upper bound raised by a relative SLACK against rounding; NaN (unknown) as +inf."""
+    finite = np.nan_to_num(bound, nan=0.0, posinf=0.0, neginf=0.0)
+    return np.where(np.isnan(bound), np.inf, bound + SLACK * (1.0 + np.abs(finite)))
 
 
 def motoring_energy(duty: DutyCycle, rotor_inertia: float) -> float:
