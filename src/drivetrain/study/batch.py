@@ -104,6 +104,13 @@ class Tables:
             return self.gb
         return self._take(b"g" + rows.tobytes(), self.gb, rows)
 
+    def efficiencies(self, groups: NDArray[np.intp], direct: bool) -> list[float]:
+        """The distinct gearbox efficiencies of these groups (and of direct drive, 1)."""
+        effs = set(self.group_eff[groups].tolist())
+        if direct:
+            effs.add(1.0)
+        return sorted(effs)
+
     def _take(self, key: bytes, table: Any, index: NDArray[np.intp]) -> Any:
         hit = self._subs.get(key)
         if hit is None:
@@ -276,9 +283,8 @@ class Engine:
         tb = self.tables(axis, spec)
         demands: dict[float, Demand] = {}
 
-        def ev(motors: MotorTable, gb: GearboxTable | None, allow_direct: bool) -> Candidates:
-            _, effs, _, _ = _gearbox_options(gb, allow_direct)
-            missing = [e for e in dict.fromkeys(effs.tolist()) if e not in demands]
+        def ev(motors: MotorTable, gb: GearboxTable | None, allow_direct: bool, effs: list[float]) -> Candidates:
+            missing = [e for e in effs if e not in demands]
             if missing:  # the hulls of the efficiencies not met before, in one compiled pass
                 torques = [lossy_torque(axis, duty, e) for e in missing]
                 demands.update(zip(missing, fast_demands(duty.omega, duty.alpha, torques, duty.weights, duty.period,
@@ -296,7 +302,7 @@ class Engine:
             if closest is not None:  # nothing passes: the closest candidate, found without the counts
                 return _summary(*closest, np.zeros(0, dtype=np.intp), tb, spec, duty, evaluated_all=False)
         # every candidate, ranked as select ranks them
-        c = ev(tb.motors, tb.gb, tb.allow_direct)
+        c = ev(tb.motors, tb.gb, tb.allow_direct, tb.efficiencies(tb.row_group, tb.allow_direct))
         return _summary(c, tb.motors, tb.gb, ranked(c, tb.motors, tb.gb, spec.objective, duty), tb, spec, duty,
                         evaluated_all=True)
 
@@ -346,7 +352,7 @@ def _evaluate_chunk(ev: Any, tb: Tables, bounds: Search,
     if not direct and not len(rows):
         return None
     sub, gb = tb.sub_table(members), tb.sub_gearboxes(rows)
-    return ev(sub, gb, direct), sub, gb
+    return ev(sub, gb, direct, tb.efficiencies(tb.row_group[rows], direct)), sub, gb
 
 
 def _closest_of_all(ev: Any, tb: Tables, bounds: Search) -> tuple[Candidates, MotorTable, GearboxTable | None] | None:
@@ -378,7 +384,7 @@ def _closest_of_all(ev: Any, tb: Tables, bounds: Search) -> tuple[Candidates, Mo
         if not direct and not len(rows):
             return None
         sub, gb = tb.sub_table(members), tb.sub_gearboxes(rows)
-        c = ev(sub, gb, direct)
+        c = ev(sub, gb, direct, tb.efficiencies(tb.row_group[rows], direct))
         w = float(c.worst_margin[_closest_failing(c, 1)[0]])
         if w >= tau:
             return c, sub, gb
