@@ -34,6 +34,13 @@ PARTIAL_EVERY = 5.0
 META_KEY = b"drivetrain.study"
 CONNECT_TIMEOUT = "10s"
 """How long to try reaching an existing scheduler."""
+EMBEDDED_CONFIG = {"distributed.worker.multiprocessing-method": "fork",
+                   "distributed.worker.profile.enabled": False,
+                   "distributed.admin.system-monitor.gil.enabled": False}
+"""Dask settings of the embedded cluster: its worker processes are forks of this one, so they start
+with the modules, the unit registry, the compiled code and the catalog tables this process has
+loaded (``make_plan`` sized the base axis); no statistical profiler or GIL monitor runs beside
+the sizing."""
 
 
 @dataclass(frozen=True)
@@ -314,13 +321,15 @@ def _resume_rows(study: Study, out: Path) -> list[dict[str, Any]]:
 
 def _run_dask(plan: Plan, todo: list[tuple[int, tuple[Any, ...]]], batch: int, address: str | None,
               workers: int | None, collect: Callable[[Iterable[dict[str, Any]]], None]) -> None:
+    import dask
     from distributed import Client, LocalCluster, as_completed
 
     cluster = None
     if address is None:
         n = workers or os.cpu_count() or 1
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=logging.ERROR)
+        with dask.config.set(EMBEDDED_CONFIG):
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                                   silence_logs=logging.ERROR)
         client = Client(cluster)
     else:
         try:
