@@ -114,7 +114,7 @@ class Tables:
     def _take(self, key: bytes, table: Any, index: NDArray[np.intp]) -> Any:
         hit = self._subs.get(key)
         if hit is None:
-            if len(self._subs) > 4096:
+            if len(self._subs) > 512:  # a gearbox sub-table is at most ~200 kB
                 self._subs.clear()
             hit = self._subs[key] = table.take(index)
         return hit
