@@ -10,14 +10,22 @@ met here without an edit. What the batched path saves per variant, without chang
   process), not once per variant;
 * profiles equal (same profile entries, same kind of motion, same points per phase) share their
   sampled kinematics (``Cycle`` and ``Samples`` are functions of those alone);
-* the hull of the cycle behind each gearbox efficiency is computed once per variant, compiled
-  (``study.hull``, equal to ``motor_fit.demand`` vertex for vertex), and handed to ``evaluate``
-  for every motor table the search evaluates;
-* for the objective ``smallest`` the motors are evaluated in chunks from the smallest up, and the
-  search stops once no motor left can rank first (below);
+* the hull of the cycle behind a gearbox efficiency is computed once per variant, compiled
+  (``study.hull``, equal to ``motor_fit.demand`` vertex for vertex), only for the efficiencies
+  the search meets, and handed to ``evaluate`` for every motor table it evaluates;
+* the margins that depend on the motor and the ratio alone (max speed, inertia ratio) or on the
+  gearbox row alone (n1max, n1N, T2N, T2B) are computed first (``search_bounds``): a candidate
+  whose pair or row fails one of them fails, and its worst margin is at most the least of them;
+* for the objective ``smallest`` the motors are evaluated in chunks from the smallest up, each
+  chunk direct and behind the gearbox rows it can pass with, and the search stops once no motor
+  left can rank first (below);
+* when nothing passes, the closest candidate is looked for among the candidates whose bound can
+  reach it (``_closest_of_all``), not over the whole catalog;
 * no Pareto front, next-smaller motor, optimal ratio, advice or ranked list of candidates: the
   answer holds the selected candidate (or, when nothing passes, the closest one) and, where the
-  whole catalog was evaluated, the counts of ``select``.
+  whole catalog was evaluated (objectives other than ``smallest``), the counts of ``select``;
+* the drive post-pass (a drive for the selected motor, its currents, regen) runs only for an engine
+  made with ``drives`` (a study that records one of its keys).
 
 The smallest-first search. ``selection.ranked`` orders the passing candidates by the objective
 (motor size x 1e6 + the gearbox's rated torque, which is never negative), ties in candidate order,
@@ -25,14 +33,14 @@ and a pair not known to assemble after every pair known to. So a candidate known
 with objective ``s`` ranks before every candidate of a motor of size key ``>= s / 1e6``. Motors
 are taken by size key, a chunk at a time (motors of equal size in the same chunk), and the search
 stops when the best of the chunks with a passing candidate (evaluated together, ranked by
-``ranked``) is known to assemble and its objective is below the next motor's size key x 1e6. Motors
-that fail every candidate on a check no gearbox row can change are not tried: max speed below the
-cycle's (x margin) behind every ratio, or the load inertia behind every ratio above the limit x
-the rotor inertia (both with a relative slack of 1e-9). When nothing passes, the whole catalog is
-evaluated, as ``select`` does.
+``ranked``) is known to assemble and its objective is below the next motor's size key x 1e6.
+Motors that fail the max-speed or the inertia-ratio check behind every ratio are not tried. A
+chunk's gearbox rows keep their catalog order, so its candidates keep their relative order and
+``ranked`` breaks ties as over the whole catalog.
 
-``tests/test_study_batch.py`` asserts, on a sample of variants, that the selected motor and
-gearbox and every check's required, available and margin equal those of ``drivetrain.size``.
+``tests/test_study_batch.py`` asserts, on a fixed sample and on 60 random variants, that the
+selected (or closest) motor and gearbox and every check's required, available and margin equal
+those of ``drivetrain.size``, and checks the bounds against every candidate of the catalog.
 """
 
 from __future__ import annotations
