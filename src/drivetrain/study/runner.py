@@ -13,6 +13,7 @@ import json
 import logging
 import math
 import os
+import sys
 import time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
@@ -34,13 +35,14 @@ PARTIAL_EVERY = 5.0
 META_KEY = b"drivetrain.study"
 CONNECT_TIMEOUT = "10s"
 """How long to try reaching an existing scheduler."""
-EMBEDDED_CONFIG = {"distributed.worker.multiprocessing-method": "fork",
-                   "distributed.worker.profile.enabled": False,
-                   "distributed.admin.system-monitor.gil.enabled": False}
-"""Dask settings of the embedded cluster: its worker processes are forks of this one, so they start
-with the modules, the unit registry, the compiled code and the catalog tables this process has
-loaded (``make_plan`` sized the base axis); no statistical profiler or GIL monitor runs beside
-the sizing."""
+EMBEDDED_CONFIG: dict[str, Any] = {"distributed.worker.profile.enabled": False,
+                                   "distributed.admin.system-monitor.gil.enabled": False}
+"""Dask settings of the embedded cluster: no statistical profiler or GIL monitor beside the sizing,
+and on Linux worker processes forked from this one, so that they start with the modules, the unit
+registry, the compiled code and the catalog tables this process has loaded (``make_plan`` sized
+the base axis); elsewhere Dask's default start method."""
+if sys.platform.startswith("linux"):
+    EMBEDDED_CONFIG["distributed.worker.multiprocessing-method"] = "fork"
 
 
 @dataclass(frozen=True)
