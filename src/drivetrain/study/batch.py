@@ -45,7 +45,6 @@ those of ``drivetrain.size``, and checks the bounds against every candidate of t
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -257,14 +256,14 @@ class Engine:
     def tables(self, axis: Axis, spec: SelectSpec) -> Tables:
         """The catalog tables of this axis's selection (loaded on first use, then kept)."""
         own = any(st.kind == "gearbox" for st in axis.transmission)
-        key = json.dumps([spec.model_dump(mode="json"), own], sort_keys=True, default=str)
+        key = repr((spec, own))  # every field, floats to the last digit
         if key not in self._tables:
             self._tables[key] = load_tables(axis, spec)
         return self._tables[key]
 
     def duty(self, axis: Axis) -> DutyCycle:
         """The duty cycle, the profile's kinematics shared between axes with equal profiles."""
-        key = json.dumps([axis.spec.profile, axis.mechanism.motion, self.points], sort_keys=True, default=str)
+        key = repr((axis.spec.profile, axis.mechanism.motion, self.points))
         hit = self._kinematics.get(key)
         if hit is None:
             cycle = axis.cycle()
