@@ -74,6 +74,9 @@ SAMPLE = [
     _variant(25.0, 0.010, 0.5, unknown="fail"),  # a check that cannot be judged rejects the pair
     _variant(12.0, 0.016, 0.4, objective="energy", unknown="fail"),
     _variant(4000.0, 0.002, 0.21),  # nothing passes: the closest candidate
+    _variant(4000.0, 0.002, 0.21, gearbox="none"),  # ... direct drive only
+    _variant(4000.0, 0.002, 0.21, gearbox="only"),  # ... behind a gearbox only
+    _variant(4000.0, 0.002, 0.21, unknown="fail"),  # ... an unknown check rejects too
 ]
 
 
@@ -116,7 +119,7 @@ def test_keys_mean_what_size_says(engine: Engine, k: int) -> None:
 
 
 def test_nothing_passing_is_in_the_sample(engine: Engine) -> None:
-    assert not engine.size(parse_axis(SAMPLE[-1]))["ok"]
+    assert not any(engine.size(parse_axis(v))["ok"] for v in SAMPLE[-4:])
 
 
 def test_given_motor_equals_size(engine: Engine) -> None:
