@@ -339,7 +339,7 @@ def _first_move_ramp_times(duty: DutyCycle) -> float:
 
 def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64,
          all_pairs: bool = False, *, duty: DutyCycle | None = None,
-         selector: Callable[..., dict[str, Any]] | None = None) -> SizingResult:
+         selector: Callable[..., dict[str, Any]] | None = None, drives: bool = True) -> SizingResult:
     """Size an axis: its duty cycle at the motor shaft, the given motor's checks or a selection.
 
     A selection lists the best configuration of each motor; ``all_pairs`` lists every passing
@@ -347,7 +347,9 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64,
 
     For callers that size many axes (a study): ``duty`` is the axis's duty cycle when the caller
     has it already; ``selector`` stands in for ``selection.select`` (same arguments; an answer
-    with the same keys, of which it may leave out those it did not compute).
+    with the same keys, of which it may leave out those it did not compute); ``drives=False``
+    leaves out the drive post-pass of a selection (the ``drive``, ``electrical`` and ``regen``
+    blocks of its candidates), which changes no other key.
     """
     if isinstance(axis, (str, Path)):
         axis = load_axis(axis)
@@ -393,7 +395,8 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64,
 
         chosen = (selector or select)(axis, duty, axis.spec.motor.select, axis.spec.motor.margins,
                                       all_pairs=all_pairs)
-        attach_drives(axis, duty, chosen, axis.spec.motor.margins)  # the electrical post-pass
+        if drives:
+            attach_drives(axis, duty, chosen, axis.spec.motor.margins)  # the electrical post-pass
         result.candidates = chosen["candidates"]
         result.selection = chosen["selection"]
         gear = gearbox_rating_checks(axis, duty, _selected_motor(result.selection), strict)

@@ -10,14 +10,22 @@ met here without an edit. What the batched path saves per variant, without chang
   process), not once per variant;
 * profiles equal (same profile entries, same kind of motion, same points per phase) share their
   sampled kinematics (``Cycle`` and ``Samples`` are functions of those alone);
-* the hull of the cycle behind each gearbox efficiency is computed once per variant, compiled
-  (``study.hull``, equal to ``motor_fit.demand`` vertex for vertex), and handed to ``evaluate``
-  for every motor table the search evaluates;
-* for the objective ``smallest`` the motors are evaluated in chunks from the smallest up, and the
-  search stops once no motor left can rank first (below);
+* the hull of the cycle behind a gearbox efficiency is computed once per variant, compiled
+  (``study.hull``, equal to ``motor_fit.demand`` vertex for vertex), only for the efficiencies
+  the search meets, and handed to ``evaluate`` for every motor table it evaluates;
+* the margins that depend on the motor and the ratio alone (max speed, inertia ratio) or on the
+  gearbox row alone (n1max, n1N, T2N, T2B) are computed first (``search_bounds``): a candidate
+  whose pair or row fails one of them fails, and its worst margin is at most the least of them;
+* for the objective ``smallest`` the motors are evaluated in chunks from the smallest up, each
+  chunk direct and behind the gearbox rows it can pass with, and the search stops once no motor
+  left can rank first (below);
+* when nothing passes, the closest candidate is looked for among the candidates whose bound can
+  reach it (``_closest_of_all``), not over the whole catalog;
 * no Pareto front, next-smaller motor, optimal ratio, advice or ranked list of candidates: the
   answer holds the selected candidate (or, when nothing passes, the closest one) and, where the
-  whole catalog was evaluated, the counts of ``select``.
+  whole catalog was evaluated (objectives other than ``smallest``), the counts of ``select``;
+* the drive post-pass (a drive for the selected motor, its currents, regen) runs only for an engine
+  made with ``drives`` (a study that records one of its keys).
 
 The smallest-first search. ``selection.ranked`` orders the passing candidates by the objective
 (motor size x 1e6 + the gearbox's rated torque, which is never negative), ties in candidate order,
@@ -25,29 +33,30 @@ and a pair not known to assemble after every pair known to. So a candidate known
 with objective ``s`` ranks before every candidate of a motor of size key ``>= s / 1e6``. Motors
 are taken by size key, a chunk at a time (motors of equal size in the same chunk), and the search
 stops when the best of the chunks with a passing candidate (evaluated together, ranked by
-``ranked``) is known to assemble and its objective is below the next motor's size key x 1e6. Motors
-that fail every candidate on a check no gearbox row can change are not tried: max speed below the
-cycle's (x margin) behind every ratio, or the load inertia behind every ratio above the limit x
-the rotor inertia (both with a relative slack of 1e-9). When nothing passes, the whole catalog is
-evaluated, as ``select`` does.
+``ranked``) is known to assemble and its objective is below the next motor's size key x 1e6.
+Motors that fail the max-speed or the inertia-ratio check behind every ratio are not tried. A
+chunk's gearbox rows keep their catalog order, so its candidates keep their relative order and
+``ranked`` breaks ties as over the whole catalog.
 
-``tests/test_study_batch.py`` asserts, on a sample of variants, that the selected motor and
-gearbox and every check's required, available and margin equal those of ``drivetrain.size``.
+``tests/test_study_batch.py`` asserts, on a fixed sample and on 60 random variants, that the
+selected (or closest) motor and gearbox and every check's required, available and margin equal
+those of ``drivetrain.size``, and checks the bounds against every candidate of the catalog.
 """
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from drivetrain.axis.model import Axis
-from drivetrain.duty.cycle import duty_from_samples
+from drivetrain.duty.cycle import cubic_mean, duty_from_samples
 from drivetrain.sizing.candidates import FIT_BIT
+from drivetrain.sizing.checks import shock_factor
 from drivetrain.sizing.selection import (
     _closest_failing,
     _gearbox_options,
@@ -67,6 +76,7 @@ if TYPE_CHECKING:
     from drivetrain.duty.cycle import DutyCycle
     from drivetrain.motion.profiles import Cycle, Samples
     from drivetrain.sizing.candidates import Candidates
+    from drivetrain.sizing.motor_fit import Demand
     from drivetrain.sizing.result import SizingResult
 
 Array = NDArray[np.float64]
@@ -83,46 +93,129 @@ class Tables:
     gb: GearboxTable | None
     allow_direct: bool
     ratios: Array  # the ratio of each (ratio, efficiency) group, direct drive included where allowed
-    efficiencies: list[float]  # the distinct gearbox efficiencies of the groups
+    group_eff: Array  # the gearbox efficiency of each group
+    row_group: NDArray[np.intp]  # the group of each gearbox row
     size_key: Array  # the objective's motor size [W]
     order: NDArray[np.intp]  # motors by size key, ascending (stable; NaN last)
-    _subs: dict[bytes, MotorTable] = field(default_factory=dict)
+    _subs: dict[bytes, Any] = field(default_factory=dict)
 
     def sub_table(self, members: NDArray[np.intp]) -> MotorTable:
         """The motors ``members`` (ascending) as a table, kept for the next variant that needs them."""
-        key = members.tobytes()
+        return self._take(b"m" + members.tobytes(), self.motors, members)
+
+    def sub_gearboxes(self, rows: NDArray[np.intp]) -> GearboxTable | None:
+        """The gearbox rows ``rows`` (ascending) as a table (None when there are none), kept likewise."""
+        if self.gb is None or not len(rows):
+            return None
+        if len(rows) == len(self.gb):
+            return self.gb
+        return self._take(b"g" + rows.tobytes(), self.gb, rows)
+
+    def efficiencies(self, groups: NDArray[np.intp], direct: bool) -> list[float]:
+        """The distinct gearbox efficiencies of these groups (and of direct drive, 1)."""
+        effs = set(self.group_eff[groups].tolist())
+        if direct:
+            effs.add(1.0)
+        return sorted(effs)
+
+    def _take(self, key: bytes, table: Any, index: NDArray[np.intp]) -> Any:
         hit = self._subs.get(key)
         if hit is None:
-            if len(self._subs) > 2048:
+            if len(self._subs) > 512:  # a gearbox sub-table is at most ~200 kB
                 self._subs.clear()
-            hit = self._subs[key] = self.motors.take(members)
+            hit = self._subs[key] = table.take(index)
         return hit
 
 
 def load_tables(axis: Axis, spec: SelectSpec) -> Tables:
     """The tables of a ``motor.select`` spec, as ``selection.select`` reads them."""
     motors, gb, allow_direct = catalog_tables(axis, spec)
-    ratio, eff, _, _ = _gearbox_options(gb, allow_direct)
+    ratio, eff, rows, row_start = _gearbox_options(gb, allow_direct)
+    row_group = np.zeros(0 if gb is None else len(gb), dtype=np.intp)
+    of_slot = np.repeat(np.arange(len(ratio)), np.diff(row_start))
+    row_group[rows[rows >= 0]] = of_slot[rows >= 0]
     size_key = _size_key(motors)
-    return Tables(motors=motors, gb=gb, allow_direct=allow_direct, ratios=ratio,
-                  efficiencies=list(dict.fromkeys(eff.tolist())), size_key=size_key,
-                  order=np.argsort(size_key, kind="stable"))
+    return Tables(motors=motors, gb=gb, allow_direct=allow_direct, ratios=ratio, group_eff=eff,
+                  row_group=row_group, size_key=size_key, order=np.argsort(size_key, kind="stable"))
 
 
-def feasible_motors(tb: Tables, duty: DutyCycle, margins: Margins, spec: SelectSpec) -> NDArray[np.bool_]:
-    """Motors that pass the max-speed and the inertia-ratio check behind at least one ratio: a
-    necessary condition of any passing candidate (a gearbox's input-speed limit only lowers the
-    available speed, its input inertia only adds to the load side), with a relative slack of 1e-9
-    so that a motor at a limit to rounding is evaluated."""
+SLACK = 1e-9
+"""Relative slack of the search's necessary conditions and bounds, against rounding."""
+
+
+@dataclass
+class Search:
+    """What one variant's search knows of it before any candidate is evaluated: margins that bound
+    every candidate's (``search_bounds``), NaN where a rating is unknown."""
+
+    pair: Array  # (group, motor): the least of the max-speed and inertia-ratio margins
+    row: Array  # gearbox rows: the least margin of the row's own ratings
+
+    @cached_property
+    def feasible(self) -> NDArray[np.bool_]:
+        """(group, motor): the max-speed and the inertia-ratio check can pass."""
+        return np.asarray(~(self.pair < -SLACK), dtype=bool)
+
+    @cached_property
+    def row_ok(self) -> NDArray[np.bool_]:
+        """Gearbox rows whose own ratings (n1max, n1N, T2N, T2B) can pass."""
+        return np.asarray(~(self.row < -SLACK), dtype=bool)
+
+    @cached_property
+    def pair_bound(self) -> Array:
+        """(group, motor): no candidate's worst margin is above this (+inf: no bound)."""
+        return _raised(self.pair)
+
+    @cached_property
+    def row_bound(self) -> Array:
+        """Gearbox rows: likewise."""
+        return _raised(self.row)
+
+
+def search_bounds(tb: Tables, duty: DutyCycle, margins: Margins, spec: SelectSpec) -> Search:
+    """Margins of the checks that depend on the motor and the ratio alone or on the gearbox row alone,
+    as kernel.py computes them:
+
+    * max speed: the motor's max speed / (the cycle's top speed x ratio x speed margin) - 1 (a
+      gearbox's input-speed limit only lowers the available speed);
+    * inertia ratio: limit x rotor inertia / (load inertia / ratio^2) - 1 (a gearbox's input
+      inertia only adds to the load side, so this is the largest over the gearbox rows);
+    * the gearbox row: n1max against the top speed x ratio x speed margin, n1N against the mean
+      speed x ratio, T2N against the cubic-mean output torque x torque margin, T2B against the peak
+      output torque x torque margin x shock factor. These do not depend on the motor.
+
+    A candidate whose pair or row margin is below -1e-9 fails (its check fails, whatever the other
+    half of the pair); a candidate's worst margin (the least of its known margins) is at most the
+    least of its pair's and its row's (each raised by a relative 1e-9 against rounding; unknown: +inf).
+    """
     limit = margins.inertia_ratio if spec.max_inertia_ratio is None else min(spec.max_inertia_ratio,
                                                                              margins.inertia_ratio)
-    top = float(np.max(np.abs(duty.omega))) if duty.omega.size else 0.0
-    need = top * tb.ratios * margins.speed
-    j_load = duty.load_inertia / tb.ratios**2
+    w = np.abs(duty.omega)
+    top = float(np.max(w)) if w.size else 0.0
     m = tb.motors
-    speed_ok = ~(m.max_speed[None, :] < need[:, None] * (1.0 - 1e-9))  # an unknown max speed: kept
-    inertia_ok = ~(j_load[:, None] > limit * m.rotor_inertia[None, :] * (1.0 + 1e-9))
-    return np.asarray(np.any(speed_ok & inertia_ok, axis=0), dtype=bool)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        need = top * tb.ratios * margins.speed
+        j_load = duty.load_inertia / tb.ratios**2
+        pair = np.fmin(m.max_speed[None, :] / need[:, None] - 1.0,
+                       limit * m.rotor_inertia[None, :] / j_load[:, None] - 1.0)
+        row = np.zeros(0)
+        if tb.gb is not None and len(tb.gb):
+            gb = tb.gb
+            ratio = tb.ratios[tb.row_group]
+            mean = float(np.sum(duty.weights * w)) / duty.period
+            t2b_need = (float(np.max(np.abs(duty.torque))) if duty.torque.size else 0.0) * margins.torque * \
+                shock_factor(duty.period, margins.gearbox_shock_factor)  # NaN: the T2B check is unknown
+            t2n_need = cubic_mean(duty.torque, duty.omega, duty.weights) * margins.torque
+            row = np.fmin(np.fmin(gb.max_input_speed / (top * margins.speed * ratio) - 1.0,
+                                  gb.rated_input_speed / (mean * ratio) - 1.0),
+                          np.fmin(gb.rated_output_torque / t2n_need - 1.0, gb.max_output_torque / t2b_need - 1.0))
+    return Search(pair=pair, row=row)
+
+
+def _raised(bound: Array) -> Array:
+    """An upper bound raised by a relative SLACK against rounding; NaN (unknown) as +inf."""
+    finite = np.nan_to_num(bound, nan=0.0, posinf=0.0, neginf=0.0)
+    return np.where(np.isnan(bound), np.inf, bound + SLACK * (1.0 + np.abs(finite)))
 
 
 def motoring_energy(duty: DutyCycle, rotor_inertia: float) -> float:
@@ -154,22 +247,23 @@ def answer(r: SizingResult) -> dict[str, Any]:
 class Engine:
     """Sizes many axes against the catalog loaded once; a worker process keeps one engine."""
 
-    def __init__(self, points_per_phase: int = 64) -> None:
+    def __init__(self, points_per_phase: int = 64, drives: bool = False) -> None:
         self.points = points_per_phase
+        self.drives = drives  # the drive post-pass of size (a drive for the selected motor, its currents)
         self._tables: dict[str, Tables] = {}
         self._kinematics: dict[str, tuple[Cycle, Samples]] = {}
 
     def tables(self, axis: Axis, spec: SelectSpec) -> Tables:
         """The catalog tables of this axis's selection (loaded on first use, then kept)."""
         own = any(st.kind == "gearbox" for st in axis.transmission)
-        key = json.dumps([spec.model_dump(mode="json"), own], sort_keys=True, default=str)
+        key = repr((spec, own))  # every field, floats to the last digit
         if key not in self._tables:
             self._tables[key] = load_tables(axis, spec)
         return self._tables[key]
 
     def duty(self, axis: Axis) -> DutyCycle:
         """The duty cycle, the profile's kinematics shared between axes with equal profiles."""
-        key = json.dumps([axis.spec.profile, axis.mechanism.motion, self.points], sort_keys=True, default=str)
+        key = repr((axis.spec.profile, axis.mechanism.motion, self.points))
         hit = self._kinematics.get(key)
         if hit is None:
             cycle = axis.cycle()
@@ -181,10 +275,11 @@ class Engine:
 
     def size(self, axis: Axis) -> dict[str, Any]:
         """A variant's result: ``answer(drivetrain.size(axis))`` with the batched selection (its
-        ``selection`` block holds the keys of :meth:`select`)."""
+        ``selection`` block holds the keys of :meth:`select`; the selected candidate's ``drive``,
+        ``electrical`` and ``regen`` only where the engine was made with ``drives``)."""
         from drivetrain.sizing.result import size
 
-        return answer(size(axis, self.points, duty=self.duty(axis), selector=self.select))
+        return answer(size(axis, self.points, duty=self.duty(axis), selector=self.select, drives=self.drives))
 
     def select(self, axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
                all_pairs: bool = False) -> dict[str, Any]:
@@ -193,64 +288,128 @@ class Engine:
         if all_pairs:
             return select(axis, duty, spec, margins, all_pairs=True)
         tb = self.tables(axis, spec)
-        torques = [lossy_torque(axis, duty, e) for e in tb.efficiencies]
-        demands = dict(zip(tb.efficiencies, fast_demands(duty.omega, duty.alpha, torques, duty.weights, duty.period,
-                                                         duty.load_inertia), strict=True))
+        demands: dict[float, Demand] = {}
 
-        def ev(motors: MotorTable) -> Candidates:
-            return evaluate(axis, duty, motors, tb.gb, margins, allow_direct=tb.allow_direct,
+        def ev(motors: MotorTable, gb: GearboxTable | None, allow_direct: bool, effs: list[float]) -> Candidates:
+            missing = [e for e in effs if e not in demands]
+            if missing:  # the hulls of the efficiencies not met before, in one compiled pass
+                torques = [lossy_torque(axis, duty, e) for e in missing]
+                demands.update(zip(missing, fast_demands(duty.omega, duty.alpha, torques, duty.weights, duty.period,
+                                                         duty.load_inertia), strict=True))
+            return evaluate(axis, duty, motors, gb, margins, allow_direct=allow_direct,
                             max_inertia_ratio=spec.max_inertia_ratio, strict=spec.unknown == "fail",
                             given_demands=demands)
 
-        found = _smallest_first(ev, tb, duty, margins, spec) if spec.objective == "smallest" else None
-        if found is None:  # every candidate, ranked as select ranks them
-            c = ev(tb.motors)
-            found = (c, tb.motors, ranked(c, tb.motors, tb.gb, spec.objective, duty))
-            return _summary(*found, tb, spec, duty, evaluated_all=True)
-        return _summary(*found, tb, spec, duty, evaluated_all=False)
+        if spec.objective == "smallest":
+            bounds = search_bounds(tb, duty, margins, spec)
+            found = _smallest_first(ev, tb, bounds, duty)
+            if found is not None:
+                return _summary(*found, tb, spec, duty, evaluated_all=False)
+            closest = _closest_of_all(ev, tb, bounds)
+            if closest is not None:  # nothing passes: the closest candidate, found without the counts
+                return _summary(*closest, np.zeros(0, dtype=np.intp), tb, spec, duty, evaluated_all=False)
+        # every candidate, ranked as select ranks them
+        c = ev(tb.motors, tb.gb, tb.allow_direct, tb.efficiencies(tb.row_group, tb.allow_direct))
+        return _summary(c, tb.motors, tb.gb, ranked(c, tb.motors, tb.gb, spec.objective, duty), tb, spec, duty,
+                        evaluated_all=True)
 
 
-def _smallest_first(ev: Any, tb: Tables, duty: DutyCycle, margins: Margins,
-                    spec: SelectSpec) -> tuple[Candidates, MotorTable, NDArray[np.intp]] | None:
-    """The candidates of the motors that hold the best one, and their ranking; None when no feasible
-    motor has a passing candidate."""
-    order = tb.order[feasible_motors(tb, duty, margins, spec)[tb.order]]
+Found = tuple["Candidates", "MotorTable", "GearboxTable | None", NDArray[np.intp]]
+
+
+def _smallest_first(ev: Any, tb: Tables, bounds: Search, duty: DutyCycle) -> Found | None:
+    """The candidates that hold the best one (motors of the chunks with a passing candidate, the
+    gearbox rows any of them can pass with), and their ranking; None when no candidate passes."""
+    order = tb.order[np.any(bounds.feasible, axis=0)[tb.order]]
     passing_chunks: list[NDArray[np.intp]] = []
-    best: tuple[Candidates, MotorTable, NDArray[np.intp]] | None = None
+    best: Found | None = None
     start = 0
     while start < len(order):
         stop = min(start + CHUNK, len(order))
         while stop < len(order) and tb.size_key[order[stop]] == tb.size_key[order[stop - 1]]:
             stop += 1  # motors of equal size go in the same chunk
         members = np.sort(order[start:stop])
-        sub = tb.sub_table(members)
-        c = ev(sub)
         start = stop
-        if np.any(c.ok):
+        found = _evaluate_chunk(ev, tb, bounds, members)
+        if found is not None and np.any(found[0].ok):
             passing_chunks.append(members)
             if len(passing_chunks) > 1:  # rank the passing chunks' candidates together
-                members = np.sort(np.concatenate(passing_chunks))
-                sub = tb.sub_table(members)
-                c = ev(sub)
-            best = (c, sub, ranked(c, sub, tb.gb, "smallest", duty))
+                found = _evaluate_chunk(ev, tb, bounds, np.sort(np.concatenate(passing_chunks)))
+            assert found is not None
+            c, sub, gb = found
+            best = (c, sub, gb, ranked(c, sub, gb, "smallest", duty))
         if best is not None and (stop == len(order) or _beats_the_rest(best, tb, duty,
                                                                        float(tb.size_key[order[stop]]))):
             return best
     return best
 
 
-def _beats_the_rest(best: tuple[Candidates, MotorTable, NDArray[np.intp]], tb: Tables, duty: DutyCycle,
-                    next_size: float) -> bool:
+def _evaluate_chunk(ev: Any, tb: Tables, bounds: Search,
+                    members: NDArray[np.intp]) -> tuple[Candidates, MotorTable, GearboxTable | None] | None:
+    """The candidates of the motors ``members`` (ascending) that can pass, None when none can.
+
+    Only direct drive and the gearbox rows that pass their own ratings, of a ratio some of the
+    motors can pass the max-speed and inertia-ratio checks with, are evaluated: every other
+    candidate fails. The rows keep their catalog order, so the candidates keep theirs and
+    ``ranked`` breaks ties as over the whole catalog.
+    """
+    groups = np.any(bounds.feasible[:, members], axis=1)
+    direct = tb.allow_direct and bool(groups[0])
+    rows = np.flatnonzero(bounds.row_ok & groups[tb.row_group]) if tb.gb is not None else np.zeros(0, np.intp)
+    if not direct and not len(rows):
+        return None
+    sub, gb = tb.sub_table(members), tb.sub_gearboxes(rows)
+    return ev(sub, gb, direct, tb.efficiencies(tb.row_group[rows], direct)), sub, gb
+
+
+def _closest_of_all(ev: Any, tb: Tables, bounds: Search) -> tuple[Candidates, MotorTable, GearboxTable | None] | None:
+    """When no candidate passes: the candidates among which the closest one of the whole catalog is
+    (``select``'s: the largest worst margin, ties in candidate order), None when it takes them all.
+
+    Every candidate's worst margin is at most its bound (``search_bounds``). The candidates with a
+    bound of at least ``tau`` are evaluated (the motors and gearbox rows that have one, so a few
+    more): first with ``tau`` that of the ``CHUNK`` motors of the largest bounds, then, if the best
+    worst margin ``w`` found is below ``tau``, with ``tau = w``. Every candidate left out then has a
+    worst margin below ``w``: the best found is the best of all, and candidates keep their order.
+    """
+    n_rows = 0 if tb.gb is None else len(tb.gb)
+    row_bound = bounds.row_bound if n_rows else np.zeros(0)
+    group_row = np.full(len(tb.ratios), -np.inf)  # the largest row bound of each group
+    np.maximum.at(group_row, tb.row_group, row_bound)
+    if tb.allow_direct:
+        group_row[0] = np.inf  # direct drive has no gearbox rating
+    pair = np.minimum(bounds.pair_bound, group_row[:, None])
+    motor = np.max(pair, axis=0)
+    tau = float(np.sort(motor)[::-1][min(CHUNK, len(motor)) - 1])
+    for _ in range(2):
+        if not math.isfinite(tau):
+            return None
+        members = np.flatnonzero(motor >= tau)
+        groups = np.any(pair[:, members] >= tau, axis=1)
+        direct = tb.allow_direct and bool(groups[0])
+        rows = np.flatnonzero((row_bound >= tau) & groups[tb.row_group]) if n_rows else np.zeros(0, np.intp)
+        if not direct and not len(rows):
+            return None
+        sub, gb = tb.sub_table(members), tb.sub_gearboxes(rows)
+        c = ev(sub, gb, direct, tb.efficiencies(tb.row_group[rows], direct))
+        w = float(c.worst_margin[_closest_failing(c, 1)[0]])
+        if w >= tau:
+            return c, sub, gb
+        tau = w
+    return None
+
+
+def _beats_the_rest(best: Found, tb: Tables, duty: DutyCycle, next_size: float) -> bool:
     """The first ranked candidate ranks before every candidate of a motor of size key >= ``next_size``."""
-    c, sub, order = best
+    c, sub, gb, order = best
     k = order[:1]
-    obj = float(_objective(c, k, sub, tb.gb, "smallest", duty)[0])
+    obj = float(_objective(c, k, sub, gb, "smallest", duty)[0])
     known_fit = not (int(c.unknown[k[0]]) & FIT_BIT)
     return known_fit and math.isfinite(obj) and (math.isnan(next_size) or obj < next_size * 1e6)
 
 
-def _summary(c: Candidates, motors: MotorTable, order: NDArray[np.intp], tb: Tables, spec: SelectSpec,
-             duty: DutyCycle, evaluated_all: bool) -> dict[str, Any]:
+def _summary(c: Candidates, motors: MotorTable, gb: GearboxTable | None, order: NDArray[np.intp], tb: Tables,
+             spec: SelectSpec, duty: DutyCycle, evaluated_all: bool) -> dict[str, Any]:
     """``select``'s answer, keys as there: the first candidate, and the counts where every candidate
     was evaluated."""
     from drivetrain.sizing.reasons import candidate_dict
@@ -264,14 +423,14 @@ def _summary(c: Candidates, motors: MotorTable, order: NDArray[np.intp], tb: Tab
                         "unknown_by_check": c.unknowns()})
     if len(order):
         k = int(order[0])
-        first = candidate_dict(c, k, motors, tb.gb, 1)
+        first = candidate_dict(c, k, motors, gb, 1)
         summary["_best"] = k
         summary["selected"] = first
     else:
-        first = candidate_dict(c, int(_closest_failing(c, 1)[0]), motors, tb.gb, None)
+        first = candidate_dict(c, int(_closest_failing(c, 1)[0]), motors, gb, None)
     summary["_candidates"] = c
     summary["_ranked"] = order
-    summary["_tables"] = (motors, tb.gb)
+    summary["_tables"] = (motors, gb)
     return {"candidates": [first], "selection": summary}
 
 
@@ -283,4 +442,4 @@ def full_result(axis: Axis, points_per_phase: int = 64) -> dict[str, Any]:
     return answer(size(axis, points_per_phase))
 
 
-__all__ = ["CHUNK", "Engine", "Tables", "answer", "feasible_motors", "full_result", "load_tables", "motoring_energy"]
+__all__ = ["CHUNK", "Engine", "Tables", "answer", "full_result", "load_tables", "motoring_energy", "search_bounds"]

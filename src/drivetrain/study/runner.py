@@ -13,6 +13,7 @@ import json
 import logging
 import math
 import os
+import sys
 import time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
@@ -34,6 +35,14 @@ PARTIAL_EVERY = 5.0
 META_KEY = b"drivetrain.study"
 CONNECT_TIMEOUT = "10s"
 """How long to try reaching an existing scheduler."""
+EMBEDDED_CONFIG: dict[str, Any] = {"distributed.worker.profile.enabled": False,
+                                   "distributed.admin.system-monitor.gil.enabled": False}
+"""Dask settings of the embedded cluster: no statistical profiler or GIL monitor beside the sizing,
+and on Linux worker processes forked from this one, so that they start with the modules, the unit
+registry, the compiled code and the catalog tables this process has loaded (``make_plan`` sized
+the base axis); elsewhere Dask's default start method."""
+if sys.platform.startswith("linux"):
+    EMBEDDED_CONFIG["distributed.worker.multiprocessing-method"] = "fork"
 
 
 @dataclass(frozen=True)
@@ -45,6 +54,7 @@ class Plan:
     record: tuple[str, ...]
     points: int
     full: bool  # a recorded key needs the unbatched drivetrain.size
+    drives: bool = False  # a recorded key needs the drive post-pass (selection.selected.drive, ...)
 
     def axis_dict(self, values: tuple[Any, ...]) -> dict[str, Any]:
         from drivetrain.study.paths import set_path
@@ -59,13 +69,14 @@ class Plan:
 _ENGINE: Any = None
 
 
-def _engine(points: int) -> Any:
+def _engine(points: int, drives: bool = False) -> Any:
     """This process's engine (catalog tables loaded on its first selection, then kept)."""
     global _ENGINE
     from drivetrain.study.batch import Engine
 
     if _ENGINE is None or _ENGINE.points != points:
         _ENGINE = Engine(points)
+    _ENGINE.drives = drives
     return _ENGINE
 
 
@@ -75,7 +86,7 @@ def size_variant(plan: Plan, values: tuple[Any, ...]) -> dict[str, Any]:
     from drivetrain.study.batch import full_result
 
     axis = parse_axis(plan.axis_dict(values))
-    return full_result(axis, plan.points) if plan.full else _engine(plan.points).size(axis)
+    return full_result(axis, plan.points) if plan.full else _engine(plan.points, plan.drives).size(axis)
 
 
 def run_batch(plan: Plan, items: list[tuple[int, tuple[Any, ...]]]) -> list[dict[str, Any]]:
@@ -106,8 +117,12 @@ def make_plan(study: Study) -> Plan:
         k = study.spec.record.index(unknown[0])
         raise InputError(f"record[{k}]", "is not a key of the size result of the base axis (e.g. "
                          "selection.selected.motor, rms_torque_Nm, selection.passing)", unknown[0])
+    drives = False
+    if not covered:  # a key of the drive post-pass (selection.selected.drive.id, ...)?
+        drives = True
+        covered, _ = fast_covers(_engine(study.spec.points, drives).size(axis), full, study.spec.record)
     return Plan(base=study.base, parameters=study.parameters, record=tuple(study.spec.record),
-                points=study.spec.points, full=not covered)
+                points=study.spec.points, full=not covered, drives=drives and covered)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -308,13 +323,15 @@ def _resume_rows(study: Study, out: Path) -> list[dict[str, Any]]:
 
 def _run_dask(plan: Plan, todo: list[tuple[int, tuple[Any, ...]]], batch: int, address: str | None,
               workers: int | None, collect: Callable[[Iterable[dict[str, Any]]], None]) -> None:
+    import dask
     from distributed import Client, LocalCluster, as_completed
 
     cluster = None
     if address is None:
         n = workers or os.cpu_count() or 1
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=logging.ERROR)
+        with dask.config.set(EMBEDDED_CONFIG):
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                                   silence_logs=logging.ERROR)
         client = Client(cluster)
     else:
         try:
