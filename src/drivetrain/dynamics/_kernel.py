@@ -64,7 +64,7 @@ import math
 from typing import Any
 
 import numpy as np
-from numba import njit
+from drivetrain.jit import njit
 from numpy.typing import NDArray
 
 F64 = NDArray[np.float64]

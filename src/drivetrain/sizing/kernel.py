@@ -33,7 +33,7 @@ import math
 from typing import Any
 
 import numpy as np
-from numba import njit
+from drivetrain.jit import njit
 from numpy.typing import NDArray
 
 # rows of the check arrays, in the order of selection.CHECK_UNITS
