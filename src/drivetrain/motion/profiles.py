@@ -381,7 +381,10 @@ class Cycle:
         simpson[1:-1:2], simpson[2:-1:2] = 4.0, 2.0
         weights = (dur[:, None] / (3.0 * (n - 1))) * simpson[None, :]
         seg = np.repeat(np.arange(nseg, dtype=np.intp), n)
-        kin = tab.evaluate_local(seg, (tab.span[:, None] * frac[None, :]).ravel())
+        # every segment on its own row of the grid: its coefficients broadcast, never gathered per sample
+        grid = evaluate_pieces(tab.coeffs[:, None, :], tab.amp[:, None], tab.omega[:, None], tab.phase[:, None],
+                               tab.span[:, None] * frac[None, :])
+        kin = Kinematics(*(g.ravel() for g in grid))
         step_of = np.array([s.step for s in self.segments], dtype=np.intp)
         phase_of = np.array([s.phase for s in self.segments], dtype=np.intp)
         steps = self.steps
