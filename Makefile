@@ -13,10 +13,12 @@ $(STAMP): pyproject.toml
 	rm -f $(VENV)/.installed-*
 	touch $(STAMP)
 
-## After install (and after a source change), run each command once so that the first real run finds
-## numba's compiled kernels, the catalog database and the unit factors already cached.
+## After install (and after a source change): build the selection kernel ahead of time (no numba in a
+## sizing), then run each command once so that the first real run finds numba's compiled kernels, the
+## catalog database and the unit factors already cached.
 WARM := $(VENV)/.warm
 $(WARM): $(STAMP) $(shell find src -name '*.py' -o -name '*.csv' 2>/dev/null)
+	$(PY) -m drivetrain.sizing.aot
 	$(VENV)/bin/drivetrain size examples/ball_screw.yaml >/dev/null
 	$(VENV)/bin/drivetrain simulate examples/belt.yaml >/dev/null
 	$(PY) -c "import numpy as n; from drivetrain.sizing.hull import chains; chains(n.zeros(3), n.arange(3.0), n.array([0]), n.array([3]))"
