@@ -45,7 +45,7 @@ def numba_njit(**options: Any) -> Callable[[Callable[..., Any]], Any]:
     _import_arraymath_without_blas_probe()
     import numba
 
-    return numba.njit(**options)  # type: ignore[no-any-return]
+    return numba.njit(**options)
 
 
 def _import_arraymath_without_blas_probe() -> None:

@@ -203,7 +203,7 @@ def _scalar_move(d: Any, vm: Any, am: Any, jm: Any) -> bool:
             and math.isfinite(d) and 0.0 < vm < math.inf and 0.0 < am < math.inf and jm > 0.0)
 
 
-def _time_optimal_scalar(d: float, vm: float, am: float, jm: float) -> tuple[float, ...] | None:
+def _time_optimal_scalar(d: Any, vm: Any, am: Any, jm: Any) -> tuple[float, ...] | None:
     """``time_optimal_parameters`` for one move (``_scalar_move``) as Python floats, in TimeOptimal's order:
     the same operations in the same order (no array set-up), so the same values to the bit. None where
     a quotient meets zero (underflow): the array path then answers by numpy's rules."""

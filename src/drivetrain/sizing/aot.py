@@ -93,11 +93,11 @@ def _compile(name: str, dispatchers: dict[str, Any], options: dict[str, Any], ou
     for fname, d in dispatchers.items():
         if d.nopython_signatures:
             cc.export(fname, d.nopython_signatures[0])(d.py_func)
-    pycc_compiler.Flags = Flags
+    setattr(pycc_compiler, "Flags", Flags)  # noqa: B010 (pycc builds its flags inside; no other way in)
     try:
         cc.compile()
     finally:
-        pycc_compiler.Flags = base
+        setattr(pycc_compiler, "Flags", base)  # noqa: B010
     (out,) = [p for p in out_dir.iterdir() if p.name.startswith(name)]
     return out
 

@@ -33,8 +33,9 @@ import math
 from typing import Any
 
 import numpy as np
-from drivetrain.jit import njit
 from numpy.typing import NDArray
+
+from drivetrain.jit import njit
 
 # rows of the check arrays, in the order of selection.CHECK_UNITS
 PEAK, RMS, SPEED, INERTIA, GB_RATED, GB_PEAK = range(6)

@@ -70,7 +70,8 @@ def demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: fl
 
         va, vt, counts = chains(a_s, t_s, starts, stops)
         va_l, vt_l, ends = va.tolist(), vt.tolist(), np.cumsum(counts).tolist()
-        verts = [list(zip(va_l[e - c:e], vt_l[e - c:e], strict=True)) for e, c in zip(ends, counts.tolist(), strict=True)]
+        verts = [list(zip(va_l[e - c:e], vt_l[e - c:e], strict=True))
+                 for e, c in zip(ends, counts.tolist(), strict=True)]
     else:
         a_l, t_l = a_s.tolist(), t_s.tolist()
         verts = [_chain(a_l[s:e], t_l[s:e]) for s, e in zip(starts.tolist(), stops.tolist(), strict=True)]
