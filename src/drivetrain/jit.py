@@ -1,13 +1,13 @@
 """The compiled kernels' one way in to numba: ``njit``, or the ahead-of-time build of a module.
 
-Ahead of time. A module listed in ``AOT_MODULES`` may have a build of its kernels made with
-numba's ``pycc`` by ``python -m drivetrain.sizing.aot`` (``make setup`` runs it): a plain
-extension module in the cache folder, named by a hash of the module's source, numpy's version,
-the interpreter and the CPU (it is built for the host's), so a changed kernel never meets an old
-build. Where that build exists, ``njit``
-returns a ``Kernel`` that calls it, and the process never imports numba (importing numba and
-loading its cached kernel cost more than a whole sizing). Arguments of a type the build was not
-made for, or no build at all, go to numba's ``njit`` as before, compiled on first use.
+Ahead of time. A module listed in ``AOT_MODULES`` may have a build of its kernels made with numba's
+``pycc`` by ``python -m drivetrain.sizing.aot`` (``make setup`` runs it): a plain extension module
+in the cache folder, named by a hash of the module's source and the builder's, numpy's version, the
+interpreter and the CPU (it is built for the host's), so a changed kernel never meets an old build.
+Where that build exists, ``njit`` returns a ``Kernel`` that calls it, and the process never imports
+numba (importing numba and loading its cached kernel cost more than a whole sizing). Arguments of a
+type the build was not made for, or no build at all, go to numba's ``njit`` as before, compiled on
+first use.
 
 numba without its BLAS probe. Importing ``numba.np.arraymath`` (which numba does on the first
 compile or cache load) runs ``_check_blas``: it imports ``scipy.linalg.cython_blas`` and with it
@@ -33,6 +33,9 @@ from drivetrain.unit_cache import cache_dir
 
 AOT_MODULES = ("drivetrain.sizing.kernel",)
 """Modules whose kernels may be built ahead of time (their functions call no other module's kernels)."""
+
+BUILDER = "drivetrain.sizing.aot"
+"""The module that makes the builds (its source is part of a build's name)."""
 
 OPTIONS: dict[str, dict[str, dict[str, Any]]] = {}
 """module -> function name -> the options given to ``njit`` (read by the ahead-of-time build)."""
@@ -74,10 +77,12 @@ def aot_name(module: str) -> str:
     """Extension-module name of the build of ``module`` for its current source, numpy and interpreter."""
     import numpy as np
 
-    spec = importlib.util.find_spec(module)
-    if spec is None or spec.origin is None:
-        raise ImportError(module)
-    digest = hashlib.sha256(Path(spec.origin).read_bytes())
+    digest = hashlib.sha256()
+    for source in (module, BUILDER):  # the kernel's source and the way it is built
+        spec = importlib.util.find_spec(source)
+        if spec is None or spec.origin is None:
+            raise ImportError(source)
+        digest.update(Path(spec.origin).read_bytes())
     digest.update(f"{np.__version__}|{sys.version}|{sys.platform}|{_cpu()}".encode())
     return f"_aot_{module.rsplit('.', 1)[-1]}_{digest.hexdigest()[:16]}"
 

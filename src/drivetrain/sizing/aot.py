@@ -85,6 +85,7 @@ def _compile(name: str, dispatchers: dict[str, Any], options: dict[str, Any], ou
             super().__init__(*args, **kwargs)
             self.error_model = options.get("error_model", "python")
             self.fastmath = FastMathOptions(options.get("fastmath", False))
+            self.release_gil = bool(options.get("nogil", False))  # the web app sizes in threads
 
     cc = CC(name)
     cc.output_dir = str(out_dir)
