@@ -19,12 +19,14 @@ import math
 import os
 import sys
 import tempfile
+import threading
 from pathlib import Path
 
 ENV_CACHE_DIR = "DRIVETRAIN_CACHE_DIR"
 
 _factors: dict[str, tuple[float, float]] | None = None
 _path: Path | None = None
+_lock = threading.Lock()  # the web app parses in threads
 
 
 def cache_dir() -> Path:
@@ -85,16 +87,20 @@ def put(unit: str, quantity: str, factors: tuple[float, float]) -> None:
     """Remember ``factors`` of ``unit`` read as ``quantity`` (written at once, atomically)."""
     if not all(math.isfinite(v) for v in factors):
         return
-    table = _load()
-    table[_key(unit, quantity)] = (float(factors[0]), float(factors[1]))
-    path = _file()
-    if path is None:
-        return
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=".units-", suffix=".json", dir=path.parent)
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            json.dump({k: list(v) for k, v in table.items()}, fh)
-        os.replace(tmp, path)
-    except OSError:
-        return
+    with _lock:
+        table = _load()
+        table[_key(unit, quantity)] = (float(factors[0]), float(factors[1]))
+        content = json.dumps({k: list(v) for k, v in table.items()})
+        path = _file()
+        if path is None:
+            return
+        tmp = None
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            fd, tmp = tempfile.mkstemp(prefix=".units-", suffix=".json", dir=path.parent)
+            with os.fdopen(fd, "w", encoding="utf-8") as fh:
+                fh.write(content)
+            os.replace(tmp, path)
+        except OSError:
+            if tmp is not None:
+                Path(tmp).unlink(missing_ok=True)
