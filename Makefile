@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed-$(shell cksum pyproject.toml | cut -d' ' -f1)
 
-.PHONY: setup run serve test lint bench browser clean
+.PHONY: setup warm run serve test lint bench browser clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -13,11 +13,12 @@ $(STAMP): pyproject.toml
 	rm -f $(VENV)/.installed-*
 	touch $(STAMP)
 
-## After install (and after a source change): build the selection kernel ahead of time (no numba in a
-## sizing), then run each command once so that the first real run finds numba's compiled kernels, the
-## catalog database and the unit factors already cached.
+## After install: build the selection kernel ahead of time (no numba in a sizing), then run each
+## command once so that the first real run finds numba's compiled kernels, the catalog database and
+## the unit factors already cached. A later source change only makes the next run compile again
+## (a stale build is never used); `make warm` redoes the warm-up.
 WARM := $(VENV)/.warm
-$(WARM): $(STAMP) $(shell find src -name '*.py' -o -name '*.csv' 2>/dev/null)
+$(WARM): $(STAMP)
 	$(PY) -m drivetrain.sizing.aot
 	$(VENV)/bin/drivetrain size examples/ball_screw.yaml >/dev/null
 	$(VENV)/bin/drivetrain simulate examples/belt.yaml >/dev/null
@@ -25,6 +26,10 @@ $(WARM): $(STAMP) $(shell find src -name '*.py' -o -name '*.csv' 2>/dev/null)
 	touch $(WARM)
 
 setup: $(STAMP) $(WARM)
+
+warm: $(STAMP)
+	rm -f $(WARM)
+	$(MAKE) $(WARM)
 
 ## Debian's Chromium for the report and web-app browser tests (skipped when present).
 browser:
