@@ -174,6 +174,9 @@ def time_optimal_parameters(
     otherwise. Biagiotti & Melchiorri, *Trajectory Planning for Automatic Machines and Robots*,
     sec. 3.4.2 (double S with zero end speeds). Units: m, m/s, m/s^2, m/s^3 (or rad...), s.
     """
+    one = _time_optimal_scalar(distance, vmax, amax, jmax) if _scalar_move(distance, vmax, amax, jmax) else None
+    if one is not None:
+        return TimeOptimal(*map(np.float64, one))  # type: ignore[arg-type]
     d = np.abs(np.asarray(distance, dtype=float))
     vm, am, jm = (np.asarray(x, dtype=float) for x in (vmax, amax, jmax))
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -191,10 +194,59 @@ def time_optimal_parameters(
     return TimeOptimal(duration, v_p, np.where(v_p > 0.0, a_p, 0.0), t_j, t_c, t_v)
 
 
+_SCALAR = (float, int, np.float64)
+
+
+def _scalar_move(d: Any, vm: Any, am: Any, jm: Any) -> bool:
+    """One move given as numbers: finite distance, finite positive speed and acceleration, positive jerk."""
+    return (type(d) in _SCALAR and type(vm) in _SCALAR and type(am) in _SCALAR and type(jm) in _SCALAR
+            and math.isfinite(d) and 0.0 < vm < math.inf and 0.0 < am < math.inf and jm > 0.0)
+
+
+def _time_optimal_scalar(d: Any, vm: Any, am: Any, jm: Any) -> tuple[float, ...] | None:
+    """``time_optimal_parameters`` for one move (``_scalar_move``) as Python floats, in TimeOptimal's order:
+    the same operations in the same order (no array set-up), so the same values to the bit. None where
+    a quotient meets zero (underflow): the array path then answers by numpy's rules."""
+    try:
+        return _scalar_core(abs(float(d)), float(vm), float(am), float(jm))
+    except ZeroDivisionError:
+        return None
+
+
+def _scalar_core(d: float, vm: float, am: float, jm: float) -> tuple[float, ...]:
+    a2j = am * am / jm
+    ramp_at_vmax = vm / am + am / jm if vm >= a2j else 2.0 * math.sqrt(vm / jm)
+    reach = d >= vm * ramp_at_vmax
+    if reach:
+        v_p = vm
+    elif d >= 2.0 * am * a2j / jm:
+        v_p = 2.0 * d * am / (a2j + math.sqrt(a2j * a2j + 4.0 * d * am)) if d > 0.0 else 0.0
+    else:
+        half = d * math.sqrt(jm) / 2.0
+        v_p = float(np.cbrt(half * half))
+    root = math.sqrt(v_p * jm)  # NaN only for v_p = 0 under no jerk limit, where a_p enters nothing
+    a_p = root if root < am else am
+    t_j = 0.0 if jm == math.inf else a_p / jm
+    if v_p > 0.0:
+        t_c = v_p / a_p - t_j
+        t_c = t_c if t_c > 0.0 else 0.0
+    else:
+        t_c = a_p = 0.0
+    if reach:
+        t_v = d / vm - (2.0 * t_j + t_c)
+        t_v = t_v if t_v > 0.0 else 0.0
+    else:
+        t_v = 0.0
+    return 2.0 * (2.0 * t_j + t_c) + t_v, v_p, a_p, t_j, t_c, t_v
+
+
 def time_optimal_duration(
     distance: npt.ArrayLike, vmax: npt.ArrayLike, amax: npt.ArrayLike, jmax: npt.ArrayLike = math.inf
 ) -> FloatArray:
     """Shortest duration [s] of a rest-to-rest move under the limits (see ``time_optimal_parameters``)."""
+    one = _time_optimal_scalar(distance, vmax, amax, jmax) if _scalar_move(distance, vmax, amax, jmax) else None
+    if one is not None:
+        return np.float64(one[0])  # type: ignore[return-value]
     return time_optimal_parameters(distance, vmax, amax, jmax).duration
 
 
@@ -391,7 +443,10 @@ class Cycle:
         simpson[1:-1:2], simpson[2:-1:2] = 4.0, 2.0
         weights = (dur[:, None] / (3.0 * (n - 1))) * simpson[None, :]
         seg = np.repeat(np.arange(nseg, dtype=np.intp), n)
-        kin = tab.evaluate_local(seg, (tab.span[:, None] * frac[None, :]).ravel())
+        # every segment on its own row of the grid: its coefficients broadcast, never gathered per sample
+        grid = evaluate_pieces(tab.coeffs[:, None, :], tab.amp[:, None], tab.omega[:, None], tab.phase[:, None],
+                               tab.span[:, None] * frac[None, :])
+        kin = Kinematics(*(g.ravel() for g in grid))
         step_of = np.array([s.step for s in self.segments], dtype=np.intp)
         phase_of = np.array([s.phase for s in self.segments], dtype=np.intp)
         steps = self.steps
