@@ -1,13 +1,15 @@
-"""The convex hull of each speed bin's (alpha, T) points, compiled: ``motor_fit._chain`` for every
-bin in one pass. Imported lazily by ``motor_fit.demand`` for cycles with many points (importing
-this module imports numba); a short cycle keeps the plain-float ``_chain``, whose per-call cost
-is lower there.
+"""The convex hull of a duty cycle's (acceleration, torque) points per speed bin, compiled:
+``motor_fit._chain`` for every bin in one pass. ``motor_fit.demand`` uses it for cycles of many
+points (importing this module imports numba; a short cycle keeps the plain-float chain, whose
+per-call cost is lower there), and a study (``study/batch.py``) for its many variants, several
+gearbox efficiencies in one pass (``fast_demands``).
 
 Same algorithm and the same floating-point operations in the same order as ``_chain`` (Andrew's
 monotone chain, collinear points within a relative turn of 1e-12 dropped; no fast-math, so no
-fused multiply-add), hence the same vertices: ``tests/test_hull.py`` asserts equality on random
-points. Source: A. M. Andrew, Another efficient algorithm for convex hulls in two dimensions,
-Information Processing Letters 9 (1979) 216-219.
+fused multiply-add), hence the same vertices, bins and padding as ``motor_fit.demand``:
+``tests/test_hull.py`` and ``tests/test_study_batch.py`` assert equality (hypothesis). Source:
+A. M. Andrew, Another efficient algorithm for convex hulls in two dimensions, Information
+Processing Letters 9 (1979) 216-219.
 """
 
 from __future__ import annotations
@@ -16,72 +18,162 @@ import numpy as np
 from numpy.typing import NDArray
 
 from drivetrain.jit import njit
+from drivetrain.sizing.motor_fit import _COLLINEAR, Demand, binned_points
 
-_COLLINEAR = 1e-12  # as motor_fit._COLLINEAR
+Array = NDArray[np.float64]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _half(a: NDArray[np.float64], t: NDArray[np.float64], first: int, last: int, step: int,
-          sa: NDArray[np.float64], st: NDArray[np.float64]) -> int:
-    """One half of the chain over points first, first + step, ... last: its length in sa/st."""
-    m = 0
-    k = first
-    while True:
-        px, py = a[k], t[k]
-        while m >= 2:
-            x0, y0, x1, y1 = sa[m - 2], st[m - 2], sa[m - 1], st[m - 1]
-            turn_a = (x1 - x0) * (py - y0)
-            turn_b = (y1 - y0) * (px - x0)
+def _half(x: Array, y: Array, idx: NDArray[np.int64], out: NDArray[np.int64]) -> int:  # pragma: no cover
+    """One half of Andrew's monotone chain over the points ``idx`` (in order); writes indices to ``out``."""
+    n = 0
+    for p in idx:
+        while n >= 2:
+            x0, y0, x1, y1 = x[out[n - 2]], y[out[n - 2]], x[out[n - 1]], y[out[n - 1]]
+            turn_a, turn_b = (x1 - x0) * (y[p] - y0), (y1 - y0) * (x[p] - x0)
             if turn_a - turn_b > _COLLINEAR * (abs(turn_a) + abs(turn_b)):
                 break
-            m -= 1
-        sa[m], st[m] = px, py
-        m += 1
-        if k == last:
-            return m
-        k += step
+            n -= 1
+        out[n] = p
+        n += 1
+    return n
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _chains(a: NDArray[np.float64], t: NDArray[np.float64], starts: NDArray[np.int64],
-            stops: NDArray[np.int64]) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
-    n_b = len(starts)
-    out_a = np.empty(2 * len(a) + n_b)
-    out_t = np.empty(2 * len(a) + n_b)
-    counts = np.zeros(n_b, dtype=np.int64)
-    sa = np.empty(len(a) + 1)
-    st = np.empty(len(a) + 1)
-    pos = 0
-    for b in range(n_b):
+def _hulls(x: Array, y: Array, starts: NDArray[np.int64], stops: NDArray[np.int64]) -> tuple[
+        NDArray[np.int64], NDArray[np.int64]]:  # pragma: no cover
+    """Hull vertices (as point indices) of each run ``[starts[b], stops[b])`` of points sorted by (x, y).
+
+    Returns the vertex indices of all runs one after the other and the count of each run,
+    in the order of ``motor_fit._chain``: lower chain without its last point, then upper chain
+    without its last point; fewer than 3 points are returned as they are; an empty result is
+    the first point.
+    """
+    nb = starts.shape[0]
+    total = 0
+    for b in range(nb):
+        total += 2 * (stops[b] - starts[b]) + 2
+    verts = np.empty(total, dtype=np.int64)
+    count = np.empty(nb, dtype=np.int64)
+    buf = np.empty(2 * (np.max(stops - starts) if nb else 0) + 2, dtype=np.int64)
+    k = 0
+    for b in range(nb):
         s, e = starts[b], stops[b]
-        if e - s < 3:
-            for k in range(s, e):
-                out_a[pos], out_t[pos] = a[k], t[k]
-                pos += 1
-            counts[b] = e - s
+        n = e - s
+        if n < 3:
+            for q in range(n):
+                verts[k + q] = s + q
+            count[b] = n
+            k += n
             continue
-        begin = pos
-        m = _half(a, t, s, e - 1, 1, sa, st)
-        for k in range(m - 1):
-            out_a[pos], out_t[pos] = sa[k], st[k]
-            pos += 1
-        m = _half(a, t, e - 1, s, -1, sa, st)
-        for k in range(m - 1):
-            out_a[pos], out_t[pos] = sa[k], st[k]
-            pos += 1
-        if pos == begin:  # every point the same: ``or pts[:1]``
-            out_a[pos], out_t[pos] = a[s], t[s]
-            pos += 1
-        counts[b] = pos - begin
-    return out_a[:pos], out_t[:pos], counts
+        fwd = np.arange(s, e)
+        n_lo = _half(x, y, fwd, buf)
+        c = 0
+        for q in range(n_lo - 1):
+            verts[k + c] = buf[q]
+            c += 1
+        n_up = _half(x, y, fwd[::-1], buf)
+        for q in range(n_up - 1):
+            verts[k + c] = buf[q]
+            c += 1
+        if c == 0:
+            verts[k] = s
+            c = 1
+        count[b] = c
+        k += c
+    return verts[:k], count
 
 
-def chains(alpha: NDArray[np.float64], torque: NDArray[np.float64], starts: NDArray[np.int64],
-           stops: NDArray[np.int64]) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
-    """Hull vertices of the points ``[starts[b]:stops[b]]`` of each bin b, as ``_chain`` gives them.
+def chains(alpha: Array, torque: Array, starts: NDArray[np.integer], stops: NDArray[np.integer]) -> tuple[
+        Array, Array, NDArray[np.int64]]:
+    """Hull vertices of the points ``[starts[b]:stops[b]]`` of each bin b, as ``motor_fit._chain`` gives them.
 
     The points of each bin are sorted by (alpha, T) without repeats. Returns the vertices of every
     bin one after another (alpha [rad/s^2], T [N m]) and each bin's number of vertices.
     """
-    return _chains(np.ascontiguousarray(alpha, dtype=np.float64), np.ascontiguousarray(torque, dtype=np.float64),
-                   np.ascontiguousarray(starts, dtype=np.int64), np.ascontiguousarray(stops, dtype=np.int64))
+    a = np.ascontiguousarray(alpha, dtype=np.float64)
+    t = np.ascontiguousarray(torque, dtype=np.float64)
+    verts, count = _hulls(a, t, np.ascontiguousarray(starts, dtype=np.int64), np.ascontiguousarray(stops, dtype=np.int64))
+    return a[verts], t[verts], count
+
+
+def fast_demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: float, load_inertia: float,
+                bins: int = 64) -> Demand:
+    """``motor_fit.demand`` with the hulls compiled: the same bins, points, vertices and padding."""
+    a_s, t_s, starts, stops, speeds = binned_points(omega, alpha, torque, bins)
+    verts, count = _hulls(np.ascontiguousarray(a_s), np.ascontiguousarray(t_s), starts.astype(np.int64),
+                          stops.astype(np.int64))
+    width = int(count.max())
+    first = np.concatenate([[0], np.cumsum(count)[:-1]])
+    pos = np.minimum(np.arange(width)[None, :], count[:, None] - 1)  # padding repeats the last vertex
+    sel = verts[first[:, None] + pos]
+    ha, ht = a_s[sel], t_s[sel]
+    # hull of every vertex: the distinct vertices sorted by (alpha, T)
+    va, vt = a_s[verts], t_s[verts]
+    o = np.lexsort((vt, va))
+    va, vt = va[o], vt[o]
+    k = np.ones(len(va), dtype=bool)
+    k[1:] = (np.diff(va) != 0) | (np.diff(vt) != 0)
+    va, vt = va[k], vt[k]
+    all_v, _ = _hulls(va, vt, np.zeros(1, dtype=np.int64), np.array([len(va)], dtype=np.int64))
+    return Demand(omega=omega, alpha=alpha, torque=torque, weights=weights, period=period,
+                  load_inertia=load_inertia, hull_speed=np.asarray(speeds, dtype=float), hull_torque=ht, hull_alpha=ha,
+                  all_torque=vt[all_v], all_alpha=va[all_v])
+
+
+def fast_demands(omega: Array, alpha: Array, torques: list[Array], weights: Array, period: float,
+                 load_inertia: float, bins: int = 64) -> list[Demand]:
+    """``fast_demand`` of several torque arrays over the same motion (one per gearbox efficiency),
+    with one sort and one compiled pass for all of them (numpy's per-call cost dominates at this size).
+
+    Each result equals ``motor_fit.demand`` of that torque: the points are sorted by (torque
+    array, bin, alpha, T), so each array's points come in demand's own order.
+    """
+    n_e, n = len(torques), len(omega)
+    w = np.abs(omega)
+    top = float(w.max()) if w.size else 0.0
+    edges = np.linspace(0.0, top if top > 0 else 1.0, bins + 1)
+    idx = np.clip(np.searchsorted(edges, w, side="left") - 1, 0, bins - 1)
+    t_all = np.concatenate(torques)
+    a_all = np.tile(alpha, n_e)
+    b_all = np.tile(idx, n_e)
+    e_all = np.repeat(np.arange(n_e), n)
+    order = np.lexsort((t_all, a_all, b_all, e_all))
+    e_s, b_s, a_s, t_s = e_all[order], b_all[order], a_all[order], t_all[order]
+    keep = np.ones(len(b_s), dtype=bool)
+    keep[1:] = (np.diff(e_s) != 0) | (np.diff(b_s) != 0) | (np.diff(a_s) != 0) | (np.diff(t_s) != 0)
+    e_s, b_s, a_s, t_s = e_s[keep], b_s[keep], a_s[keep], t_s[keep]
+    run_key = e_s * bins + b_s
+    new_run = np.ones(len(run_key), dtype=bool)
+    new_run[1:] = np.diff(run_key) != 0
+    starts = np.flatnonzero(new_run)
+    stops = np.append(starts[1:], len(run_key))
+    verts, count = _hulls(a_s, t_s, starts.astype(np.int64), stops.astype(np.int64))
+    first = np.concatenate([[0], np.cumsum(count)[:-1]])
+    run_e = e_s[starts]
+    # hull of every vertex, per torque array: its distinct vertices sorted by (alpha, T)
+    ve, va, vt = e_s[verts], a_s[verts], t_s[verts]
+    o = np.lexsort((vt, va, ve))
+    ve, va, vt = ve[o], va[o], vt[o]
+    k = np.ones(len(va), dtype=bool)
+    k[1:] = (np.diff(ve) != 0) | (np.diff(va) != 0) | (np.diff(vt) != 0)
+    ve, va, vt = ve[k], va[k], vt[k]
+    v_start = np.searchsorted(ve, np.arange(n_e), side="left")
+    v_stop = np.searchsorted(ve, np.arange(n_e), side="right")
+    all_v, all_count = _hulls(va, vt, v_start.astype(np.int64), v_stop.astype(np.int64))
+    all_first = np.concatenate([[0], np.cumsum(all_count)[:-1]])
+    out = []
+    for e in range(n_e):
+        runs = np.flatnonzero(run_e == e)
+        c_e = count[runs]
+        width = int(c_e.max())
+        pos = np.minimum(np.arange(width)[None, :], c_e[:, None] - 1)  # padding repeats the last vertex
+        sel = verts[first[runs][:, None] + pos]
+        av = all_v[all_first[e]:all_first[e] + all_count[e]]
+        out.append(Demand(omega=omega, alpha=alpha, torque=torques[e], weights=weights, period=period,
+                          load_inertia=load_inertia, hull_speed=np.asarray(edges[b_s[starts[runs]] + 1], dtype=float),
+                          hull_torque=t_s[sel], hull_alpha=a_s[sel], all_torque=vt[av], all_alpha=va[av]))
+    return out
+
+
+__all__ = ["chains", "fast_demand", "fast_demands"]

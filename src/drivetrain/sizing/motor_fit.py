@@ -71,18 +71,14 @@ def binned_points(omega: Array, alpha: Array, torque: Array,
 def demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: float, load_inertia: float,
            bins: int = 64) -> Demand:
     """Reduce samples to a Demand: speed bins and the convex hull of (alpha, T) in each."""
+    if len(omega) > _COMPILED_FROM:
+        from drivetrain.sizing.hull import fast_demand  # the same bins, vertices and padding, compiled
+
+        return fast_demand(omega, alpha, torque, weights, period, load_inertia, bins)
     a_s, t_s, starts, stops, speeds = binned_points(omega, alpha, torque, bins)
     # points of each bin are sorted by (alpha, T): the monotone chain needs no further sort
-    if len(a_s) > _COMPILED_FROM:
-        from drivetrain.sizing.hull import chains
-
-        va, vt, counts = chains(a_s, t_s, starts, stops)
-        va_l, vt_l, ends = va.tolist(), vt.tolist(), np.cumsum(counts).tolist()
-        verts = [list(zip(va_l[e - c:e], vt_l[e - c:e], strict=True))
-                 for e, c in zip(ends, counts.tolist(), strict=True)]
-    else:
-        a_l, t_l = a_s.tolist(), t_s.tolist()
-        verts = [_chain(a_l[s:e], t_l[s:e]) for s, e in zip(starts.tolist(), stops.tolist(), strict=True)]
+    a_l, t_l = a_s.tolist(), t_s.tolist()
+    verts = [_chain(a_l[s:e], t_l[s:e]) for s, e in zip(starts.tolist(), stops.tolist(), strict=True)]
     width = max(len(v) for v in verts)
     ha = np.array([[p[0] for p in v] + [v[-1][0]] * (width - len(v)) for v in verts])
     ht = np.array([[p[1] for p in v] + [v[-1][1]] * (width - len(v)) for v in verts])
@@ -117,7 +113,7 @@ def scaled(d: Demand, ratio: float) -> Demand:
 
 
 _COMPILED_FROM = 20_000
-"""Distinct points above which the hulls are computed by the compiled ``hull.chains`` (same vertices):
+"""Samples above which the hulls are computed by the compiled ``hull.fast_demand`` (same vertices):
 below, the plain-float chain costs less than loading the compiled code."""
 
 _COLLINEAR = 1e-12

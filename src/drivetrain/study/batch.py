@@ -11,7 +11,7 @@ met here without an edit. What the batched path saves per variant, without chang
 * profiles equal (same profile entries, same kind of motion, same points per phase) share their
   sampled kinematics (``Cycle`` and ``Samples`` are functions of those alone);
 * the hull of the cycle behind each gearbox efficiency is computed once per variant, compiled
-  (``study.hull``, equal to ``motor_fit.demand`` vertex for vertex), and handed to ``evaluate``
+  (``sizing.hull``, equal to ``motor_fit.demand`` vertex for vertex), and handed to ``evaluate``
   for every motor table the search evaluates;
 * for the objective ``smallest`` the motors are evaluated in chunks from the smallest up, and the
   search stops once no motor left can rank first (below);
@@ -59,7 +59,7 @@ from drivetrain.sizing.selection import (
     ranked,
     select,
 )
-from drivetrain.study.hull import fast_demands
+from drivetrain.sizing.hull import fast_demands
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Margins, SelectSpec
