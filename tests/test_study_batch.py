@@ -22,9 +22,9 @@ from hypothesis import strategies as st
 import drivetrain
 from drivetrain.axis.model import parse_axis
 from drivetrain.duty.cycle import duty_cycle
+from drivetrain.sizing.hull import fast_demand
 from drivetrain.sizing.motor_fit import demand
 from drivetrain.study.batch import Engine, full_result
-from drivetrain.sizing.hull import fast_demand
 from drivetrain.study.record import row_from
 
 EXAMPLES = Path(__file__).parents[1] / "examples"

@@ -93,7 +93,8 @@ def chains(alpha: Array, torque: Array, starts: NDArray[np.integer], stops: NDAr
     """
     a = np.ascontiguousarray(alpha, dtype=np.float64)
     t = np.ascontiguousarray(torque, dtype=np.float64)
-    verts, count = _hulls(a, t, np.ascontiguousarray(starts, dtype=np.int64), np.ascontiguousarray(stops, dtype=np.int64))
+    i64 = np.int64
+    verts, count = _hulls(a, t, np.ascontiguousarray(starts, dtype=i64), np.ascontiguousarray(stops, dtype=i64))
     return a[verts], t[verts], count
 
 

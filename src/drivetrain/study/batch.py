@@ -48,6 +48,7 @@ from numpy.typing import NDArray
 from drivetrain.axis.model import Axis
 from drivetrain.duty.cycle import duty_from_samples
 from drivetrain.sizing.candidates import FIT_BIT
+from drivetrain.sizing.hull import fast_demands
 from drivetrain.sizing.selection import (
     _closest_failing,
     _gearbox_options,
@@ -59,7 +60,6 @@ from drivetrain.sizing.selection import (
     ranked,
     select,
 )
-from drivetrain.sizing.hull import fast_demands
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Margins, SelectSpec
