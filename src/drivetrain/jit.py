@@ -93,10 +93,11 @@ def _cpu() -> str:
 
     try:
         with open("/proc/cpuinfo", encoding="ascii", errors="replace") as fh:
-            flags = next((line for line in fh if line.startswith(("flags", "Features"))), "")
+            head = [line.strip() for line in fh if line.startswith(("model name", "flags", "Features"))][:2]
     except OSError:
-        flags = ""
-    return f"{platform.machine()}|{platform.processor()}|{flags.strip()}"
+        head = []
+    # (not platform.processor(): on Linux it runs ``uname -p`` in a subprocess)
+    return "|".join([platform.machine(), *head])
 
 
 def aot_module(module: str) -> ModuleType | None:

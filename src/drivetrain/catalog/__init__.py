@@ -20,6 +20,7 @@ The data folder is ``$DRIVETRAIN_DATA_DIR`` or the platform's user data folder; 
 
 from __future__ import annotations
 
+import copy
 import difflib
 import functools
 from collections.abc import Callable, Iterable, Sequence
@@ -186,6 +187,7 @@ def gearboxes(
     return GearboxTable.from_rows(rows)
 
 
+@_cached("drive")
 def drives(vendor: Names = None, voltage: float | str | None = None, ids: Iterable[str] | None = None) -> DriveTable:
     """Servo drives as arrays (SI): the shipped rows (data/drives_servo.csv, SOURCES.md "Drives") and imports."""
     with db.reader() as rd:
@@ -212,6 +214,11 @@ def get(id: str) -> dict[str, Any]:
 
     Raises InputError('id', ...) naming close matches, or why the shipped data left it out.
     """
+    return copy.deepcopy(_get(id))  # the caller's own copy of the remembered record
+
+
+@_cached("get")
+def _get(id: str) -> dict[str, Any]:
     with db.reader() as rd:
         for spec in ROW_TABLES:
             found = rd.rows(spec, "id = ?", (id,))

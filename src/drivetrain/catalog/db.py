@@ -19,6 +19,7 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import math
+import operator
 import os
 import re
 import sys
@@ -116,10 +117,16 @@ def builtin_db(directory: Path | None = None) -> Path:
     path = (directory or data_dir()) / BUILTIN_NAME
     if path in _verified and path.exists():
         return path
+    files = _files_signature()
+    if files is not None and _meta_of(path, "files") == files:  # the same files as at the build: no hashing
+        _verified.add(path)
+        return path
     stamp = build_stamp()
+    if _stamp_of(path) == stamp and files is not None:
+        _remember_files(path, files)  # same content, touched files (a checkout): compare sizes and times next time
     if _stamp_of(path) != stamp:
         try:
-            _build(path, stamp)
+            _build(path, stamp, files)
         except OSError as exc:
             if _stamp_of(path) != stamp:  # not built meanwhile by another process either
                 raise InputError(
@@ -132,7 +139,25 @@ def builtin_db(directory: Path | None = None) -> Path:
     return path
 
 
-def _stamp_of(path: Path) -> str | None:
+def _files_signature() -> str | None:
+    """The shipped files' names, sizes and modification times with the data and schema versions (None
+    where the package is not plain files): equal to the one stored at the build, the database is
+    current without hashing the files' content (``build_stamp``)."""
+    parts = [DATA_VERSION, str(SCHEMA_VERSION)]
+    for name in [f.filename for f in SHIPPED_FILES] + [REJECTS_FILE, ELECTRICAL_FILE, PAIRING_FILE,
+                                                         MOTOR_DOCUMENTS_FILE]:
+        entry = resources.files("drivetrain.catalog").joinpath("data", name)
+        if not isinstance(entry, Path):
+            return None
+        try:
+            st = entry.stat()
+        except OSError:
+            return None
+        parts.append(f"{name}:{st.st_size}:{st.st_mtime_ns}")
+    return "|".join(parts)
+
+
+def _meta_of(path: Path, key: str) -> str | None:
     import sqlite3
 
     if not path.exists():
@@ -140,7 +165,7 @@ def _stamp_of(path: Path) -> str | None:
     try:
         conn = sqlite3.connect(_ro_uri(path), uri=True)
         try:
-            row = conn.execute("SELECT value FROM meta WHERE key = 'stamp'").fetchone()
+            row = conn.execute("SELECT value FROM meta WHERE key = ?", (key,)).fetchone()
         finally:
             conn.close()
     except sqlite3.Error:
@@ -148,7 +173,25 @@ def _stamp_of(path: Path) -> str | None:
     return str(row[0]) if row else None
 
 
-def _build(path: Path, stamp: str) -> None:
+def _stamp_of(path: Path) -> str | None:
+    return _meta_of(path, "stamp")
+
+
+def _remember_files(path: Path, files: str) -> None:
+    """Store the files' signature in a current database (best effort: a read-only folder keeps hashing)."""
+    import sqlite3
+
+    with contextlib.suppress(sqlite3.Error, OSError):
+        conn = sqlite3.connect(path, timeout=5.0)
+        try:
+            with conn:
+                conn.execute("DELETE FROM meta WHERE key = 'files'")
+                conn.execute("INSERT INTO meta VALUES ('files', ?)", (files,))
+        finally:
+            conn.close()
+
+
+def _build(path: Path, stamp: str, files: str | None = None) -> None:
     """Write the shipped database to a temporary file, then move it into place atomically."""
     import sqlite3
 
@@ -174,6 +217,7 @@ def _build(path: Path, stamp: str) -> None:
                     ("data_version", DATA_VERSION),
                     ("schema_version", str(SCHEMA_VERSION)),
                     ("origin", "builtin"),
+                    *([("files", files)] if files is not None else []),
                 ],
             )
             conn.execute("COMMIT")
@@ -503,7 +547,12 @@ class Reader:
         sql += " ORDER BY _db, _rowid"
         cursor = self.conn.execute(sql, tuple(params))
         names = [d[0] for d in cursor.description]
-        return [{k: v for k, v in zip(names, r, strict=True) if not k.startswith("_")} for r in cursor]
+        keep = [i for i, k in enumerate(names) if not k.startswith("_")]
+        if len(keep) == len(names):
+            return [dict(zip(names, r, strict=True)) for r in cursor]
+        kept = [names[i] for i in keep]
+        pick = operator.itemgetter(*keep) if len(keep) > 1 else (lambda r: (r[keep[0]],))
+        return [dict(zip(kept, pick(r), strict=True)) for r in cursor]
 
     def ids(self) -> dict[str, tuple[str, str]]:
         """Every row id -> (table name, origin)."""

@@ -31,7 +31,7 @@ from drivetrain.duty.cycle import cubic_mean
 from drivetrain.errors import InputError
 from drivetrain.physics.stage import Stage
 from drivetrain.sizing.candidates import CHECK_UNITS, FIT_BIT, MOTOR_CHECKS, Candidates, Details, closest, column
-from drivetrain.sizing.checks import shock_factor
+from drivetrain.sizing.checks import running_torque, shock_factor
 from drivetrain.sizing.envelope import continuous_torque, intermittent_torque, motor_envelopes
 from drivetrain.sizing.motor_fit import Demand, demand
 from drivetrain.sizing.reasons import advice, candidate_dict, explain
@@ -104,7 +104,7 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     limit = margins.inertia_ratio if max_inertia_ratio is None else min(max_inertia_ratio, margins.inertia_ratio)
     t0, w0, a0 = duty.torque, duty.omega, duty.alpha
     out_cubic = cubic_mean(t0, w0, duty.weights)
-    run_t = float(np.median(np.abs(duty.external))) if duty.external.size else 0.0
+    run_t = running_torque(duty.external)
     ratio, eff_g, rows, row_start = _gearbox_options(gb, allow_direct)
     base: dict[float, Demand] = {}
     for eff in eff_g.tolist():
