@@ -122,13 +122,13 @@ def builtin_db(directory: Path | None = None) -> Path:
         _verified.add(path)
         return path
     stamp = build_stamp()
-    if _stamp_of(path) == stamp and files is not None:
+    if _meta_of(path, "stamp") == stamp and files is not None:
         _remember_files(path, files)  # same content, touched files (a checkout): compare sizes and times next time
-    if _stamp_of(path) != stamp:
+    if _meta_of(path, "stamp") != stamp:
         try:
             _build(path, stamp, files)
         except OSError as exc:
-            if _stamp_of(path) != stamp:  # not built meanwhile by another process either
+            if _meta_of(path, "stamp") != stamp:  # not built meanwhile by another process either
                 raise InputError(
                     ENV_DATA_DIR,
                     f"cannot write the catalog database in {path.parent} ({exc.strerror or exc}); "
@@ -140,19 +140,15 @@ def builtin_db(directory: Path | None = None) -> Path:
 
 
 def _files_signature() -> str | None:
-    """The shipped files' names, sizes and modification times with the data and schema versions (None
-    where the package is not plain files): equal to the one stored at the build, the database is
-    current without hashing the files' content (``build_stamp``)."""
+    """Shipped files' names, sizes and times, data and schema versions (None if not plain files): equal
+    to the one stored at the build, the database is current without hashing the files (``build_stamp``)."""
     parts = [DATA_VERSION, str(SCHEMA_VERSION)]
     for name in [f.filename for f in SHIPPED_FILES] + [REJECTS_FILE, ELECTRICAL_FILE, PAIRING_FILE,
                                                          MOTOR_DOCUMENTS_FILE]:
         entry = resources.files("drivetrain.catalog").joinpath("data", name)
-        if not isinstance(entry, Path):
+        if not isinstance(entry, Path) or not entry.is_file():
             return None
-        try:
-            st = entry.stat()
-        except OSError:
-            return None
+        st = entry.stat()
         parts.append(f"{name}:{st.st_size}:{st.st_mtime_ns}")
     return "|".join(parts)
 
@@ -173,22 +169,14 @@ def _meta_of(path: Path, key: str) -> str | None:
     return str(row[0]) if row else None
 
 
-def _stamp_of(path: Path) -> str | None:
-    return _meta_of(path, "stamp")
-
-
 def _remember_files(path: Path, files: str) -> None:
     """Store the files' signature in a current database (best effort: a read-only folder keeps hashing)."""
     import sqlite3
 
     with contextlib.suppress(sqlite3.Error, OSError):
         conn = sqlite3.connect(path, timeout=5.0)
-        try:
-            with conn:
-                conn.execute("DELETE FROM meta WHERE key = 'files'")
-                conn.execute("INSERT INTO meta VALUES ('files', ?)", (files,))
-        finally:
-            conn.close()
+        with contextlib.closing(conn), conn:
+            conn.execute("INSERT OR REPLACE INTO meta VALUES ('files', ?)", (files,))
 
 
 def _build(path: Path, stamp: str, files: str | None = None) -> None:
@@ -547,11 +535,8 @@ class Reader:
         sql += " ORDER BY _db, _rowid"
         cursor = self.conn.execute(sql, tuple(params))
         names = [d[0] for d in cursor.description]
-        keep = [i for i, k in enumerate(names) if not k.startswith("_")]
-        if len(keep) == len(names):
-            return [dict(zip(names, r, strict=True)) for r in cursor]
-        kept = [names[i] for i in keep]
-        pick = operator.itemgetter(*keep) if len(keep) > 1 else (lambda r: (r[keep[0]],))
+        keep = [i for i, k in enumerate(names) if not k.startswith("_")]  # id and at least one more
+        kept, pick = [names[i] for i in keep], operator.itemgetter(*keep)
         return [dict(zip(kept, pick(r), strict=True)) for r in cursor]
 
     def ids(self) -> dict[str, tuple[str, str]]:
