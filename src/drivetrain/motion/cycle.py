@@ -227,8 +227,9 @@ class Cycle:
         thrust = np.array([math.nan if steps[i].thrust is None else steps[i].thrust for i in step_of])
         cols: dict[str, Any] = {
             "t": t.ravel(), "x": kin.x, "v": kin.v, "a": kin.a, "j": kin.j,
-            "direction": direction[seg], "step": step_of[seg], "phase": phase_of[seg], "segment": seg,
-            "holding": holding[seg], "braked": braked[seg], "thrust": thrust[seg], "weights": weights.ravel(),
+            "direction": direction.repeat(n), "step": step_of.repeat(n), "phase": phase_of.repeat(n), "segment": seg,
+            "holding": holding.repeat(n), "braked": braked.repeat(n), "thrust": thrust.repeat(n),
+            "weights": weights.ravel(),
             "breakaway": np.zeros(seg.size, dtype=bool),
         }
         # Where a move starts from rest: one more sample, a copy of its first, with zero weight (breakaway).
@@ -239,10 +240,20 @@ class Cycle:
         starts = np.array(sorted(k * n for k in first_seg.values()), dtype=np.intp)
         starts = starts[cols["v"][starts] == 0.0] if starts.size else starts
         if starts.size:
-            copies = {key: col[starts] for key, col in cols.items()}
-            copies["weights"] = np.zeros(starts.size)
-            copies["breakaway"] = np.ones(starts.size, dtype=bool)
-            cols = {key: np.insert(col, starts, copies[key]) for key, col in cols.items()}
+            # each copy goes right before its sample (np.insert's order), by slices: a copy, not a gather
+            cuts = starts.tolist()
+            copy_at = starts + np.arange(starts.size)
+
+            def with_copies(col: np.ndarray) -> np.ndarray:
+                parts, prev = [], 0
+                for c in cuts:
+                    parts += [col[prev:c], col[c:c + 1]]
+                    prev = c
+                return np.concatenate([*parts, col[prev:]])
+
+            cols = {key: with_copies(col) for key, col in cols.items()}
+            cols["weights"][copy_at] = 0.0
+            cols["breakaway"][copy_at] = True
         return Samples(**cols)
 
 
