@@ -58,7 +58,7 @@ def built_cache(tmp_path_factory: pytest.TempPathFactory) -> dict[str, str]:
     env = {**os.environ, "DRIVETRAIN_CACHE_DIR": str(cache), "PYTHONPATH": str(ROOT / "src")}
     done = subprocess.run([sys.executable, "-m", "drivetrain.sizing.aot"], env=env, capture_output=True, text=True,
                           check=True)
-    assert "built ahead of time" in done.stdout, done.stderr
+    assert done.stdout.count("built ahead of time") == len(jit.AOT_MODULES), done.stderr
     return env
 
 
@@ -75,6 +75,40 @@ def test_the_build_passes_and_fails_what_numba_does(built_cache: dict[str, str])
     for name, got in out["examples"].items():
         assert got["candidates"] > 500_000, name
         assert got["identical"], name
+
+
+HULL = textwrap.dedent("""
+    import json, sys
+    import numpy as np
+    from drivetrain import jit
+    from drivetrain.sizing import hull, motor_fit
+    from drivetrain.axis.model import parse_axis
+    from drivetrain.duty.cycle import duty_cycle
+    from drivetrain.sizing.aot import AXIS
+    out = {"kernel": type(hull._hulls).__name__}
+    axis = parse_axis(AXIS)
+    duty = duty_cycle(axis, 4000)  # more samples than motor_fit._COMPILED_FROM: the compiled hull
+    rng = np.random.default_rng(7)
+    torque = duty.torque + rng.normal(0.0, 0.01, duty.torque.size)
+    args = (duty.omega, duty.alpha, torque, duty.weights, duty.period, duty.load_inertia)
+    built = motor_fit.demand(*args)
+    out["numba_after_hull"] = "numba" in sys.modules
+    hull._hulls = hull._hulls.jit  # numba's njit of the same source, same arguments
+    ref = motor_fit.demand(*args)
+    out["points"] = int(duty.torque.size)
+    out["identical"] = all(np.array_equal(getattr(built, k), getattr(ref, k))
+                           for k in ("hull_speed", "hull_torque", "hull_alpha", "all_torque", "all_alpha"))
+    print(json.dumps(out))
+""")
+
+
+def test_the_hull_build_gives_numbas_vertices(built_cache: dict[str, str]) -> None:
+    run = subprocess.run([sys.executable, "-c", HULL], env=built_cache, capture_output=True, text=True, check=True)
+    out = json.loads(run.stdout.strip().splitlines()[-1])
+    assert out["kernel"] == "Kernel"
+    assert out["numba_after_hull"] is False
+    assert out["points"] > 20_000
+    assert out["identical"]
 
 
 def test_a_second_build_reuses_the_first(built_cache: dict[str, str]) -> None:

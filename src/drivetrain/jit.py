@@ -31,8 +31,11 @@ from typing import Any
 
 from drivetrain.unit_cache import cache_dir
 
-AOT_MODULES = ("drivetrain.sizing.kernel",)
+AOT_MODULES = ("drivetrain.sizing.kernel", "drivetrain.sizing.hull")
 """Modules whose kernels may be built ahead of time (their functions call no other module's kernels)."""
+
+building = False
+"""Set by the builder (``sizing/aot.py``): its process compiles from numba's ``njit``, never from a build."""
 
 BUILDER = "drivetrain.sizing.aot"
 """The module that makes the builds (its source is part of a build's name)."""
@@ -102,6 +105,8 @@ def _cpu() -> str:
 
 def aot_module(module: str) -> ModuleType | None:
     """The ahead-of-time build of ``module``, or None where there is none (or it does not load)."""
+    if building:
+        return None
     if module not in _loaded:
         _loaded[module] = None
         if module in AOT_MODULES:

@@ -1,12 +1,16 @@
-"""Build the selection kernel (``sizing/kernel.py``) ahead of time, so that a sizing never imports
-numba: ``python -m drivetrain.sizing.aot`` (``make setup`` runs it after install).
+"""Build the compiled kernels ahead of time, so that a sizing never imports numba:
+``python -m drivetrain.sizing.aot`` (``make setup`` runs it after install). The modules are
+``jit.AOT_MODULES``: the selection kernel (``sizing/kernel.py``) and the hull (``sizing/hull.py``).
 
-A representative selection (the shipped catalog, a small ball-screw cycle) runs first under numba,
-so that every kernel holds the argument types the selection passes it; those functions are then
-compiled by numba's ``pycc`` with the options of their ``njit`` (error model, fast-math flags) into
-one extension module in ``jit.aot_dir()``, named by ``jit.aot_name`` (a hash of the kernel's
-source, numpy's version and the interpreter), and moved there atomically. ``jit.njit`` loads it
-when ``kernel.py`` is imported.
+Each module's own functions are compiled, from the same source as their ``njit`` (there is no
+second copy): a representative run under numba first (a selection on the shipped catalog with a
+small ball-screw cycle; hulls of a few bins) gives every kernel the argument types the callers
+pass it; those functions are then compiled by numba's ``pycc`` with the options of their ``njit``
+(error model, fast-math flags, GIL release) into one extension module per source module in
+``jit.aot_dir()``, named by ``jit.aot_name`` (a hash of the module's source and this builder's,
+numpy's version, the interpreter and the CPU), and moved there atomically. ``jit.njit`` loads it
+when the module is imported; ``tests/test_aot.py`` asserts the build and numba's njit give the
+same results to the bit.
 """
 
 from __future__ import annotations
@@ -20,7 +24,6 @@ from typing import Any
 
 from drivetrain import jit
 
-MODULE = "drivetrain.sizing.kernel"
 AXIS: dict[str, Any] = {
     "mechanism": {"type": "ball_screw", "lead": "10 mm", "diameter": "20 mm", "length": "0.8 m",
                   "incline": "90 deg", "load": {"mass": 25, "friction": 0.05}},
@@ -30,11 +33,11 @@ AXIS: dict[str, Any] = {
 }
 
 
-def built_path() -> Path | None:
-    """The build for the current kernel source, if it exists."""
+def built_path(module: str) -> Path | None:
+    """The build of ``module`` for its current source, if it exists."""
     import importlib.machinery
 
-    name = jit.aot_name(MODULE)
+    name = jit.aot_name(module)
     for suffix in importlib.machinery.EXTENSION_SUFFIXES:
         path = jit.aot_dir() / f"{name}{suffix}"
         if path.exists():
@@ -42,22 +45,43 @@ def built_path() -> Path | None:
     return None
 
 
-def build(force: bool = False) -> Path:
-    """Build the kernel module ahead of time (unless a build for its current source exists)."""
-    existing = built_path()
-    if existing is not None and not force:
-        return existing
+def _representative_runs() -> None:
+    """Run every kernel under numba with the argument types its callers pass."""
+    import numpy as np
+
     from drivetrain.axis.model import parse_axis
-    from drivetrain.sizing import kernel
+    from drivetrain.duty.cycle import duty_cycle
+    from drivetrain.sizing import hull
     from drivetrain.sizing.result import size
 
-    size(parse_axis(AXIS))  # under numba: the dispatchers learn the argument types
-    kernels = {name: getattr(kernel, name) for name in jit.OPTIONS[MODULE]}
-    dispatchers = {name: (k.jit if isinstance(k, jit.Kernel) else k) for name, k in kernels.items()}
-    options = [jit.OPTIONS[MODULE][name] for name, d in dispatchers.items() if d.nopython_signatures]
-    if any(o != options[0] for o in options):
-        raise RuntimeError(f"the kernels of {MODULE} differ in their options: one build needs one set")
-    name = jit.aot_name(MODULE)
+    axis = parse_axis(AXIS)
+    size(axis)  # the selection kernel (evaluate, closest failing, details)
+    duty = duty_cycle(axis)
+    hull.fast_demand(duty.omega, duty.alpha, duty.torque, duty.weights, duty.period, duty.load_inertia)
+    hull.chains(np.zeros(3), np.arange(3.0), np.array([0]), np.array([3]))
+
+
+def build(force: bool = False) -> list[Path]:
+    """Build every module of ``jit.AOT_MODULES`` ahead of time (unless a build of its current source exists)."""
+    import importlib
+
+    todo = [m for m in jit.AOT_MODULES if force or built_path(m) is None]
+    if todo:
+        if any(m in sys.modules for m in todo):
+            raise RuntimeError("build in a fresh process: python -m drivetrain.sizing.aot")
+        jit.building = True  # compile from njit here, even where an older build of the same name exists
+        _representative_runs()
+        for module in todo:
+            _build_module(module, importlib.import_module(module))
+    return [p for p in (built_path(m) for m in jit.AOT_MODULES) if p is not None]
+
+
+def _build_module(module: str, mod: Any) -> Path:
+    dispatchers = {name: getattr(mod, name) for name in jit.OPTIONS[module]}
+    options = [jit.OPTIONS[module][name] for name, d in dispatchers.items() if d.nopython_signatures]
+    if not options or any(o != options[0] for o in options):
+        raise RuntimeError(f"the kernels of {module} differ in their options or never ran: one build needs one set")
+    name = jit.aot_name(module)
     with tempfile.TemporaryDirectory(prefix="drivetrain-aot-") as tmp:
         out = _compile(name, dispatchers, options[0], Path(tmp))
         jit.aot_dir().mkdir(parents=True, exist_ok=True)
@@ -65,7 +89,7 @@ def build(force: bool = False) -> Path:
         staged = jit.aot_dir() / f".{out.name}.{os.getpid()}"
         shutil.copyfile(out, staged)
         os.replace(staged, target)
-    for old in jit.aot_dir().glob(f"_aot_{MODULE.rsplit('.', 1)[-1]}_*"):
+    for old in jit.aot_dir().glob(f"_aot_{module.rsplit('.', 1)[-1]}_*"):
         if not old.name.startswith(name):
             old.unlink(missing_ok=True)
     return target
@@ -105,12 +129,13 @@ def _compile(name: str, dispatchers: dict[str, Any], options: dict[str, Any], ou
 
 def main() -> int:
     try:
-        path = build(force="--force" in sys.argv[1:])
+        paths = build(force="--force" in sys.argv[1:])
     except Exception as exc:  # the build is an optimisation: numba's njit still serves without it
-        print(f"drivetrain: ahead-of-time build of the selection kernel failed ({exc}); "
+        print(f"drivetrain: ahead-of-time build of the compiled kernels failed ({exc}); "
               "sizing uses numba's compiled cache instead", file=sys.stderr)
         return 0
-    print(f"selection kernel built ahead of time: {path}")
+    for path in paths:
+        print(f"built ahead of time: {path}")
     return 0
 
 
