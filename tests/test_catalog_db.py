@@ -60,7 +60,7 @@ def meta(path: Path, key: str) -> str:
 def test_built_on_first_use_in_the_data_dir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     empty = tmp_path / "nothing-yet"
     monkeypatch.setenv(db.ENV_DATA_DIR, str(empty))
-    assert len(catalog.motors(kind="ac_servo")) == 297
+    assert len(catalog.motors(kind="ac_servo")) == 306  # 297 configurator rows + 9 traced TECO rows
     assert (empty / db.BUILTIN_NAME).exists()
     assert not (empty / db.USER_NAME).exists()  # queries never create the user database
     assert meta(empty / db.BUILTIN_NAME, "data_version") == catalog.DATA_VERSION
@@ -84,7 +84,7 @@ def test_rebuilt_when_the_data_version_changes(data_dir: Path, monkeypatch: pyte
     monkeypatch.setattr(db, "_verified", set())
     db.builtin_db(data_dir)
     assert meta(path, "data_version") == "9999.01-1"
-    assert len(catalog.motors()) == 595
+    assert len(catalog.motors()) == 604
 
 
 def test_current_by_the_files_sizes_and_times_else_by_their_content(data_dir: Path,
@@ -135,7 +135,7 @@ def test_imports_never_touch_the_shipped_database(data_dir: Path, user_motors: N
 
 def test_queries_see_the_union_flagged_by_origin(user_motors: None) -> None:
     m = catalog.motors()
-    assert len(m) == 595 + 2
+    assert len(m) == 604 + 2
     assert list(m.ids[-2:]) == ["U-400", "U-200"]  # shipped rows first, then imports in order
     assert set(m.origin[:-2]) == {"builtin"} and set(m.origin[-2:]) == {"user"}
     assert catalog.get("U-400")["origin"] == "user"

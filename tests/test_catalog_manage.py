@@ -300,7 +300,7 @@ def test_a_shared_catalog_file_serves_two_data_folders(tmp_path: Path, built: Pa
     catalog._CACHE.clear()
     assert catalog.get("MINE-2")["origin"] == "user"
     assert not (other / db.USER_NAME).exists()
-    assert len(catalog.motors()) == len(catalog.motors(vendor="userco")) + 595  # shipped rows beside it
+    assert len(catalog.motors()) == len(catalog.motors(vendor="userco")) + 604  # shipped rows beside it
 
 
 def test_cli_catalog_option(tmp_path: Path, data_dir: Path, capsys: pytest.CaptureFixture[str],

@@ -52,7 +52,7 @@ def test_web_import_source_is_the_uploaded_file_and_time(client: TestClient) -> 
     mine = client.get("/api/catalog/motors", params={"origin": "user"}).json()
     assert [i["id"] for i in mine["items"]] == ["WEBM-1"]
     shipped = client.get("/api/catalog/motors", params={"origin": "builtin", "limit": 1}).json()
-    assert shipped["total"] == 595 and shipped["items"][0]["unverified"] in (True, False)
+    assert shipped["total"] == 604 and shipped["items"][0]["unverified"] in (True, False)
     assert client.get("/api/catalog/gearboxes", params={"origin": "user"}).json()["total"] == 0
 
 

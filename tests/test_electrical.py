@@ -297,7 +297,12 @@ def test_shipped_electrical_data_matches_the_motor_table() -> None:
         assert float(row["table_rated_torque_Nm"]) == pytest.approx(float(motors[mid]["rated_torque_Nm"]))
         assert float(row["table_peak_torque_Nm"]) == pytest.approx(float(motors[mid]["peak_torque_Nm"]))
         assert row["source"] and row["source_url"].startswith("https://")
-        if row["torque_constant_Nm_per_A"]:
+        if row["torque_constant_basis"].startswith("derived"):
+            # not printed: k_T = T_N / I_N of the same table (data/SOURCES.md, "Derived torque constants")
+            kt = float(row["torque_constant_Nm_per_A"])
+            assert kt == pytest.approx(float(row["table_rated_torque_Nm"]) / float(row["rated_current_A"]), rel=1e-4)
+        elif row["torque_constant_Nm_per_A"]:
+            assert row["torque_constant_basis"] == "printed", mid
             kt = float(row["torque_constant_Nm_per_A"])
             ratio_n = kt * float(row["rated_current_A"]) / float(row["table_rated_torque_Nm"])
             ratio_p = kt * float(row["peak_current_A"]) / float(row["table_peak_torque_Nm"])

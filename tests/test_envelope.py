@@ -177,7 +177,7 @@ def test_envelopes_of_every_shipped_ac_servo_are_sane(data_dir: Path) -> None:
     w = np.linspace(0, 1.1 * np.nanmax(m.max_speed), 200)
     cont, peak = motor_envelopes(m.rated_torque, m.peak_torque, m.rated_speed, m.max_speed, w,
                                  stall_torque=m.stall_torque, curves=m.curves)
-    assert cont.torque.shape == (297, 200)
+    assert cont.torque.shape == (306, 200)
     assert np.all(np.isfinite(cont.torque)) and np.all(np.isfinite(peak.torque))
     assert np.all(peak.torque >= cont.torque)
     assert np.all(cont.approximate)  # the shipped catalog has no curves

@@ -369,5 +369,12 @@ def shipped_electrical(motor_id: str) -> MotorElectrical:
         stall_current=stall,
         peak_current=num("peak_current_A"),
         thermal_time_constant=num("thermal_time_constant_s"),
-        sources=(f"{ELECTRICAL_FILE}: {row.get('source', '')}",),
+        sources=(f"{ELECTRICAL_FILE}: {row.get('source', '')}" + _kt_basis_note(row),),
     )
+
+
+def _kt_basis_note(row: dict[str, str]) -> str:
+    """'; k_T derived = ...' where the shipped row's torque constant was derived, not printed."""
+    from drivetrain.catalog.db import DERIVED_KT
+
+    return f"; k_T {DERIVED_KT}" if row.get("torque_constant_basis", "").startswith("derived") else ""

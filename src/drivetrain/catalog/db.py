@@ -280,6 +280,9 @@ def _reason_of(values: dict[str, Any], default: str) -> str:
     return m.group(1).strip() if m else default
 
 
+DERIVED_KT = "derived = rated torque / rated current of the same vendor table (not printed)"
+"""How a derived torque constant is named in the answer (data/SOURCES.md, "Derived torque constants")."""
+
 # electrical table column -> (motor field, factor to SI); back-EMF V/1000 rpm -> V s/rad (its basis kept as text)
 _ELECTRICAL_COLUMNS: dict[str, tuple[str, float]] = {
     "rated_current_A": ("rated_current", 1.0),
@@ -322,7 +325,14 @@ def _merge_electrical(values: dict[str, Any]) -> None:
         values["back_emf_basis"] = "ll_rms"
     if row.get("resistance_basis"):
         values["resistance_basis"] = row["resistance_basis"]
-    values["electrical_source"] = f"{row.get('source', '')} <{row.get('source_url', '')}>"
+    source = f"{row.get('source', '')} <{row.get('source_url', '')}>"
+    # k_T not printed but rated torque and rated current are (same table): stored as k_T = T_N / I_N,
+    # flagged as derived (data/SOURCES.md, "Derived torque constants")
+    if row.get("torque_constant_basis", "").startswith("derived") and values.get("torque_constant") is not None:
+        names = [n for n in str(values.get("derived") or "").split(",") if n]
+        values["derived"] = ",".join(dict.fromkeys([*names, "torque_constant"]))
+        source += f"; k_T {DERIVED_KT}"
+    values["electrical_source"] = source
 
 
 _ELECTRICAL_CACHE: dict[str, dict[str, dict[str, str]]] = {}

@@ -301,6 +301,9 @@ _CONFIGURATOR = (
 )
 _MGDB = "values from the MGDB compilation (ekrimsk/MGDB, data/SOURCES.md), not read from a vendor document"
 
+TRACED_MOTOR_FAMILIES: tuple[str, ...] = ("teco_jsma",)
+"""Servo motor families shipped as ``motors_<vendor>_<family>.csv``, each read from one vendor document."""
+
 SHIPPED_FILES: tuple[ShippedFile, ...] = (
     # data/SOURCES.md: the id is the vendor's model code
     ShippedFile("motors_ac_servo.csv", MOTOR, "ac_servo", model_pattern=r"^(.*)$", unverified=_CONFIGURATOR),
@@ -334,6 +337,12 @@ SHIPPED_FILES: tuple[ShippedFile, ...] = (
         for family in ("ag2250", "ag2400", "ag3400")
     ),
     ShippedFile("gearboxes_small.csv", GEARBOX, "small_gearhead", unverified=_MGDB),
+    # data/SOURCES.md, "Servo motors read from vendor documents": one file per vendor family, every row
+    # read from the vendor table named in its row (traced: verified = yes)
+    *(
+        ShippedFile(f"motors_{family}.csv", MOTOR, "ac_servo", model_pattern=r"^(.*)$")
+        for family in TRACED_MOTOR_FAMILIES
+    ),
     ShippedFile("drives.csv", DRIVE, "servo_drive"),
     # data/SOURCES.md, "Drives": every number read from the vendor document named in its row
     ShippedFile("drives_servo.csv", DRIVE, "servo_drive"),

@@ -1,0 +1,222 @@
+"""Servo motor families read from vendor documents (``motors_<vendor>_<family>.csv``).
+
+Every row of these files is traced: it names the vendor document, section, page and the address of
+the copy read, and ``verified`` is yes. The spot checks assert the values printed on the quoted page;
+the invariants (power = T * omega within the vendor's rounding, peak >= rated, max speed >= rated
+speed, K_T * I against T) are run over every row and over a deliberately broken row, so a check that
+can no longer fail is noticed.
+"""
+
+from __future__ import annotations
+
+import collections
+import csv
+import io
+import math
+from collections.abc import Callable
+from importlib import resources
+from pathlib import Path
+
+import pytest
+
+from drivetrain import catalog
+from drivetrain.catalog import db, schema
+from drivetrain.catalog.records import parse_rows, read_csv
+
+RPM = 2 * math.pi / 60
+Row = dict[str, str]
+FAMILIES = schema.TRACED_MOTOR_FAMILIES
+
+
+def _text(name: str) -> str:
+    return resources.files("drivetrain.catalog").joinpath("data", name).read_text(encoding="utf-8")
+
+
+def load(family: str) -> list[Row]:
+    return list(csv.DictReader(io.StringIO(_text(f"motors_{family}.csv"))))
+
+
+ROWS = {family: load(family) for family in FAMILIES}
+
+
+def si_rows(family: str) -> dict[str, dict[str, object]]:
+    """The family's rows through the import rules (units in the headers converted to SI)."""
+    name = f"motors_{family}.csv"
+    parsed = parse_rows(read_csv(_text(name), name), schema.MOTOR, kind="ac_servo")
+    assert not parsed.errors
+    return {str(r.id): r.values for r in parsed.rows}
+
+
+# ---------------------------------------------------------------------------------- registration, provenance
+
+
+def test_every_family_file_is_shipped_and_no_other_motor_file_claims_to_be_traced() -> None:
+    shipped = {f.filename for f in schema.SHIPPED_FILES}
+    assert {f"motors_{family}.csv" for family in FAMILIES} <= shipped
+    assert FAMILIES == ("teco_jsma",)
+    assert {family: len(rows) for family, rows in ROWS.items()} == {"teco_jsma": 9}
+
+
+@pytest.mark.parametrize("family", FAMILIES)
+def test_every_row_names_its_document_page_and_copy(family: str) -> None:
+    for r in ROWS[family]:
+        assert r["verified"] == "yes", r["id"]
+        for column in ("source", "source_document", "source_section", "source_page", "ratings_source",
+                       "mechanical_source", "electrical_source"):
+            assert r[column].strip(), (r["id"], column)
+        assert r["source_url"].startswith("https://"), r["id"]
+        assert r["source_url"] in r["source"], r["id"]
+        assert r["rated_torque_basis"] == "source", r["id"]  # read, never derived
+
+
+def test_ids_are_unique_across_every_shipped_motor_file() -> None:
+    ids: collections.Counter[str] = collections.Counter()
+    for shipped in schema.SHIPPED_FILES:
+        if shipped.table is schema.MOTOR:
+            ids.update(r["id"] for r in csv.DictReader(io.StringIO(_text(shipped.filename))))
+    assert [k for k, v in ids.items() if v > 1] == []
+
+
+# ---------------------------------------------------------------------------------- invariants
+
+Check = Callable[[dict[str, object]], str | None]
+
+
+def _f(row: dict[str, object], key: str) -> float | None:
+    value = row.get(key)
+    return None if value is None else float(str(value))
+
+
+def power_matches_torque_times_speed(row: dict[str, object]) -> str | None:
+    """|P - T_N * omega_N| / P within 1 %: the vendor prints P to 0.1 kW and T to 3-4 digits."""
+    p, t, n = _f(row, "rated_power"), _f(row, "rated_torque"), _f(row, "rated_speed")
+    if p is None or t is None or n is None:
+        return None
+    err = abs(p - t * n) / p
+    return None if err <= 0.01 else f"P = {p:.0f} W but T * omega = {t * n:.0f} W ({err:.1%})"
+
+
+def peak_at_least_rated(row: dict[str, object]) -> str | None:
+    t, tp = _f(row, "rated_torque"), _f(row, "peak_torque")
+    assert t is not None and tp is not None
+    return None if tp >= t > 0 else f"peak {tp} < rated {t}"
+
+
+def max_speed_at_least_rated(row: dict[str, object]) -> str | None:
+    n, nmax = _f(row, "rated_speed"), _f(row, "max_speed")
+    assert n is not None and nmax is not None
+    return None if nmax >= n > 0 else f"max speed {nmax} < rated {n}"
+
+
+def torque_constant_fits_the_currents(row: dict[str, object]) -> str | None:
+    """K_T * I_N / T_N in 0.95...1.2 and K_T * I_max / T_max in 0.95...1.3 (saturation at peak current)."""
+    kt, i_n, i_max = _f(row, "torque_constant"), _f(row, "rated_current"), _f(row, "peak_current")
+    t, tp = _f(row, "rated_torque"), _f(row, "peak_torque")
+    if kt is None or i_n is None or i_max is None or t is None or tp is None:
+        return None
+    rated, peak = kt * i_n / t, kt * i_max / tp
+    if not 0.95 <= rated <= 1.2:
+        return f"K_T * I_N / T_N = {rated:.3f}"
+    return None if 0.95 <= peak <= 1.3 else f"K_T * I_max / T_max = {peak:.3f}"
+
+
+def inertia_is_plausible(row: dict[str, object]) -> str | None:
+    """J / T_N within 1e-6...1e-2 s^2 (the rule the configurator rows are held to, data/SOURCES.md)."""
+    j, t = _f(row, "rotor_inertia"), _f(row, "rated_torque")
+    assert j is not None and t is not None
+    return None if 1e-6 <= j / t <= 1e-2 else f"J / T = {j / t:.2e} s^2"
+
+
+CHECKS: tuple[Check, ...] = (power_matches_torque_times_speed, peak_at_least_rated, max_speed_at_least_rated,
+                             torque_constant_fits_the_currents, inertia_is_plausible)
+
+
+@pytest.mark.parametrize("family", FAMILIES)
+def test_every_row_passes_the_invariants(family: str) -> None:
+    problems = [(rid, msg) for rid, row in si_rows(family).items() for check in CHECKS if (msg := check(row))]
+    assert problems == []
+
+
+BROKEN = [
+    (power_matches_torque_times_speed, {"rated_torque": 4.0}, "T * omega"),
+    (peak_at_least_rated, {"peak_torque": 4.0}, "peak"),
+    (max_speed_at_least_rated, {"max_speed": 100.0}, "max speed"),
+    (torque_constant_fits_the_currents, {"torque_constant": 0.5}, "K_T"),
+    (inertia_is_plausible, {"rotor_inertia": 1.0}, "J / T"),
+]
+
+
+@pytest.mark.parametrize(("check", "change", "problem"), BROKEN)
+def test_each_invariant_catches_a_broken_row(check: Check, change: dict[str, float], problem: str) -> None:
+    row = dict(si_rows("teco_jsma")["JSMA-PMB10"])
+    assert check(row) is None
+    row.update(change)
+    message = check(row)
+    assert message is not None and problem in message
+
+
+# ---------------------------------------------------------------------------------- spot checks
+
+# TECO JSDEP series AC servo drive user manual, p. 9-7 "Standard Specifications for JSMA-PM",
+# read at https://www.easymanua.ls/teco/jsdep-series/manual?p=203 (values as printed, in the page's units).
+PRINTED = [
+    ("JSMA-PMB10", "rated_power [kW]", 1.0),
+    ("JSMA-PMB10", "rated_torque [N*m]", 4.78),
+    ("JSMA-PMB10", "peak_torque [N*m]", 14.33),
+    ("JSMA-PMB10", "rotor_inertia [kg*cm^2]", 6.26),
+    ("JSMA-PMB10", "torque_constant [N*m/A]", 1.019),
+    ("JSMA-PMC20", "rated_torque [N*m]", 6.37),
+    ("JSMA-PMC20", "rated_speed [rpm]", 3000),
+    ("JSMA-PMC20", "max_speed [rpm]", 4000),
+    ("JSMA-PMC20", "rated_current [A]", 9.5),
+    ("JSMA-PMC20", "peak_current [A]", 28.5),
+    ("JSMA-PMH30", "rated_torque [N*m]", 19.1),
+    ("JSMA-PMH30", "peak_torque [N*m]", 49.5),
+    ("JSMA-PMH30", "rated_speed [rpm]", 1500),
+    ("JSMA-PMH30", "rotor_inertia [kg*cm^2]", 39.99),
+    ("JSMA-PMH30", "mass [kg]", 19.5),
+]
+
+
+@pytest.mark.parametrize(("rid", "column", "printed"), PRINTED)
+def test_values_match_the_page_they_cite(rid: str, column: str, printed: float) -> None:
+    row = {r["id"]: r for r in ROWS["teco_jsma"]}[rid]
+    assert float(row[column]) == printed  # exact: the file holds the printed figure in the printed unit
+    assert row["source_page"] == "9-7"
+
+
+def test_values_whose_basis_is_not_printed_stay_out_of_the_numeric_columns() -> None:
+    """K_E, Ra and La are printed without their basis (phase or line-to-line, rms or peak): kept in notes only."""
+    for rid, row in si_rows("teco_jsma").items():
+        assert row.get("back_emf") is None and row.get("winding_resistance") is None, rid
+        assert row.get("winding_inductance") is None and row.get("voltage") is None, rid
+    notes = {r["id"]: r["notes"] for r in ROWS["teco_jsma"]}
+    assert "K_E 106.8 V/krpm" in notes["JSMA-PMB10"] and "Ra 1.22 ohm" in notes["JSMA-PMB10"]
+    assert "La 2.89 mH" in notes["JSMA-PMH30"]
+
+
+# ---------------------------------------------------------------------------------- the built database
+
+
+@pytest.fixture(scope="module")
+def data_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    directory = tmp_path_factory.mktemp("catalog-families")
+    db.builtin_db(directory)
+    return directory
+
+
+def test_database_holds_the_rows_traced_and_in_si(data_dir: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv(db.ENV_DATA_DIR, str(data_dir))
+    catalog._CACHE.clear()
+    row = catalog.get("JSMA-PMC20")
+    assert row["rated_power_W"] == pytest.approx(2000.0)
+    assert row["rated_speed_rad_s"] == pytest.approx(3000 * RPM)
+    assert row["max_speed_rad_s"] == pytest.approx(4000 * RPM)
+    assert row["rotor_inertia_kgm2"] == pytest.approx(8.88e-4)
+    assert row["torque_constant_Nm_per_A"] == pytest.approx(0.740)
+    assert row["verified"] == 1 and not row["unverified_reason"]
+    assert row["model"] == "JSMA-PMC20" and row["kind"] == "ac_servo"
+    assert "easymanua.ls/teco/jsdep-series" in row["source_url"]
+    teco = catalog.motors(vendor="teco")
+    assert len(teco) == 9
+    assert not teco.approx_rated.any()
