@@ -92,7 +92,7 @@ def test_current_by_the_files_sizes_and_times_else_by_their_content(data_dir: Pa
     """Equal sizes and times: current without hashing. Other times, same content (a checkout): current,
     and the new times remembered. Another content: rebuilt."""
     path = data_dir / db.BUILTIN_NAME
-    files = db._files_signature()
+    files = db.files_signature(f"{db.DATA_VERSION}/schema-{db.SCHEMA_VERSION}")
     assert files is not None and meta(path, "files") == files
     hashed: list[int] = []
     real_stamp = db.build_stamp
@@ -100,11 +100,11 @@ def test_current_by_the_files_sizes_and_times_else_by_their_content(data_dir: Pa
     monkeypatch.setattr(db, "_verified", set())
     db.builtin_db(data_dir)
     assert hashed == []
-    monkeypatch.setattr(db, "_files_signature", lambda: files + "|touched")
+    monkeypatch.setattr(db, "files_signature", lambda v: files + "|touched")
     monkeypatch.setattr(db, "_verified", set())
     db.builtin_db(data_dir)
     assert hashed == [1] and meta(path, "files") == files + "|touched" and meta(path, "stamp") == real_stamp()
-    monkeypatch.setattr(db, "_files_signature", lambda: files + "|edited")
+    monkeypatch.setattr(db, "files_signature", lambda v: files + "|edited")
     monkeypatch.setattr(db, "build_stamp", lambda: "another content")
     monkeypatch.setattr(db, "_verified", set())
     db.builtin_db(data_dir)

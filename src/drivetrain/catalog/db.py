@@ -30,6 +30,7 @@ from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from drivetrain.catalog.freshness import files_signature, remember_files
 from drivetrain.catalog.schema import (
     CURVE,
     DATA_VERSION,
@@ -117,13 +118,13 @@ def builtin_db(directory: Path | None = None) -> Path:
     path = (directory or data_dir()) / BUILTIN_NAME
     if path in _verified and path.exists():
         return path
-    files = _files_signature()
+    files = files_signature(f"{DATA_VERSION}/schema-{SCHEMA_VERSION}")
     if files is not None and _meta_of(path, "files") == files:  # the same files as at the build: no hashing
         _verified.add(path)
         return path
     stamp = build_stamp()
     if _meta_of(path, "stamp") == stamp and files is not None:
-        _remember_files(path, files)  # same content, touched files (a checkout): compare sizes and times next time
+        remember_files(path, files)  # same content, touched files (a checkout): compare sizes and times next time
     if _meta_of(path, "stamp") != stamp:
         try:
             _build(path, stamp, files)
@@ -137,20 +138,6 @@ def builtin_db(directory: Path | None = None) -> Path:
                 ) from None
     _verified.add(path)
     return path
-
-
-def _files_signature() -> str | None:
-    """Shipped files' names, sizes and times, data and schema versions (None if not plain files): equal
-    to the one stored at the build, the database is current without hashing the files (``build_stamp``)."""
-    parts = [DATA_VERSION, str(SCHEMA_VERSION)]
-    for name in [f.filename for f in SHIPPED_FILES] + [REJECTS_FILE, ELECTRICAL_FILE, PAIRING_FILE,
-                                                         MOTOR_DOCUMENTS_FILE]:
-        entry = resources.files("drivetrain.catalog").joinpath("data", name)
-        if not isinstance(entry, Path) or not entry.is_file():
-            return None
-        st = entry.stat()
-        parts.append(f"{name}:{st.st_size}:{st.st_mtime_ns}")
-    return "|".join(parts)
 
 
 def _meta_of(path: Path, key: str) -> str | None:
@@ -167,16 +154,6 @@ def _meta_of(path: Path, key: str) -> str | None:
     except sqlite3.Error:
         return None  # unreadable or foreign file: rebuild it
     return str(row[0]) if row else None
-
-
-def _remember_files(path: Path, files: str) -> None:
-    """Store the files' signature in a current database (best effort: a read-only folder keeps hashing)."""
-    import sqlite3
-
-    with contextlib.suppress(sqlite3.Error, OSError):
-        conn = sqlite3.connect(path, timeout=5.0)
-        with contextlib.closing(conn), conn:
-            conn.execute("INSERT OR REPLACE INTO meta VALUES ('files', ?)", (files,))
 
 
 def _build(path: Path, stamp: str, files: str | None = None) -> None:
