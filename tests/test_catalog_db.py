@@ -88,6 +88,30 @@ def test_rebuilt_when_the_data_version_changes(data_dir: Path, monkeypatch: pyte
     assert len(catalog.motors()) == 595 + family_motor_rows()
 
 
+def test_current_by_the_files_sizes_and_times_else_by_their_content(data_dir: Path,
+                                                                    monkeypatch: pytest.MonkeyPatch) -> None:
+    """Equal sizes and times: current without hashing. Other times, same content (a checkout): current,
+    and the new times remembered. Another content: rebuilt."""
+    path = data_dir / db.BUILTIN_NAME
+    files = db.files_signature(f"{db.DATA_VERSION}/schema-{db.SCHEMA_VERSION}")
+    assert files is not None and meta(path, "files") == files
+    hashed: list[int] = []
+    real_stamp = db.build_stamp
+    monkeypatch.setattr(db, "build_stamp", lambda: hashed.append(1) or real_stamp())
+    monkeypatch.setattr(db, "_verified", set())
+    db.builtin_db(data_dir)
+    assert hashed == []
+    monkeypatch.setattr(db, "files_signature", lambda v: files + "|touched")
+    monkeypatch.setattr(db, "_verified", set())
+    db.builtin_db(data_dir)
+    assert hashed == [1] and meta(path, "files") == files + "|touched" and meta(path, "stamp") == real_stamp()
+    monkeypatch.setattr(db, "files_signature", lambda v: files + "|edited")
+    monkeypatch.setattr(db, "build_stamp", lambda: "another content")
+    monkeypatch.setattr(db, "_verified", set())
+    db.builtin_db(data_dir)
+    assert meta(path, "stamp") == "another content" and meta(path, "files") == files + "|edited"
+
+
 def test_a_damaged_shipped_database_is_rebuilt(data_dir: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     (data_dir / db.BUILTIN_NAME).write_bytes(b"not a database at all")
     monkeypatch.setattr(db, "_verified", set())

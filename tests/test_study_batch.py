@@ -22,9 +22,9 @@ from hypothesis import strategies as st
 import drivetrain
 from drivetrain.axis.model import parse_axis
 from drivetrain.duty.cycle import duty_cycle
+from drivetrain.sizing.hull import fast_demand
 from drivetrain.sizing.motor_fit import demand
 from drivetrain.study.batch import Engine, full_result
-from drivetrain.study.hull import fast_demand
 from drivetrain.study.record import row_from
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
@@ -179,7 +179,7 @@ def test_compiled_hull_equals_demand(mass: float, lead: float, time: float, eff:
 def test_batched_hulls_equal_demand(mass: float, lead: float, time: float) -> None:
     """Several efficiencies in one pass give each efficiency's motor_fit.demand."""
     from drivetrain.physics.stage import Stage
-    from drivetrain.study.hull import fast_demands
+    from drivetrain.sizing.hull import fast_demands
 
     axis = parse_axis(_variant(mass, lead, time))
     duty = duty_cycle(axis, 16)

@@ -18,6 +18,7 @@ import tokenize
 from functools import lru_cache
 from typing import TYPE_CHECKING, Any, Final
 
+from drivetrain import unit_cache
 from drivetrain.errors import InputError
 
 if TYPE_CHECKING:
@@ -150,8 +151,13 @@ def _parse_cached(text: str, quantity: str) -> float:
 
 @lru_cache(maxsize=512)
 def _unit_factor(unit: str, quantity: str) -> tuple[float, float]:
-    """SI value of one and of zero ``unit`` [SI per unit]."""
-    return _parse_string(f"1 {unit}", quantity, ""), _parse_string(f"0 {unit}", quantity, "")
+    """SI value of one and of zero ``unit`` [SI per unit] (remembered on disk: ``unit_cache``)."""
+    known = unit_cache.get(unit, quantity)
+    if known is not None:
+        return known
+    factors = _parse_string(f"1 {unit}", quantity, ""), _parse_string(f"0 {unit}", quantity, "")
+    unit_cache.put(unit, quantity, factors)
+    return factors
 
 
 MAX_QUANTITY_TEXT = 100

@@ -228,9 +228,14 @@ class Axis:
         """The motion profile as an exact cycle (InputError naming ``profile[i]`` if impossible)."""
         from drivetrain.motion.profiles import parse_profile
 
+        cached: Cycle | None = self.__dict__.get("_cycle")  # a Cycle is immutable: parsed once per axis
+        if cached is not None:
+            return cached
         if not self.spec.profile:
             raise InputError("profile", "is empty: give at least one move", has_value=False)
-        return parse_profile(self.spec.profile, self.mechanism.motion, "profile")
+        cycle = parse_profile(self.spec.profile, self.mechanism.motion, "profile")
+        self.__dict__["_cycle"] = cycle  # (not a field: equality, replace() and the repr ignore it)
+        return cycle
 
 
 def parse_axis(data: Any) -> Axis:

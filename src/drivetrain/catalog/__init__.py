@@ -20,6 +20,7 @@ The data folder is ``$DRIVETRAIN_DATA_DIR`` or the platform's user data folder; 
 
 from __future__ import annotations
 
+import copy
 import difflib
 import functools
 from collections.abc import Callable, Iterable, Sequence
@@ -119,6 +120,14 @@ def _cached(kind: str) -> Callable[[Callable[P, R]], Callable[P, R]]:
     return wrap
 
 
+@_cached("rows")
+def _rows(table: str) -> list[dict[str, Any]]:
+    """Every row of a table (shipped then user, in file order), read once per catalog state; the
+    queries below filter these (never change them)."""
+    with db.reader() as rd:
+        return rd.rows(next(spec for spec in ROW_TABLES if spec.name == table))
+
+
 @_cached("motor")
 def motors(
     vendor: Names = None,
@@ -140,8 +149,7 @@ def motors(
     An empty result is not an error; a vendor or kind that matches nothing in the catalog is.
     """
     with db.reader() as rd:
-        rows = rd.rows(MOTOR)
-        rows = _filter(MOTOR, rows, vendor, kind, ids)
+        rows = _filter(MOTOR, _rows(MOTOR.name), vendor, kind, ids)
         if voltage is not None:
             v = units.parse(voltage, "voltage", "voltage", allow_zero=False)
             rows = [
@@ -170,8 +178,7 @@ def gearboxes(
         kind: "servo_gearbox" (precision gearboxes for servo motors) or "small_gearhead".
         ids: exactly these rows, in this order.
     """
-    with db.reader() as rd:
-        rows = _filter(GEARBOX, rd.rows(GEARBOX), vendor, kind, ids)
+    rows = _filter(GEARBOX, _rows(GEARBOX.name), vendor, kind, ids)
     if series is not None:
         wanted = _names("series", series)
         known = {str(r["series"]).lower() for r in rows if r["series"]}
@@ -186,10 +193,10 @@ def gearboxes(
     return GearboxTable.from_rows(rows)
 
 
+@_cached("drive")
 def drives(vendor: Names = None, voltage: float | str | None = None, ids: Iterable[str] | None = None) -> DriveTable:
     """Servo drives as arrays (SI): the shipped rows (data/drives_servo.csv, SOURCES.md "Drives") and imports."""
-    with db.reader() as rd:
-        rows = _filter(DRIVE, rd.rows(DRIVE), vendor, None, ids)
+    rows = _filter(DRIVE, _rows(DRIVE.name), vendor, None, ids)
     if voltage is not None:
         v = units.parse(voltage, "voltage", "voltage", allow_zero=False)
         rows = [r for r in rows if r["voltage_V"] is not None and abs(r["voltage_V"] - v) <= VOLTAGE_TOLERANCE * abs(v)]
@@ -212,9 +219,14 @@ def get(id: str) -> dict[str, Any]:
 
     Raises InputError('id', ...) naming close matches, or why the shipped data left it out.
     """
+    return copy.deepcopy(_get(id))  # the caller's own copy of the remembered record
+
+
+@_cached("get")
+def _get(id: str) -> dict[str, Any]:
     with db.reader() as rd:
         for spec in ROW_TABLES:
-            found = rd.rows(spec, "id = ?", (id,))
+            found = [r for r in _rows(spec.name) if r["id"] == id]
             if found:
                 return _record(spec, found[0], rd.curves([id]).get(id), rd.curve_sources(id))
         rejected = rd.rejected(id)

@@ -19,6 +19,7 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import math
+import operator
 import os
 import re
 import sys
@@ -29,6 +30,7 @@ from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from drivetrain.catalog.freshness import files_signature, remember_files
 from drivetrain.catalog.schema import (
     CURVE,
     DATA_VERSION,
@@ -116,12 +118,18 @@ def builtin_db(directory: Path | None = None) -> Path:
     path = (directory or data_dir()) / BUILTIN_NAME
     if path in _verified and path.exists():
         return path
+    files = files_signature(f"{DATA_VERSION}/schema-{SCHEMA_VERSION}")
+    if files is not None and _meta_of(path, "files") == files:  # the same files as at the build: no hashing
+        _verified.add(path)
+        return path
     stamp = build_stamp()
-    if _stamp_of(path) != stamp:
+    if _meta_of(path, "stamp") == stamp and files is not None:
+        remember_files(path, files)  # same content, touched files (a checkout): compare sizes and times next time
+    if _meta_of(path, "stamp") != stamp:
         try:
-            _build(path, stamp)
+            _build(path, stamp, files)
         except OSError as exc:
-            if _stamp_of(path) != stamp:  # not built meanwhile by another process either
+            if _meta_of(path, "stamp") != stamp:  # not built meanwhile by another process either
                 raise InputError(
                     ENV_DATA_DIR,
                     f"cannot write the catalog database in {path.parent} ({exc.strerror or exc}); "
@@ -132,7 +140,7 @@ def builtin_db(directory: Path | None = None) -> Path:
     return path
 
 
-def _stamp_of(path: Path) -> str | None:
+def _meta_of(path: Path, key: str) -> str | None:
     import sqlite3
 
     if not path.exists():
@@ -140,7 +148,7 @@ def _stamp_of(path: Path) -> str | None:
     try:
         conn = sqlite3.connect(_ro_uri(path), uri=True)
         try:
-            row = conn.execute("SELECT value FROM meta WHERE key = 'stamp'").fetchone()
+            row = conn.execute("SELECT value FROM meta WHERE key = ?", (key,)).fetchone()
         finally:
             conn.close()
     except sqlite3.Error:
@@ -148,7 +156,7 @@ def _stamp_of(path: Path) -> str | None:
     return str(row[0]) if row else None
 
 
-def _build(path: Path, stamp: str) -> None:
+def _build(path: Path, stamp: str, files: str | None = None) -> None:
     """Write the shipped database to a temporary file, then move it into place atomically."""
     import sqlite3
 
@@ -174,6 +182,7 @@ def _build(path: Path, stamp: str) -> None:
                     ("data_version", DATA_VERSION),
                     ("schema_version", str(SCHEMA_VERSION)),
                     ("origin", "builtin"),
+                    *([("files", files)] if files is not None else []),
                 ],
             )
             conn.execute("COMMIT")
@@ -513,7 +522,9 @@ class Reader:
         sql += " ORDER BY _db, _rowid"
         cursor = self.conn.execute(sql, tuple(params))
         names = [d[0] for d in cursor.description]
-        return [{k: v for k, v in zip(names, r, strict=True) if not k.startswith("_")} for r in cursor]
+        keep = [i for i, k in enumerate(names) if not k.startswith("_")]  # id and at least one more
+        kept, pick = [names[i] for i in keep], operator.itemgetter(*keep)
+        return [dict(zip(kept, pick(r), strict=True)) for r in cursor]
 
     def ids(self) -> dict[str, tuple[str, str]]:
         """Every row id -> (table name, origin)."""

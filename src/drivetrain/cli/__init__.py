@@ -29,8 +29,13 @@ UNITS_HELP = ("units of the tables (and of the report): si (N*m, kg*cm^2, mm), i
               "lbf), or as-given (those of the axis file); shaft speeds stay rpm, power W, energy J")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser with every sub-command."""
+CORE_COMMANDS = ("size", "select", "modes", "simulate", "machine")
+"""Sub-commands defined here; the others live with their subsystem (catalog, serve, sweep ...)."""
+
+
+def build_parser(optional: bool = True) -> argparse.ArgumentParser:
+    """The argument parser with every sub-command (``optional=False``: only ``CORE_COMMANDS``, so a
+    ``size`` does not import the study, web and catalog command modules to build its parser)."""
     parser = argparse.ArgumentParser(prog="drivetrain", description="Size and analyse servo axes.")
     parser.add_argument("--version", action="store_true", help="print the version and exit")
     parser.add_argument("--catalog", dest="user_catalog", metavar="FILE.sqlite",
@@ -85,10 +90,24 @@ def build_parser() -> argparse.ArgumentParser:
     q.add_argument("--seed", type=int, default=0, help="seed of the random phasing (default 0)")
     q.set_defaults(handler=commands.machine_size)
 
-    _optional_parser(sub, "drivetrain.catalog.cli")
-    _optional_parser(sub, "drivetrain.web.cli")
-    _optional_parser(sub, "drivetrain.study.cli")
+    if optional:
+        _optional_parser(sub, "drivetrain.catalog.cli")
+        _optional_parser(sub, "drivetrain.web.cli")
+        _optional_parser(sub, "drivetrain.study.cli")
     return parser
+
+
+def _command(argv: Sequence[str]) -> str | None:
+    """The sub-command named in ``argv`` (the first word that is not an option or --catalog's value)."""
+    skip = False
+    for word in argv:
+        if skip:
+            skip = False
+        elif word == "--catalog":
+            skip = True
+        elif not word.startswith("-"):
+            return word
+    return None
 
 
 def _optional_parser(sub: Any, module: str) -> None:
@@ -106,8 +125,9 @@ def _optional_parser(sub: Any, module: str) -> None:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point: returns the exit status (0 passes, 1 sized but nothing passes, 2 bad input)."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    words = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(optional=_command(words) not in CORE_COMMANDS)
+    args = parser.parse_args(words)
     if args.version:
         from drivetrain import __version__
 

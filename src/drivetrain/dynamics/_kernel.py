@@ -75,8 +75,9 @@ import math
 from typing import Any
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
+
+from drivetrain.jit import njit
 
 F64 = NDArray[np.float64]
 I64 = NDArray[np.int64]

@@ -103,6 +103,8 @@ def evaluate_pieces(
         c = derivs[-1]
         derivs.append(c[..., 1:] * np.arange(1, c.shape[-1], dtype=float))
     x, v, a, j = (_horner(c, w) for c in derivs)
+    if not np.any(amp):  # polynomial pieces only (every profile but a cam's sine): no sine term to add
+        return x, v, a, j
     arg = omega * w + phase
     sin, cos = np.sin(arg), np.cos(arg)
     return x + amp * sin, v + amp * omega * cos, a - amp * omega**2 * sin, j - amp * omega**3 * cos
@@ -110,9 +112,11 @@ def evaluate_pieces(
 
 def _horner(coef: FloatArray, w: FloatArray) -> FloatArray:
     """sum(coef[..., k] w^k) by Horner's scheme."""
-    acc = np.zeros_like(w)
-    for col in range(coef.shape[-1] - 1, -1, -1):
-        acc = acc * w + coef[..., col]
+    acc = np.empty(np.broadcast_shapes(np.shape(w), coef.shape[:-1]))
+    acc[...] = coef[..., -1]
+    for col in range(coef.shape[-1] - 2, -1, -1):
+        acc *= w
+        acc += coef[..., col]
     return acc
 
 

@@ -31,6 +31,9 @@ Guarantees (tested on seeded random moves in ``tests/test_profiles_random.py``):
 - no NaN for any accepted input; impossible requests raise ``InputError`` naming the field;
 - ``time_optimal_duration`` equals ruckig's duration within 1e-9 s (seeded comparison).
 
+The module parses; the exact form and its sampling are in ``cycle.py`` and the closed forms of one
+move (peaks, time-optimal) in ``moves.py``, both re-exported here.
+
 Sources: the lecture notes in ``seed/`` (trapezoid ``v_max = x_f / t_2``, ``a_max = x_f /
 (t_1 t_2)``; movement amount ``L_s = V (2 t_s - t_a - t_d) / 2``); cam laws in ``cams.py``
 (Norton); jerk-limited time-optimal rest-to-rest moves: L. Biagiotti, C. Melchiorri,
@@ -42,7 +45,6 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from functools import cached_property
 from typing import Any, Literal, NamedTuple
 
 import numpy as np
@@ -50,11 +52,33 @@ import numpy.typing as npt
 
 from drivetrain import units
 from drivetrain.errors import InputError
-from drivetrain.motion.cams import CAM_LAWS, DEGREE, cam_law, evaluate_pieces
+from drivetrain.motion.cams import CAM_LAWS, DEGREE, cam_law
+from drivetrain.motion.cycle import (
+    MAX_SAMPLES,
+    Cycle,
+    Kinematics,
+    Motion,
+    Phase,
+    PhaseKind,
+    Samples,
+    Segment,
+    Step,
+    _PieceTable,
+)
+from drivetrain.motion.moves import (
+    TimeOptimal,
+    movement_amount,
+    s_curve_jerk_time,
+    s_curve_peak_accel,
+    symmetric_accel_time,
+    symmetric_trapezoid_peak_accel,
+    symmetric_trapezoid_peak_speed,
+    time_optimal_duration,
+    time_optimal_parameters,
+    trapezoid_peak_speed,
+)
 
 FloatArray = npt.NDArray[np.float64]
-Motion = Literal["linear", "rotary"]
-PhaseKind = Literal["accel", "run", "decel", "dwell"]
 
 SHAPES: tuple[str, ...] = ("trapezoid", "triangle", "s_curve")
 HOLDING: tuple[str, ...] = ("motor", "brake")
@@ -64,360 +88,6 @@ DEFAULT_JERK_FRACTION = 1.0
 _N_COEF = DEGREE + 1
 _MIN_JERK_FRACTION = 1e-9
 """Jerk fractions below this are taken as 0 (a trapezoid)."""
-
-
-# --------------------------------------------------------------------------- formula functions
-
-
-def movement_amount(
-    speed: npt.ArrayLike, t_s: npt.ArrayLike, t_a: npt.ArrayLike, t_d: npt.ArrayLike
-) -> FloatArray:
-    """Distance [m or rad] of a trapezoid move at peak ``speed`` [m/s or rad/s].
-
-    ``L_s = V (2 t_s - t_a - t_d) / 2`` with positioning time ``t_s``, acceleration time ``t_a``
-    and deceleration time ``t_d`` [s]; the sign follows the speed. Lecture, "Movement Amount"
-    (ball screw, belt, rack, roll and disc pages; the lecture's V is in m/min, hence its /60).
-
-    >>> round(float(movement_amount(15 / 60, 1.2, 0.1, 0.1)), 12)  # Yaskawa Sigma-II: 15 m/min
-    0.275
-    """
-    return np.asarray(speed, dtype=float) * (2.0 * np.asarray(t_s) - np.asarray(t_a) - np.asarray(t_d)) / 2.0
-
-
-def trapezoid_peak_speed(
-    distance: npt.ArrayLike, t_total: npt.ArrayLike, t_accel: npt.ArrayLike, t_decel: npt.ArrayLike
-) -> FloatArray:
-    """Peak speed [m/s or rad/s] of a rest-to-rest move of ``distance`` [m or rad] in ``t_total`` [s].
-
-    The lecture's movement amount solved for V: ``V = 2 L / (2 t_s - t_a - t_d)``; it holds for
-    any ramp whose speed is symmetric about its mid-time (trapezoid and s-curve ramps alike).
-    """
-    t_s, t_a, t_d = np.asarray(t_total), np.asarray(t_accel), np.asarray(t_decel)
-    return 2.0 * np.asarray(distance, dtype=float) / (2.0 * t_s - t_a - t_d)
-
-
-def symmetric_trapezoid_peak_speed(distance: npt.ArrayLike, t_2: npt.ArrayLike) -> FloatArray:
-    """``v_max = x_f / t_2`` [m/s] for a symmetric trapezoid; ``t_2 = t_f - t_1`` [s] is when decel starts.
-
-    Lecture, trapezoidal profile (ERRATA lists it as reproducible).
-    """
-    return np.asarray(distance, dtype=float) / np.asarray(t_2)
-
-
-def symmetric_trapezoid_peak_accel(
-    distance: npt.ArrayLike, t_1: npt.ArrayLike, t_2: npt.ArrayLike
-) -> FloatArray:
-    """``a_max = x_f / (t_1 t_2)`` [m/s^2] for a symmetric trapezoid with accel time ``t_1`` [s].
-
-    Lecture, trapezoidal profile, with ``t_f = t_1 + t_2``.
-    """
-    return np.asarray(distance, dtype=float) / (np.asarray(t_1) * np.asarray(t_2))
-
-
-def symmetric_accel_time(distance: npt.ArrayLike, speed: npt.ArrayLike, t_s: npt.ArrayLike) -> FloatArray:
-    """Accel (= decel) time [s] that moves ``distance`` [m] at ``speed`` [m/s] within ``t_s`` [s].
-
-    The lecture's movement amount with ``t_a = t_d``: ``L_s = V (t_s - t_a)``, so
-    ``t_a = t_s - L_s / V`` (how the Yaskawa selection examples find ``t_a``).
-    """
-    return np.asarray(t_s, dtype=float) - np.asarray(distance) / np.asarray(speed)
-
-
-def s_curve_peak_accel(
-    peak_speed: npt.ArrayLike, t_ramp: npt.ArrayLike, jerk_fraction: npt.ArrayLike
-) -> FloatArray:
-    """Peak acceleration [m/s^2] of a ramp from rest to ``peak_speed`` [m/s] in ``t_ramp`` [s].
-
-    The ramp spends ``f t_r / 2`` in each of its two jerk pieces (``f`` = jerk fraction), so
-    ``v = a (t_r - f t_r / 2)`` and ``a = v / (t_r (1 - f / 2))``: ``f = 0`` is the trapezoid's
-    ``v / t_r``, ``f = 1`` the pure s-curve's ``2 v / t_r`` (Biagiotti & Melchiorri, sec. 3.4).
-    """
-    f = np.asarray(jerk_fraction, dtype=float)
-    return np.asarray(peak_speed, dtype=float) / (np.asarray(t_ramp) * (1.0 - f / 2.0))
-
-
-def s_curve_jerk_time(peak_speed: npt.ArrayLike, t_ramp: npt.ArrayLike, jerk: npt.ArrayLike) -> FloatArray:
-    """Duration [s] of each jerk piece of a ramp to ``peak_speed`` in ``t_ramp`` at ``jerk`` [m/s^3].
-
-    From ``v = J t_j (t_r - t_j)``, the root ``t_j <= t_r / 2``:
-    ``t_j = 2 (v / J) / (t_r + sqrt(t_r^2 - 4 v / J))`` (written without cancellation). NaN when
-    ``J < 4 v / t_r^2``: no ramp of that jerk reaches the speed in time.
-    """
-    q = np.asarray(peak_speed, dtype=float) / np.asarray(jerk, dtype=float)
-    t_r = np.asarray(t_ramp, dtype=float)
-    with np.errstate(invalid="ignore"):
-        return 2.0 * q / (t_r + np.sqrt(t_r**2 - 4.0 * q))
-
-
-class TimeOptimal(NamedTuple):
-    """Time-optimal rest-to-rest move (arrays, magnitudes): symmetric ramps of
-    ``t_jerk, t_const, t_jerk`` [s] around a cruise of ``t_cruise`` [s]."""
-
-    duration: FloatArray
-    peak_speed: FloatArray
-    peak_accel: FloatArray
-    t_jerk: FloatArray
-    t_const: FloatArray
-    t_cruise: FloatArray
-
-
-def time_optimal_parameters(
-    distance: npt.ArrayLike, vmax: npt.ArrayLike, amax: npt.ArrayLike, jmax: npt.ArrayLike = math.inf
-) -> TimeOptimal:
-    """Closed-form time-optimal rest-to-rest move under speed, acceleration and jerk limits.
-
-    Vectorised over arrays. ``jmax = inf`` gives the trapezoid or triangle. A ramp from rest to
-    speed ``v`` takes ``t_r = v / a_p + t_j`` with ``a_p = min(A, sqrt(v J))``, ``t_j = a_p / J``
-    and covers ``v t_r / 2``; the move reaches ``V`` if ``|d| >= V t_r(V)``, else its peak speed
-    solves ``|d| = v t_r(v)``: ``v = 2 |d| A / (A^2/J + sqrt(A^4/J^2 + 4 |d| A))`` when the
-    acceleration limit is reached (``|d| >= 2 A^3 / J^2``), ``v = (|d| sqrt(J) / 2)^(2/3)``
-    otherwise. Biagiotti & Melchiorri, *Trajectory Planning for Automatic Machines and Robots*,
-    sec. 3.4.2 (double S with zero end speeds). Units: m, m/s, m/s^2, m/s^3 (or rad...), s.
-    """
-    d = np.abs(np.asarray(distance, dtype=float))
-    vm, am, jm = (np.asarray(x, dtype=float) for x in (vmax, amax, jmax))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        a2j = am**2 / jm  # speed at which a ramp first touches the acceleration limit
-        ramp_at_vmax = np.where(vm >= a2j, vm / am + am / jm, 2.0 * np.sqrt(vm / jm))
-        reach = d >= vm * ramp_at_vmax
-        v_acc = np.where(d > 0.0, 2.0 * d * am / (a2j + np.sqrt(a2j**2 + 4.0 * d * am)), 0.0)
-        v_jerk = np.cbrt((d * np.sqrt(jm) / 2.0) ** 2)
-        v_p = np.where(reach, vm, np.where(d >= 2.0 * am * a2j / jm, v_acc, v_jerk))
-        a_p = np.minimum(am, np.sqrt(v_p * jm))
-        t_j = np.where(np.isinf(jm), 0.0, a_p / jm)
-        t_c = np.where(v_p > 0.0, np.maximum(v_p / a_p - t_j, 0.0), 0.0)
-        t_v = np.where(reach, np.maximum(d / vm - (2.0 * t_j + t_c), 0.0), 0.0)
-    duration = 2.0 * (2.0 * t_j + t_c) + t_v
-    return TimeOptimal(duration, v_p, np.where(v_p > 0.0, a_p, 0.0), t_j, t_c, t_v)
-
-
-def time_optimal_duration(
-    distance: npt.ArrayLike, vmax: npt.ArrayLike, amax: npt.ArrayLike, jmax: npt.ArrayLike = math.inf
-) -> FloatArray:
-    """Shortest duration [s] of a rest-to-rest move under the limits (see ``time_optimal_parameters``)."""
-    return time_optimal_parameters(distance, vmax, amax, jmax).duration
-
-
-# --------------------------------------------------------------------------- exact representation
-
-
-class Kinematics(NamedTuple):
-    """Position [m or rad], speed, acceleration and jerk at given times (arrays)."""
-
-    x: FloatArray
-    v: FloatArray
-    a: FloatArray
-    j: FloatArray
-
-
-@dataclass(frozen=True)
-class Segment:
-    """One exact piece on [t0, t1] [s]: ``x(tau) = sum(coeffs[k] tau^k) + A sin(w tau + p)``.
-
-    ``tau = t - t0`` is local time [s], from 0 to ``span`` [s]: the piece's exact duration, which
-    ``t1 - t0`` matches only to the rounding of absolute time (local time keeps a short jerk
-    piece late in a long cycle exact). ``coeffs`` [m/s^k or rad/s^k] hold DEGREE + 1 ascending
-    coefficients; ``sine`` is ``(A [m or rad], w [rad/s], p [rad])``, all zero except in cam-law
-    pieces. ``step`` and ``phase`` index ``Cycle.steps`` and ``Cycle.phases``.
-    """
-
-    t0: float
-    t1: float
-    coeffs: tuple[float, ...]
-    step: int
-    phase: int
-    span: float
-    sine: tuple[float, float, float] = (0.0, 0.0, 0.0)
-
-    def evaluate(self, t: npt.ArrayLike) -> Kinematics:
-        """x, v, a, j at times ``t`` [s] in [t0, t1] (clipped to it)."""
-        tt = np.asarray(t, dtype=float)
-        return _PieceTable((self,)).evaluate_in(np.zeros(tt.shape, dtype=np.intp), tt)
-
-
-class Phase(NamedTuple):
-    """A phase of the cycle: ``kind`` over [t0, t1] [s] in step ``step``; ``move`` counts moves only
-    (None in a dwell). An s-curve's accel phase spans its jerk pieces; a cam move is accel for
-    its first half and decel for its second."""
-
-    kind: PhaseKind
-    t0: float
-    t1: float
-    step: int
-    move: int | None
-
-
-@dataclass(frozen=True)
-class Step:
-    """A parsed step with its kinematics (SI; peaks are magnitudes, ``direction`` gives the sign).
-
-    ``shape`` is trapezoid, triangle, s_curve, time_optimal, a cam law name, or dwell.
-    ``t_accel``/``t_decel`` [s] are the ramp times and ``t_jerk_accel``/``t_jerk_decel`` [s] the
-    duration of each jerk piece within them. ``peak_jerk`` is the largest finite jerk: a
-    trapezoid's jerk is impulsive at its corners and counted as 0. ``thrust`` [N or N m] replaces
-    the load's thrust during a move (None: keep the load's); ``holding`` is set for dwells.
-    """
-
-    index: int
-    kind: Literal["move", "dwell"]
-    shape: str
-    t0: float
-    duration: float
-    x0: float
-    distance: float
-    direction: int
-    peak_speed: float = 0.0
-    peak_accel: float = 0.0
-    peak_decel: float = 0.0
-    peak_jerk: float = 0.0
-    t_accel: float = 0.0
-    t_decel: float = 0.0
-    t_jerk_accel: float = 0.0
-    t_jerk_decel: float = 0.0
-    thrust: float | None = None
-    holding: Literal["motor", "brake"] | None = None
-    move_index: int | None = None
-
-    @property
-    def t1(self) -> float:
-        """End time [s] of the step."""
-        return self.t0 + self.duration
-
-
-@dataclass(frozen=True)
-class Samples:
-    """The cycle sampled per segment, for plots, speed-dependent loads and integrals.
-
-    Every segment is sampled on its own with both end points (a boundary appears twice: left
-    and right limit) and an odd number of points; ``weights`` [s] are composite Simpson weights
-    per segment, so ``sum(weights * f)`` integrates ``f`` over one period, exactly for
-    piecewise cubic ``f`` (e.g. the square of a piecewise-linear torque).
-
-    ``breakaway`` marks one extra sample where each move starts from rest: a copy of the move's first
-    sample with zero quadrature weight. Static friction acts there (an instant: it counts in the
-    peak, never in an integral, so the RMS does not depend on the number of points); at every other
-    sample, the start and the arrival at rest included, friction slides.
-    """
-
-    t: FloatArray
-    x: FloatArray
-    v: FloatArray
-    a: FloatArray
-    j: FloatArray
-    direction: npt.NDArray[np.int8]
-    step: npt.NDArray[np.intp]
-    phase: npt.NDArray[np.intp]
-    segment: npt.NDArray[np.intp]
-    holding: npt.NDArray[np.bool_]
-    braked: npt.NDArray[np.bool_]
-    thrust: FloatArray
-    weights: FloatArray
-    breakaway: npt.NDArray[np.bool_] | None = None
-
-    def integral(self, y: npt.ArrayLike) -> float:
-        """Integral of the sampled ``y`` over one period [unit of y times s]."""
-        return float(np.dot(self.weights, np.asarray(y, dtype=float)))
-
-    def rms(self, y: npt.ArrayLike) -> float:
-        """Root mean square of the sampled ``y`` over one period."""
-        yy = np.asarray(y, dtype=float)
-        return math.sqrt(max(self.integral(yy * yy), 0.0) / float(self.weights.sum()))
-
-
-class _PieceTable:
-    """Segments packed into arrays for vectorised evaluation."""
-
-    def __init__(self, segments: Sequence[Segment]) -> None:
-        self.t0 = np.array([s.t0 for s in segments], dtype=float)
-        self.t1 = np.array([s.t1 for s in segments], dtype=float)
-        self.span = np.array([s.span for s in segments], dtype=float)
-        self.coeffs = np.array([s.coeffs for s in segments], dtype=float).reshape(len(segments), _N_COEF)
-        sine = np.array([s.sine for s in segments], dtype=float).reshape(len(segments), 3)
-        self.amp, self.omega, self.phase = sine[:, 0], sine[:, 1], sine[:, 2]
-
-    def locate(self, t: FloatArray) -> npt.NDArray[np.intp]:
-        """Index of the segment holding each time (the later one at a boundary)."""
-        return np.clip(np.searchsorted(self.t0, t, side="right") - 1, 0, len(self.t0) - 1)
-
-    def evaluate_in(self, idx: npt.NDArray[np.intp], t: FloatArray) -> Kinematics:
-        """Evaluate segment ``idx`` at absolute times ``t`` (local time clipped to the piece)."""
-        return self.evaluate_local(idx, np.clip(t - self.t0[idx], 0.0, self.span[idx]))
-
-    def evaluate_local(self, idx: npt.NDArray[np.intp], tau: FloatArray) -> Kinematics:
-        """Evaluate segment ``idx`` at local times ``tau`` [s]."""
-        x, v, a, j = evaluate_pieces(self.coeffs[idx], self.amp[idx], self.omega[idx], self.phase[idx], tau)
-        return Kinematics(x, v, a, j)
-
-
-@dataclass(frozen=True)
-class Cycle:
-    """A repeating cycle of moves and dwells: the exact truth, and its sampling.
-
-    ``period`` [s]; ``motion`` linear (m) or rotary (rad); ``steps`` as parsed; ``segments`` the
-    exact pieces in time order; ``phases`` the accel/run/decel/dwell spans. Position starts at 0
-    and is absolute over the cycle (a cycle need not return to 0).
-    """
-
-    period: float
-    motion: Motion
-    steps: tuple[Step, ...]
-    segments: tuple[Segment, ...]
-    phases: tuple[Phase, ...]
-
-    @cached_property
-    def _table(self) -> _PieceTable:
-        return _PieceTable(self.segments)
-
-    def evaluate(self, t: npt.ArrayLike) -> Kinematics:
-        """Exact x, v, a, j at times ``t`` in [0, period] [s] (right limits at boundaries)."""
-        tt = np.asarray(t, dtype=float)
-        return self._table.evaluate_in(self._table.locate(tt), tt)
-
-    def sample(self, points_per_phase: int = 64) -> Samples:
-        """Sample every segment (a phase or a piece of one) with ``points_per_phase`` points,
-        rounded up to odd and at least 3, both ends included; see ``Samples``."""
-        n = max(3, int(points_per_phase) | 1)
-        tab = self._table
-        nseg = len(self.segments)
-        if n * nseg > MAX_SAMPLES:
-            raise InputError("points_per_phase", f"{n} points on each of {nseg} segments are {n * nseg} samples, "
-                             f"more than {MAX_SAMPLES}; at most {max(3, (MAX_SAMPLES // nseg - 1) | 1)} points "
-                             "per phase fit", points_per_phase)
-        frac = np.linspace(0.0, 1.0, n)
-        dur = tab.t1 - tab.t0
-        t = tab.t0[:, None] + dur[:, None] * frac[None, :]
-        t[:, -1] = tab.t1
-        simpson = np.ones(n)
-        simpson[1:-1:2], simpson[2:-1:2] = 4.0, 2.0
-        weights = (dur[:, None] / (3.0 * (n - 1))) * simpson[None, :]
-        seg = np.repeat(np.arange(nseg, dtype=np.intp), n)
-        kin = tab.evaluate_local(seg, (tab.span[:, None] * frac[None, :]).ravel())
-        step_of = np.array([s.step for s in self.segments], dtype=np.intp)
-        phase_of = np.array([s.phase for s in self.segments], dtype=np.intp)
-        steps = self.steps
-        direction = np.array([steps[i].direction for i in step_of], dtype=np.int8)
-        holding = np.array([steps[i].holding == "motor" for i in step_of], dtype=bool)
-        braked = np.array([steps[i].holding == "brake" for i in step_of], dtype=bool)
-        thrust = np.array([math.nan if steps[i].thrust is None else steps[i].thrust for i in step_of])
-        cols: dict[str, Any] = {
-            "t": t.ravel(), "x": kin.x, "v": kin.v, "a": kin.a, "j": kin.j,
-            "direction": direction[seg], "step": step_of[seg], "phase": phase_of[seg], "segment": seg,
-            "holding": holding[seg], "braked": braked[seg], "thrust": thrust[seg], "weights": weights.ravel(),
-            "breakaway": np.zeros(seg.size, dtype=bool),
-        }
-        # Where a move starts from rest: one more sample, a copy of its first, with zero weight (breakaway).
-        first_seg: dict[int, int] = {}
-        for k, sg in enumerate(self.segments):
-            if steps[sg.step].kind == "move" and steps[sg.step].direction != 0:
-                first_seg.setdefault(sg.step, k)
-        starts = np.array(sorted(k * n for k in first_seg.values()), dtype=np.intp)
-        starts = starts[cols["v"][starts] == 0.0] if starts.size else starts
-        if starts.size:
-            copies = {key: col[starts] for key, col in cols.items()}
-            copies["weights"] = np.zeros(starts.size)
-            copies["breakaway"] = np.ones(starts.size, dtype=bool)
-            cols = {key: np.insert(col, starts, copies[key]) for key, col in cols.items()}
-        return Samples(**cols)
 
 
 # --------------------------------------------------------------------------- building pieces
@@ -762,9 +432,6 @@ def _place(parsed: Sequence[_Parsed]) -> tuple[list[Segment], list[Phase]]:
 
 MAX_PROFILE_STEPS = 1_000
 """Moves and dwells one profile may hold (the axis file and the web API): sizing stays interactive."""
-MAX_SAMPLES = 500_000
-"""Samples one cycle may be cut into (points per phase x segments): a catalog selection holds a few
-kB per sample, so this bounds it near 1 GB."""
 
 
 def parse_profile(raw: Any, motion: Motion, field: str = "profile") -> Cycle:
@@ -868,3 +535,12 @@ def _ruckig_segments(prof: Any) -> list[Segment]:
     if not segments:  # already at the target
         segments.append(Segment(0.0, 0.0, _poly(prof.p[7], prof.v[7], prof.a[7], 0.0), 0, 0, 0.0))
     return segments
+
+
+__all__ = [  # the profile's parts live in cycle.py (exact form, sampling) and moves.py (closed forms of one move)
+    "DEFAULT_JERK_FRACTION", "HOLDING", "MAX_PROFILE_STEPS", "MAX_SAMPLES", "SHAPES", "VALID_KEYS", "Cycle",
+    "FreeMove", "Kinematics", "Motion", "Phase", "PhaseKind", "Samples", "Segment", "Step", "TimeOptimal",
+    "movement_amount", "parse_profile", "ruckig_move", "s_curve_jerk_time", "s_curve_peak_accel",
+    "symmetric_accel_time", "symmetric_trapezoid_peak_accel", "symmetric_trapezoid_peak_speed",
+    "time_optimal_duration", "time_optimal_parameters", "trapezoid_peak_speed",
+]

@@ -162,3 +162,20 @@ def gearbox_ratings(out_peak: Array | float, out_cubic: Array | float, in_peak_s
         req, av, _ = out["gearbox_peak_torque"]
         out["gearbox_peak_torque"] = (req, av, np.full_like(req, np.nan))
     return out
+
+
+def running_torque(external: NDArray[np.float64]) -> float:
+    """The load's running torque: the median of |T_ext| over the samples [N m] (0 for no samples).
+
+    ``np.median``'s value (the middle sample, or the mean of the two middle ones), computed without
+    it: its NaN check imports ``numpy.ma``, a tenth of a sizing's start-up.
+    """
+    n = external.size
+    if n == 0:
+        return 0.0
+    s = np.sort(np.abs(external.ravel()))
+    if np.isnan(s[-1]):
+        return math.nan
+    mid = n // 2
+    return float(s[mid]) if n % 2 else float((s[mid - 1] + s[mid]) / 2.0)
+

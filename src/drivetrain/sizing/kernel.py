@@ -39,8 +39,9 @@ import math
 from typing import Any
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
+
+from drivetrain.jit import njit
 
 # rows of the check arrays, in the order of selection.CHECK_UNITS
 (PEAK, RMS, SPEED, INERTIA, FIT, GB_PEAK, GB_RATED, GB_ESTOP, GB_SPEED, GB_MEAN_SPEED) = range(10)

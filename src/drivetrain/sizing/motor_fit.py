@@ -71,6 +71,10 @@ def binned_points(omega: Array, alpha: Array, torque: Array,
 def demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: float, load_inertia: float,
            bins: int = 64) -> Demand:
     """Reduce samples to a Demand: speed bins and the convex hull of (alpha, T) in each."""
+    if len(omega) > _COMPILED_FROM:
+        from drivetrain.sizing.hull import fast_demand  # the same bins, vertices and padding, compiled
+
+        return fast_demand(omega, alpha, torque, weights, period, load_inertia, bins)
     a_s, t_s, starts, stops, speeds = binned_points(omega, alpha, torque, bins)
     # points of each bin are sorted by (alpha, T): the monotone chain needs no further sort
     a_l, t_l = a_s.tolist(), t_s.tolist()
@@ -107,6 +111,10 @@ def scaled(d: Demand, ratio: float) -> Demand:
                   hull_torque=d.hull_torque / ratio, hull_alpha=d.hull_alpha * ratio,
                   all_torque=d.all_torque / ratio, all_alpha=d.all_alpha * ratio)
 
+
+_COMPILED_FROM = 20_000
+"""Samples above which the hulls are computed by the compiled ``hull.fast_demand`` (same vertices):
+below, the plain-float chain costs less than loading the compiled code."""
 
 _COLLINEAR = 1e-12
 """Relative size of a turn below which three hull points count as collinear (rounding of the samples)."""

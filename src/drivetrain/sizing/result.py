@@ -25,7 +25,7 @@ from drivetrain.duty.cycle import (
     minimum_decel_time,
     operation_power,
 )
-from drivetrain.sizing.checks import Check
+from drivetrain.sizing.checks import Check, running_torque
 from drivetrain.sizing.motor_fit import MotorArrays, demand, fit_motors
 
 if TYPE_CHECKING:
@@ -268,7 +268,7 @@ def gearbox_rating_checks(axis: Axis, duty: DutyCycle, motor: MotorData | None,
         t_out, w_in = duty.stage_torque[k], np.abs(duty.stage_omega[k]) * st.ratio
         estop = math.nan
         if motor is not None:
-            run = float(np.median(np.abs(duty.external))) if duty.external.size else 0.0
+            run = running_torque(duty.external)
             if k == first_gearbox:  # the lecture's split with everything before the mesh on the motor side
                 estop = gearbox_split_at_motor_peak(axis, duty, motor.inertia, motor.peak_torque, run)[
                     "gearbox_output_torque_at_motor_peak_Nm"]

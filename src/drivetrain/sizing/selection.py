@@ -31,7 +31,7 @@ from drivetrain.duty.cycle import cubic_mean
 from drivetrain.errors import InputError
 from drivetrain.physics.stage import Stage
 from drivetrain.sizing.candidates import CHECK_UNITS, FIT_BIT, MOTOR_CHECKS, Candidates, Details, closest, column
-from drivetrain.sizing.checks import shock_factor
+from drivetrain.sizing.checks import running_torque, shock_factor
 from drivetrain.sizing.envelope import continuous_torque, intermittent_torque, motor_envelopes
 from drivetrain.sizing.motor_fit import Demand, demand
 from drivetrain.sizing.reasons import advice, candidate_dict, explain
@@ -104,7 +104,7 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     limit = margins.inertia_ratio if max_inertia_ratio is None else min(max_inertia_ratio, margins.inertia_ratio)
     t0, w0, a0 = duty.torque, duty.omega, duty.alpha
     out_cubic = cubic_mean(t0, w0, duty.weights)
-    run_t = float(np.median(np.abs(duty.external))) if duty.external.size else 0.0
+    run_t = running_torque(duty.external)
     ratio, eff_g, rows, row_start = _gearbox_options(gb, allow_direct)
     base: dict[float, Demand] = {}
     for eff in eff_g.tolist():
@@ -126,15 +126,18 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     hull_a = _padded([d.hull_alpha for d in demands], (n_bins, n_v))[e_of] * col[:, :, None]
     all_t = _padded([d.all_torque for d in demands], (n_all,))[e_of] / col
     all_a = _padded([d.all_alpha for d in demands], (n_all,))[e_of] * col
-    # Cycle sums and speeds behind each ratio, computed as motor_fit.fit_motors does on the scaled
-    # demand (same operations, so a speed exactly at a motor's limit is judged the same way).
-    w_g = duty.weights[None, :]
-    t_g = np.stack([d.torque for d in demands])[e_of] / col
-    a_g = np.stack([d.alpha for d in demands])[e_of] * col
-    speed_g = np.abs(w0[None, :] * col)
-    sums = np.stack([np.sum(w_g * t_g**2, axis=1), np.sum(w_g * t_g * a_g, axis=1), np.sum(w_g * a_g**2, axis=1)],
-                    axis=1)
-    g_speed = np.stack([np.max(speed_g, axis=1), np.sum(w_g * speed_g, axis=1) / duty.period], axis=1)
+    # Cycle sums once per efficiency, then behind each ratio i (T / i, alpha x i, motor_fit.scaled):
+    # S_TT / i^2, S_Ta, S_aa i^2; no (groups x samples) arrays. Speeds once per distinct ratio, with
+    # fit_motors' own operations on the scaled demand, so a speed exactly at a motor's limit is judged
+    # the same way (max and mean of |omega i|).
+    w = duty.weights
+    e_sums = np.array([[np.sum(w * d.torque**2), np.sum(w * d.torque * d.alpha), np.sum(w * d.alpha**2)]
+                       for d in demands]).reshape(len(demands), 3)
+    sums = e_sums[e_of] * np.stack([1.0 / ratio**2, np.ones_like(ratio), ratio**2], axis=1)
+    g_speed = np.empty((len(ratio), 2))
+    for r in np.unique(ratio).tolist():
+        speed_r = np.abs(w0 * r)
+        g_speed[ratio == r] = (np.max(speed_r) if speed_r.size else 0.0, np.sum(w * speed_r) / duty.period)
     g_j_load = duty.load_inertia / ratio**2
     # Envelopes: continuous at each group's mean speed (every motor), intermittent at every bin for
     # the motors that reach the top bin (a slower motor is not judged on torque). With curves, the

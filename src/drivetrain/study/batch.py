@@ -11,7 +11,7 @@ met here without an edit. What the batched path saves per variant, without chang
 * profiles equal (same profile entries, same kind of motion, same points per phase) share their
   sampled kinematics (``Cycle`` and ``Samples`` are functions of those alone);
 * the hull of the cycle behind a gearbox efficiency is computed once per variant, compiled
-  (``study.hull``, equal to ``motor_fit.demand`` vertex for vertex), only for the efficiencies
+  (``sizing.hull``, equal to ``motor_fit.demand`` vertex for vertex), only for the efficiencies
   the search meets, and handed to ``evaluate`` for every motor table it evaluates;
 * the margins that depend on the motor and the ratio alone (max speed, inertia ratio) or on the
   gearbox row alone (n1max, n1N, T2N, T2B) are computed first (``search_bounds``): a candidate
@@ -57,6 +57,7 @@ from drivetrain.axis.model import Axis
 from drivetrain.duty.cycle import cubic_mean, duty_from_samples
 from drivetrain.sizing.candidates import FIT_BIT
 from drivetrain.sizing.checks import shock_factor
+from drivetrain.sizing.hull import fast_demands
 from drivetrain.sizing.selection import (
     _closest_failing,
     _gearbox_options,
@@ -68,7 +69,6 @@ from drivetrain.sizing.selection import (
     ranked,
     select,
 )
-from drivetrain.study.hull import fast_demands
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Margins, SelectSpec

@@ -1,23 +1,29 @@
-"""The convex hull of a duty cycle's (acceleration, torque) points per speed bin, compiled, for a
-study's many variants: ``motor_fit.demand`` with the same bins, points, vertices and padding
-(the same monotone chain and collinearity rule), several gearbox efficiencies in one pass.
+"""The convex hull of a duty cycle's (acceleration, torque) points per speed bin, compiled:
+``motor_fit._chain`` for every bin in one pass. ``motor_fit.demand`` uses it for cycles of many
+points (importing this module imports numba; a short cycle keeps the plain-float chain, whose
+per-call cost is lower there), and a study (``study/batch.py``) for its many variants, several
+gearbox efficiencies in one pass (``fast_demands``).
 
-``tests/test_study_batch.py`` asserts vertex-for-vertex equality with ``motor_fit.demand``
-(hypothesis).
+Same algorithm and the same floating-point operations in the same order as ``_chain`` (Andrew's
+monotone chain, collinear points within a relative turn of 1e-12 dropped; no fast-math, so no
+fused multiply-add), hence the same vertices, bins and padding as ``motor_fit.demand``:
+``tests/test_hull.py`` and ``tests/test_study_batch.py`` assert equality (hypothesis). Source:
+A. M. Andrew, Another efficient algorithm for convex hulls in two dimensions, Information
+Processing Letters 9 (1979) 216-219.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
 
+from drivetrain.jit import njit
 from drivetrain.sizing.motor_fit import _COLLINEAR, Demand, binned_points
 
 Array = NDArray[np.float64]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _half(x: Array, y: Array, idx: NDArray[np.int64], out: NDArray[np.int64]) -> int:  # pragma: no cover
     """One half of Andrew's monotone chain over the points ``idx`` (in order); writes indices to ``out``."""
     n = 0
@@ -33,7 +39,7 @@ def _half(x: Array, y: Array, idx: NDArray[np.int64], out: NDArray[np.int64]) ->
     return n
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _hulls(x: Array, y: Array, starts: NDArray[np.int64], stops: NDArray[np.int64]) -> tuple[
         NDArray[np.int64], NDArray[np.int64]]:  # pragma: no cover
     """Hull vertices (as point indices) of each run ``[starts[b], stops[b])`` of points sorted by (x, y).
@@ -78,11 +84,26 @@ def _hulls(x: Array, y: Array, starts: NDArray[np.int64], stops: NDArray[np.int6
     return verts[:k], count
 
 
+def chains(alpha: Array, torque: Array, starts: NDArray[np.integer], stops: NDArray[np.integer]) -> tuple[
+        Array, Array, NDArray[np.int64]]:
+    """Hull vertices of the points ``[starts[b]:stops[b]]`` of each bin b, as ``motor_fit._chain`` gives them.
+
+    The points of each bin are sorted by (alpha, T) without repeats. Returns the vertices of every
+    bin one after another (alpha [rad/s^2], T [N m]) and each bin's number of vertices.
+    """
+    a = np.ascontiguousarray(alpha, dtype=np.float64)
+    t = np.ascontiguousarray(torque, dtype=np.float64)
+    i64 = np.int64
+    verts, count = _hulls(a, t, np.ascontiguousarray(starts, dtype=i64), np.ascontiguousarray(stops, dtype=i64))
+    return a[verts], t[verts], count
+
+
 def fast_demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: float, load_inertia: float,
                 bins: int = 64) -> Demand:
     """``motor_fit.demand`` with the hulls compiled: the same bins, points, vertices and padding."""
     a_s, t_s, starts, stops, speeds = binned_points(omega, alpha, torque, bins)
-    verts, count = _hulls(a_s, t_s, starts.astype(np.int64), stops.astype(np.int64))
+    verts, count = _hulls(np.ascontiguousarray(a_s), np.ascontiguousarray(t_s), starts.astype(np.int64),
+                          stops.astype(np.int64))
     width = int(count.max())
     first = np.concatenate([[0], np.cumsum(count)[:-1]])
     pos = np.minimum(np.arange(width)[None, :], count[:, None] - 1)  # padding repeats the last vertex
@@ -156,4 +177,4 @@ def fast_demands(omega: Array, alpha: Array, torques: list[Array], weights: Arra
     return out
 
 
-__all__ = ["fast_demand", "fast_demands"]
+__all__ = ["chains", "fast_demand", "fast_demands"]

@@ -1,0 +1,262 @@
+"""A profile's exact form and its sampling: ``Segment`` pieces (a polynomial in local time plus,
+for cam laws, one sinusoid), the ``Step`` and ``Phase`` they belong to, and ``Cycle``, which
+evaluates them at any time and samples every segment on a (segment x point) grid (Simpson weights,
+``Samples``). Parsing a profile into a ``Cycle`` is ``profiles.parse_profile``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any, Literal, NamedTuple
+
+import numpy as np
+import numpy.typing as npt
+
+from drivetrain.errors import InputError
+from drivetrain.motion.cams import DEGREE, evaluate_pieces
+
+FloatArray = npt.NDArray[np.float64]
+Motion = Literal["linear", "rotary"]
+PhaseKind = Literal["accel", "run", "decel", "dwell"]
+
+_N_COEF = DEGREE + 1
+
+class Kinematics(NamedTuple):
+    """Position [m or rad], speed, acceleration and jerk at given times (arrays)."""
+
+    x: FloatArray
+    v: FloatArray
+    a: FloatArray
+    j: FloatArray
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One exact piece on [t0, t1] [s]: ``x(tau) = sum(coeffs[k] tau^k) + A sin(w tau + p)``.
+
+    ``tau = t - t0`` is local time [s], from 0 to ``span`` [s]: the piece's exact duration, which
+    ``t1 - t0`` matches only to the rounding of absolute time (local time keeps a short jerk
+    piece late in a long cycle exact). ``coeffs`` [m/s^k or rad/s^k] hold DEGREE + 1 ascending
+    coefficients; ``sine`` is ``(A [m or rad], w [rad/s], p [rad])``, all zero except in cam-law
+    pieces. ``step`` and ``phase`` index ``Cycle.steps`` and ``Cycle.phases``.
+    """
+
+    t0: float
+    t1: float
+    coeffs: tuple[float, ...]
+    step: int
+    phase: int
+    span: float
+    sine: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+    def evaluate(self, t: npt.ArrayLike) -> Kinematics:
+        """x, v, a, j at times ``t`` [s] in [t0, t1] (clipped to it)."""
+        tt = np.asarray(t, dtype=float)
+        return _PieceTable((self,)).evaluate_in(np.zeros(tt.shape, dtype=np.intp), tt)
+
+
+class Phase(NamedTuple):
+    """A phase of the cycle: ``kind`` over [t0, t1] [s] in step ``step``; ``move`` counts moves only
+    (None in a dwell). An s-curve's accel phase spans its jerk pieces; a cam move is accel for
+    its first half and decel for its second."""
+
+    kind: PhaseKind
+    t0: float
+    t1: float
+    step: int
+    move: int | None
+
+
+@dataclass(frozen=True)
+class Step:
+    """A parsed step with its kinematics (SI; peaks are magnitudes, ``direction`` gives the sign).
+
+    ``shape`` is trapezoid, triangle, s_curve, time_optimal, a cam law name, or dwell.
+    ``t_accel``/``t_decel`` [s] are the ramp times and ``t_jerk_accel``/``t_jerk_decel`` [s] the
+    duration of each jerk piece within them. ``peak_jerk`` is the largest finite jerk: a
+    trapezoid's jerk is impulsive at its corners and counted as 0. ``thrust`` [N or N m] replaces
+    the load's thrust during a move (None: keep the load's); ``holding`` is set for dwells.
+    """
+
+    index: int
+    kind: Literal["move", "dwell"]
+    shape: str
+    t0: float
+    duration: float
+    x0: float
+    distance: float
+    direction: int
+    peak_speed: float = 0.0
+    peak_accel: float = 0.0
+    peak_decel: float = 0.0
+    peak_jerk: float = 0.0
+    t_accel: float = 0.0
+    t_decel: float = 0.0
+    t_jerk_accel: float = 0.0
+    t_jerk_decel: float = 0.0
+    thrust: float | None = None
+    holding: Literal["motor", "brake"] | None = None
+    move_index: int | None = None
+
+    @property
+    def t1(self) -> float:
+        """End time [s] of the step."""
+        return self.t0 + self.duration
+
+
+@dataclass(frozen=True)
+class Samples:
+    """The cycle sampled per segment, for plots, speed-dependent loads and integrals.
+
+    Every segment is sampled on its own with both end points (a boundary appears twice: left
+    and right limit) and an odd number of points; ``weights`` [s] are composite Simpson weights
+    per segment, so ``sum(weights * f)`` integrates ``f`` over one period, exactly for
+    piecewise cubic ``f`` (e.g. the square of a piecewise-linear torque).
+
+    ``breakaway`` marks one extra sample where each move starts from rest: a copy of the move's first
+    sample with zero quadrature weight. Static friction acts there (an instant: it counts in the
+    peak, never in an integral, so the RMS does not depend on the number of points); at every other
+    sample, the start and the arrival at rest included, friction slides.
+    """
+
+    t: FloatArray
+    x: FloatArray
+    v: FloatArray
+    a: FloatArray
+    j: FloatArray
+    direction: npt.NDArray[np.int8]
+    step: npt.NDArray[np.intp]
+    phase: npt.NDArray[np.intp]
+    segment: npt.NDArray[np.intp]
+    holding: npt.NDArray[np.bool_]
+    braked: npt.NDArray[np.bool_]
+    thrust: FloatArray
+    weights: FloatArray
+    breakaway: npt.NDArray[np.bool_] | None = None
+
+    def integral(self, y: npt.ArrayLike) -> float:
+        """Integral of the sampled ``y`` over one period [unit of y times s]."""
+        return float(np.dot(self.weights, np.asarray(y, dtype=float)))
+
+    def rms(self, y: npt.ArrayLike) -> float:
+        """Root mean square of the sampled ``y`` over one period."""
+        yy = np.asarray(y, dtype=float)
+        return math.sqrt(max(self.integral(yy * yy), 0.0) / float(self.weights.sum()))
+
+
+class _PieceTable:
+    """Segments packed into arrays for vectorised evaluation."""
+
+    def __init__(self, segments: Sequence[Segment]) -> None:
+        self.t0 = np.array([s.t0 for s in segments], dtype=float)
+        self.t1 = np.array([s.t1 for s in segments], dtype=float)
+        self.span = np.array([s.span for s in segments], dtype=float)
+        self.coeffs = np.array([s.coeffs for s in segments], dtype=float).reshape(len(segments), _N_COEF)
+        sine = np.array([s.sine for s in segments], dtype=float).reshape(len(segments), 3)
+        self.amp, self.omega, self.phase = sine[:, 0], sine[:, 1], sine[:, 2]
+
+    def locate(self, t: FloatArray) -> npt.NDArray[np.intp]:
+        """Index of the segment holding each time (the later one at a boundary)."""
+        return np.clip(np.searchsorted(self.t0, t, side="right") - 1, 0, len(self.t0) - 1)
+
+    def evaluate_in(self, idx: npt.NDArray[np.intp], t: FloatArray) -> Kinematics:
+        """Evaluate segment ``idx`` at absolute times ``t`` (local time clipped to the piece)."""
+        return self.evaluate_local(idx, np.clip(t - self.t0[idx], 0.0, self.span[idx]))
+
+    def evaluate_local(self, idx: npt.NDArray[np.intp], tau: FloatArray) -> Kinematics:
+        """Evaluate segment ``idx`` at local times ``tau`` [s]."""
+        x, v, a, j = evaluate_pieces(self.coeffs[idx], self.amp[idx], self.omega[idx], self.phase[idx], tau)
+        return Kinematics(x, v, a, j)
+
+
+@dataclass(frozen=True)
+class Cycle:
+    """A repeating cycle of moves and dwells: the exact truth, and its sampling.
+
+    ``period`` [s]; ``motion`` linear (m) or rotary (rad); ``steps`` as parsed; ``segments`` the
+    exact pieces in time order; ``phases`` the accel/run/decel/dwell spans. Position starts at 0
+    and is absolute over the cycle (a cycle need not return to 0).
+    """
+
+    period: float
+    motion: Motion
+    steps: tuple[Step, ...]
+    segments: tuple[Segment, ...]
+    phases: tuple[Phase, ...]
+
+    @cached_property
+    def _table(self) -> _PieceTable:
+        return _PieceTable(self.segments)
+
+    def evaluate(self, t: npt.ArrayLike) -> Kinematics:
+        """Exact x, v, a, j at times ``t`` in [0, period] [s] (right limits at boundaries)."""
+        tt = np.asarray(t, dtype=float)
+        return self._table.evaluate_in(self._table.locate(tt), tt)
+
+    def sample(self, points_per_phase: int = 64) -> Samples:
+        """Sample every segment (a phase or a piece of one) with ``points_per_phase`` points,
+        rounded up to odd and at least 3, both ends included; see ``Samples``."""
+        n = max(3, int(points_per_phase) | 1)
+        tab = self._table
+        nseg = len(self.segments)
+        if n * nseg > MAX_SAMPLES:
+            raise InputError("points_per_phase", f"{n} points on each of {nseg} segments are {n * nseg} samples, "
+                             f"more than {MAX_SAMPLES}; at most {max(3, (MAX_SAMPLES // nseg - 1) | 1)} points "
+                             "per phase fit", points_per_phase)
+        frac = np.linspace(0.0, 1.0, n)
+        dur = tab.t1 - tab.t0
+        t = tab.t0[:, None] + dur[:, None] * frac[None, :]
+        t[:, -1] = tab.t1
+        simpson = np.ones(n)
+        simpson[1:-1:2], simpson[2:-1:2] = 4.0, 2.0
+        weights = (dur[:, None] / (3.0 * (n - 1))) * simpson[None, :]
+        seg = np.repeat(np.arange(nseg, dtype=np.intp), n)
+        # every segment on its own row of the grid: its coefficients broadcast, never gathered per sample
+        grid = evaluate_pieces(tab.coeffs[:, None, :], tab.amp[:, None], tab.omega[:, None], tab.phase[:, None],
+                               tab.span[:, None] * frac[None, :])
+        kin = Kinematics(*(g.ravel() for g in grid))
+        step_of = np.array([s.step for s in self.segments], dtype=np.intp)
+        phase_of = np.array([s.phase for s in self.segments], dtype=np.intp)
+        steps = self.steps
+        direction = np.array([steps[i].direction for i in step_of], dtype=np.int8)
+        holding = np.array([steps[i].holding == "motor" for i in step_of], dtype=bool)
+        braked = np.array([steps[i].holding == "brake" for i in step_of], dtype=bool)
+        thrust = np.array([math.nan if steps[i].thrust is None else steps[i].thrust for i in step_of])
+        cols: dict[str, Any] = {
+            "t": t.ravel(), "x": kin.x, "v": kin.v, "a": kin.a, "j": kin.j,
+            "direction": direction.repeat(n), "step": step_of.repeat(n), "phase": phase_of.repeat(n), "segment": seg,
+            "holding": holding.repeat(n), "braked": braked.repeat(n), "thrust": thrust.repeat(n),
+            "weights": weights.ravel(),
+            "breakaway": np.zeros(seg.size, dtype=bool),
+        }
+        # Where a move starts from rest: one more sample, a copy of its first, with zero weight (breakaway).
+        first_seg: dict[int, int] = {}
+        for k, sg in enumerate(self.segments):
+            if steps[sg.step].kind == "move" and steps[sg.step].direction != 0:
+                first_seg.setdefault(sg.step, k)
+        starts = np.array(sorted(k * n for k in first_seg.values()), dtype=np.intp)
+        starts = starts[cols["v"][starts] == 0.0] if starts.size else starts
+        if starts.size:
+            # each copy goes right before its sample (np.insert's order), by slices: a copy, not a gather
+            cuts = starts.tolist()
+            copy_at = starts + np.arange(starts.size)
+
+            def with_copies(col: np.ndarray) -> np.ndarray:
+                parts, prev = [], 0
+                for c in cuts:
+                    parts += [col[prev:c], col[c:c + 1]]
+                    prev = c
+                return np.concatenate([*parts, col[prev:]])
+
+            cols = {key: with_copies(col) for key, col in cols.items()}
+            cols["weights"][copy_at] = 0.0
+            cols["breakaway"][copy_at] = True
+        return Samples(**cols)
+
+
+MAX_SAMPLES = 500_000
+"""Samples one cycle may be cut into (points per phase x segments): a catalog selection holds a few
+kB per sample, so this bounds it near 1 GB."""

@@ -1,0 +1,32 @@
+"""The sampled cycle with its breakaway copies (motion/cycle.py): every column equals numpy's
+``np.insert`` of a copy of each move's first sample (the construction it replaces), on random
+profiles (hypothesis)."""
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from drivetrain.motion.profiles import parse_profile
+
+move = st.builds(lambda d, t, f: {"move": f"{d} mm", "time": f"{t} s", "accel": f"{t * f} s"},
+                 st.sampled_from([-300, -50, 20, 200]), st.floats(0.1, 2.0), st.floats(0.05, 0.5))
+dwell = st.builds(lambda t: {"dwell": f"{t} s"}, st.floats(0.01, 1.0))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.one_of(move, dwell), min_size=1, max_size=8).filter(lambda p: any("move" in s for s in p)),
+       st.integers(3, 40))
+def test_copies_equal_numpys_insert(profile: list[dict[str, str]], points: int) -> None:
+    got = parse_profile(profile, "linear").sample(points)
+    copy_at = np.flatnonzero(got.breakaway)
+    assert copy_at.size >= 1
+    plain = np.delete(np.arange(got.t.size), copy_at)
+    starts = copy_at - np.arange(copy_at.size)  # index of each copied sample among the plain ones
+    for name in ("t", "x", "v", "a", "j", "direction", "step", "phase", "segment", "holding", "braked", "thrust",
+                 "weights", "breakaway"):
+        col = getattr(got, name)
+        base = col[plain]
+        value = {"weights": np.zeros(starts.size), "breakaway": np.ones(starts.size, dtype=bool)}.get(name,
+                                                                                                       base[starts])
+        np.testing.assert_array_equal(col, np.insert(base, starts, value), err_msg=name)
+    assert not got.breakaway[plain].any() and (got.weights[plain] > 0).all()
