@@ -292,3 +292,17 @@ def test_a_recorded_drive_key_runs_the_drive_post_pass(tmp_path: Path) -> None:
         assert row["selection.selected.drive.id"] == ref["selection.selected.drive.id"]
         assert row["selection.selected.electrical.rms_current_A"] == ref["selection.selected.electrical.rms_current_A"]
         assert row["motor"] == ref["motor"]
+
+
+def test_a_variant_value_of_bad_text_is_refused_in_its_row() -> None:
+    """The run path checks the base file's text once and each variant's new values (a lone
+    surrogate is refused in the variant's row, naming the parameter's path), as parse_axis would."""
+    from drivetrain.study.runner import Plan, run_batch
+    from drivetrain.study.spec import Parameter
+
+    par = Parameter(path="axis", tokens=("axis",), unit=None, si=1.0, values=("fine name", "bad \ud800 name"))
+    plan = Plan(base=BASE, parameters=(par,), record=("ok",), points=64, full=False)
+    rows = run_batch(plan, [(0, ("fine name",)), (1, ("bad \ud800 name",))])
+    assert rows[0]["error"] == "" and rows[0]["ok"] == drivetrain.size(BASE).ok
+    assert rows[1]["ok"] is False
+    assert "axis" in rows[1]["error"] and "Unicode" in rows[1]["error"]

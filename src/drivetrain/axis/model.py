@@ -238,12 +238,17 @@ class Axis:
         return cycle
 
 
-def parse_axis(data: Any) -> Axis:
-    """Validate an axis-file mapping and build the SI ``Axis``."""
+def parse_axis(data: Any, *, text_checked: bool = False) -> Axis:
+    """Validate an axis-file mapping and build the SI ``Axis``.
+
+    ``text_checked``: the caller has checked every key and text value of ``data`` with
+    :func:`check_text` already (a study checks its base file once and each variant's new values).
+    """
     if not isinstance(data, dict):
         raise InputError("", "an axis file must be a mapping of keys (axis, mechanism, transmission, profile, ...)",
                          type(data).__name__)
-    _check_text(data, "")
+    if not text_checked:
+        _check_text(data, "")
     try:
         spec = AxisSpec.model_validate(data)
     except ValidationError as exc:
@@ -418,6 +423,9 @@ def _check_text(data: Any, path: str) -> None:
             _check_text(value, f"{path}[{i}]")
     elif isinstance(data, str) and not _valid_unicode(data):
         raise InputError(path, "is not valid Unicode text (a lone surrogate)", data)
+
+
+check_text = _check_text
 
 
 def _valid_unicode(text: str) -> bool:

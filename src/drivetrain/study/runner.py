@@ -82,10 +82,13 @@ def _engine(points: int, drives: bool = False) -> Any:
 
 def size_variant(plan: Plan, values: tuple[Any, ...]) -> dict[str, Any]:
     """One variant's result mapping (batched path, or ``size().to_dict()`` when the record needs it)."""
-    from drivetrain.axis.model import parse_axis
+    from drivetrain.axis.model import check_text, parse_axis
     from drivetrain.study.batch import full_result
 
-    axis = parse_axis(plan.axis_dict(values))
+    # the base's text was checked by make_plan (parse_axis of the base); only the new values need it
+    for p, v in zip(plan.parameters, values, strict=True):
+        check_text(v, p.path)
+    axis = parse_axis(plan.axis_dict(values), text_checked=True)
     return full_result(axis, plan.points) if plan.full else _engine(plan.points, plan.drives).size(axis)
 
 
