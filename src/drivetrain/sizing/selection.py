@@ -49,6 +49,9 @@ def _gearbox_options(gb: GearboxTable | None, allow_direct: bool) -> tuple[Array
     """Distinct (ratio, efficiency) groups, in order of first appearance, direct drive (1, 1) first:
     their ratios, efficiencies, and the gearbox rows of group g, ``rows[row_start[g]:row_start[g + 1]]``
     in table order (-1 is direct drive; a catalog row of ratio 1 and efficiency 1 joins it)."""
+    if gb is None or not len(gb):  # direct drive alone (or nothing): the result of the general path below
+        n = 1 if allow_direct else 0
+        return np.ones(n), np.ones(n), np.full(n, -1, dtype=np.int64), np.arange(n + 1, dtype=np.int64)
     ratio = np.array([1.0] if allow_direct else [])
     eff = np.array([1.0] if allow_direct else [])
     rows = np.array([-1] if allow_direct else [], dtype=np.int64)
@@ -70,6 +73,8 @@ def _padded(arrays: list[Array], shape: tuple[int, ...]) -> Array:
 
     A repeated hull vertex or speed bin changes no maximum and no first-worst bin.
     """
+    if len(arrays) == 1 and arrays[0].shape == shape:  # nothing to pad
+        return np.asarray(arrays[0], dtype=float)[None]
     out = np.empty((len(arrays), *shape))
     for k, a in enumerate(arrays):
         out[k][tuple(slice(0, n) for n in a.shape)] = a
