@@ -314,3 +314,28 @@ def test_documented_study_validates(tmp_path: Path) -> None:
     s = parse_study(yaml.safe_dump({"study": 1, "base": str(BASE), "parameters": OPT["parameters"],
                                     "optimize": spec}), base_dir=tmp_path)
     assert s.spec.optimize is not None and s.spec.optimize.trials == 200
+
+
+def test_remembered_units_read_as_pint_reads_them(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A study file's quantities read through the remembered unit factors (no pint registry) give the
+    same units, SI factors and values as pint's own reading."""
+    from drivetrain.study import spec as study_spec
+
+    body = {"parameters": {"mechanism.lead": {"values": ["5 mm", "10 mm", "0.02 m"]},
+                           "mechanism.load.mass": {"values": ["5 kg", "7.5 kg"], "unit": "g"},
+                           "profile[0].time": {"start": "300 ms", "stop": "1 s", "num": 3}}, "design": "grid"}
+    p = _study(tmp_path, body)
+    drivetrain.size(BASE)  # the base file's units (mm, kg, s, ...) are remembered
+    fast = load_study(p).parameters
+    monkeypatch.setattr(study_spec, "_cached_unit", lambda unit: None)
+    slow = load_study(p).parameters
+    assert [(a.unit, a.si, a.values) for a in fast] == [(b.unit, b.si, b.values) for b in slow]
+    assert fast[0].unit == "mm" and fast[0].values == (5.0, 10.0, 20.0)
+
+
+def test_study_quantity_text_that_computes_is_refused(tmp_path: Path) -> None:
+    """Quantity text goes through the units grammar before pint (which would evaluate 9**9**9)."""
+    p = _study(tmp_path, {"parameters": {"mechanism.lead": {"values": ["9**9**9 mm"], "unit": "mm"}}})
+    with pytest.raises(InputError) as exc:
+        load_study(p)
+    assert exc.value.field == "parameters.mechanism.lead.values[0]"

@@ -167,8 +167,12 @@ def _quantity(value: Any, unit: str | None, field: str) -> tuple[float, str | No
         if not math.isfinite(value):
             raise InputError(field, "must be a finite number", value)
         return float(value), unit
-    from drivetrain.units import _normalise, registry
+    known = _known_quantity(str(value))
+    if known is not None and (unit is None or known[1] == unit):  # "<number> <unit>", a unit seen before
+        return known[0], known[1]
+    from drivetrain.units import _normalise, check_grammar, registry
 
+    check_grammar(_normalise(str(value)), field)  # nothing that computes reaches pint's parser
     ureg = registry()
     try:
         q: Any = ureg.Quantity(_normalise(str(value)))
@@ -183,10 +187,44 @@ def _quantity(value: Any, unit: str | None, field: str) -> tuple[float, str | No
         raise InputError(field, f"has a unit of another dimension than {unit}", value) from None
 
 
+def _cached_unit(unit: str) -> tuple[str, float] | None:
+    """(quantity, SI value of one ``unit``) from the units remembered on disk (``unit_cache``: what
+    ``drivetrain.units.parse`` returns for ``"1 <unit>"``), None when not remembered or an offset unit.
+    A study file's units are thus read without building pint's registry (about 0.6 s)."""
+    from drivetrain import unit_cache
+    from drivetrain.units import _SIMPLE_UNIT, QUANTITIES
+
+    if not _SIMPLE_UNIT.fullmatch(unit):
+        return None
+    seen: set[str] = set()
+    for q, (_, dim) in QUANTITIES.items():
+        known = unit_cache.get(unit, q)
+        # _si_factor takes the first quantity pint accepts: a remembered one is that one when no
+        # quantity before it has its dimension (angles and rpm, dimensionless in pint, are left to pint)
+        if known is not None and known[1] == 0.0 and dim not in seen and dim not in ("", "1/[time]"):
+            return q, known[0]
+        seen.add(dim)
+    return None
+
+
+def _known_quantity(text: str) -> tuple[float, str] | None:
+    """(number, unit) of ``"<number> <unit>"`` whose unit is remembered (``_cached_unit``), else None."""
+    from drivetrain.units import _NUMBER_UNIT
+
+    m = _NUMBER_UNIT.fullmatch(text)
+    if m is None or _cached_unit(m.group(2)) is None:
+        return None
+    number = float(m.group(1))
+    return (number, m.group(2)) if math.isfinite(number) else None
+
+
 def _si_factor(unit: str | None, field: str) -> float:
     """SI value of one ``unit`` (rpm with the explicit 2 pi / 60, as drivetrain.units parses it)."""
     if not unit:
         return 1.0
+    known = _cached_unit(unit)
+    if known is not None:
+        return known[1]
     from drivetrain.units import QUANTITIES, parse
 
     for q in QUANTITIES:
@@ -447,8 +485,13 @@ def _check_paths(study: Study) -> None:
 
 
 def _same_dimension(base_value: str, unit: str, field: str) -> None:
-    from drivetrain.units import _normalise, registry
+    from drivetrain.units import _NUMBER_UNIT, _normalise, registry
 
+    m = _NUMBER_UNIT.fullmatch(base_value)
+    if m is not None:
+        old, new = _cached_unit(m.group(2)), _cached_unit(unit)
+        if old is not None and new is not None and old[0] == new[0]:
+            return  # both remembered as the same quantity
     ureg = registry()
     try:
         q: Any = ureg.Quantity(_normalise(base_value))
