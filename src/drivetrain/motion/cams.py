@@ -96,8 +96,10 @@ def evaluate_pieces(
     ``poly`` has shape ``w.shape + (n,)``; the other arrays have the shape of ``w``. Horner's
     scheme per derivative; the loop runs over the polynomial degree, never over samples.
     """
-    if poly.shape[-1] < 4:
-        poly = np.concatenate([poly, np.zeros((*poly.shape[:-1], 4 - poly.shape[-1]))], axis=-1)
+    # Trailing coefficients that are zero in every piece (a trapezoid's degree is 2 of DEGREE's 5) add
+    # nothing: Horner's scheme from the highest non-zero one gives the same floats in fewer passes.
+    nonzero = np.flatnonzero(np.any(poly != 0.0, axis=tuple(range(poly.ndim - 1)))) if poly.size else ()
+    poly = poly[..., : (int(nonzero[-1]) + 1 if len(nonzero) else 1)]
     derivs = [poly]
     for _ in range(3):
         c = derivs[-1]
@@ -112,6 +114,8 @@ def evaluate_pieces(
 
 def _horner(coef: FloatArray, w: FloatArray) -> FloatArray:
     """sum(coef[..., k] w^k) by Horner's scheme."""
+    if coef.shape[-1] == 0:  # the derivative of a constant
+        return np.zeros(np.broadcast_shapes(np.shape(w), coef.shape[:-1]))
     acc = np.empty(np.broadcast_shapes(np.shape(w), coef.shape[:-1]))
     acc[...] = coef[..., -1]
     for col in range(coef.shape[-1] - 2, -1, -1):

@@ -213,48 +213,75 @@ class Cycle:
         simpson = np.ones(n)
         simpson[1:-1:2], simpson[2:-1:2] = 4.0, 2.0
         weights = (dur[:, None] / (3.0 * (n - 1))) * simpson[None, :]
-        seg = np.repeat(np.arange(nseg, dtype=np.intp), n)
         # every segment on its own row of the grid: its coefficients broadcast, never gathered per sample
         grid = evaluate_pieces(tab.coeffs[:, None, :], tab.amp[:, None], tab.omega[:, None], tab.phase[:, None],
                                tab.span[:, None] * frac[None, :])
-        kin = Kinematics(*(g.ravel() for g in grid))
-        step_of = np.array([s.step for s in self.segments], dtype=np.intp)
-        phase_of = np.array([s.phase for s in self.segments], dtype=np.intp)
+        per = self._per_segment
+        # Where a move starts from rest: one more sample, a copy of its first, with zero weight (breakaway),
+        # right before it (np.insert's order). Columns constant over a segment are repeated n (or n + 1)
+        # times; the others are copied once, by slices between the copies (a copy, not a gather).
+        first = per.move_starts
+        copied = first[grid[1][first, 0] == 0.0] if first.size else first
+        counts = np.full(nseg, n, dtype=np.intp)
+        counts[copied] += 1
+        cuts = (copied * n).tolist()
+        total = nseg * n + len(cuts)
+
+        def spread(rows: FloatArray) -> FloatArray:
+            flat = rows.reshape(-1)
+            if not cuts:
+                return flat
+            out = np.empty(total, dtype=flat.dtype)
+            prev = dst = 0
+            for c in cuts:
+                out[dst:dst + c - prev] = flat[prev:c]
+                dst += c - prev
+                out[dst] = flat[c]
+                dst += 1
+                prev = c
+            out[dst:] = flat[prev:]
+            return out
+
+        copy_at = copied * n + np.arange(copied.size)
+        w_col = spread(weights)
+        w_col[copy_at] = 0.0
+        breakaway = np.zeros(total, dtype=bool)
+        breakaway[copy_at] = True
+        return Samples(
+            t=spread(t), x=spread(grid[0]), v=spread(grid[1]), a=spread(grid[2]), j=spread(grid[3]),
+            direction=per.direction.repeat(counts), step=per.step.repeat(counts), phase=per.phase.repeat(counts),
+            segment=np.arange(nseg, dtype=np.intp).repeat(counts), holding=per.holding.repeat(counts),
+            braked=per.braked.repeat(counts), thrust=per.thrust.repeat(counts), weights=w_col, breakaway=breakaway,
+        )
+
+    @cached_property
+    def _per_segment(self) -> _PerSegment:
         steps = self.steps
-        direction = np.array([steps[i].direction for i in step_of], dtype=np.int8)
-        holding = np.array([steps[i].holding == "motor" for i in step_of], dtype=bool)
-        braked = np.array([steps[i].holding == "brake" for i in step_of], dtype=bool)
-        thrust = np.array([math.nan if steps[i].thrust is None else steps[i].thrust for i in step_of])
-        cols: dict[str, Any] = {
-            "t": t.ravel(), "x": kin.x, "v": kin.v, "a": kin.a, "j": kin.j,
-            "direction": direction.repeat(n), "step": step_of.repeat(n), "phase": phase_of.repeat(n), "segment": seg,
-            "holding": holding.repeat(n), "braked": braked.repeat(n), "thrust": thrust.repeat(n),
-            "weights": weights.ravel(),
-            "breakaway": np.zeros(seg.size, dtype=bool),
-        }
-        # Where a move starts from rest: one more sample, a copy of its first, with zero weight (breakaway).
+        step_of = np.array([s.step for s in self.segments], dtype=np.intp)
         first_seg: dict[int, int] = {}
         for k, sg in enumerate(self.segments):
             if steps[sg.step].kind == "move" and steps[sg.step].direction != 0:
                 first_seg.setdefault(sg.step, k)
-        starts = np.array(sorted(k * n for k in first_seg.values()), dtype=np.intp)
-        starts = starts[cols["v"][starts] == 0.0] if starts.size else starts
-        if starts.size:
-            # each copy goes right before its sample (np.insert's order), by slices: a copy, not a gather
-            cuts = starts.tolist()
-            copy_at = starts + np.arange(starts.size)
+        return _PerSegment(
+            step=step_of, phase=np.array([s.phase for s in self.segments], dtype=np.intp),
+            direction=np.array([steps[i].direction for i in step_of], dtype=np.int8),
+            holding=np.array([steps[i].holding == "motor" for i in step_of], dtype=bool),
+            braked=np.array([steps[i].holding == "brake" for i in step_of], dtype=bool),
+            thrust=np.array([math.nan if steps[i].thrust is None else steps[i].thrust for i in step_of], dtype=float),
+            move_starts=np.array(sorted(first_seg.values()), dtype=np.intp),
+        )
 
-            def with_copies(col: np.ndarray) -> np.ndarray:
-                parts, prev = [], 0
-                for c in cuts:
-                    parts += [col[prev:c], col[c:c + 1]]
-                    prev = c
-                return np.concatenate([*parts, col[prev:]])
 
-            cols = {key: with_copies(col) for key, col in cols.items()}
-            cols["weights"][copy_at] = 0.0
-            cols["breakaway"][copy_at] = True
-        return Samples(**cols)
+class _PerSegment(NamedTuple):
+    """What ``Cycle.sample`` repeats over each segment's samples, and the segments that start a move."""
+
+    step: npt.NDArray[np.intp]
+    phase: npt.NDArray[np.intp]
+    direction: npt.NDArray[np.int8]
+    holding: npt.NDArray[np.bool_]
+    braked: npt.NDArray[np.bool_]
+    thrust: FloatArray
+    move_starts: npt.NDArray[np.intp]
 
 
 MAX_SAMPLES = 500_000
