@@ -96,14 +96,29 @@ def evaluate_pieces(
     ``poly`` has shape ``w.shape + (n,)``; the other arrays have the shape of ``w``. Horner's
     scheme per derivative; the loop runs over the polynomial degree, never over samples.
     """
-    # Trailing coefficients that are zero in every piece (a trapezoid's degree is 2 of DEGREE's 5) add
-    # nothing: Horner's scheme from the highest non-zero one gives the same floats in fewer passes.
+    return evaluate_derivatives(derivatives(poly), amp, omega, phase, w)
+
+
+def derivatives(poly: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Coefficients of ``poly`` (ascending, last axis) and of its first three derivatives.
+
+    Trailing coefficients that are zero in every piece (a trapezoid's degree is 2 of DEGREE's 5) are
+    dropped: Horner's scheme from the highest non-zero one gives the same floats in fewer passes.
+    """
     nonzero = np.flatnonzero(np.any(poly != 0.0, axis=tuple(range(poly.ndim - 1)))) if poly.size else ()
-    poly = poly[..., : (int(nonzero[-1]) + 1 if len(nonzero) else 1)]
-    derivs = [poly]
+    c = poly[..., : (int(nonzero[-1]) + 1 if len(nonzero) else 1)]
+    out = [c]
     for _ in range(3):
-        c = derivs[-1]
-        derivs.append(c[..., 1:] * np.arange(1, c.shape[-1], dtype=float))
+        c = c[..., 1:] * np.arange(1, c.shape[-1], dtype=float)
+        out.append(c)
+    return out[0], out[1], out[2], out[3]
+
+
+def evaluate_derivatives(
+    derivs: tuple[FloatArray, FloatArray, FloatArray, FloatArray], amp: FloatArray, omega: FloatArray,
+    phase: FloatArray, w: FloatArray,
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """:func:`evaluate_pieces` with the coefficients of :func:`derivatives` already computed."""
     x, v, a, j = (_horner(c, w) for c in derivs)
     if not np.any(amp):  # polynomial pieces only (every profile but a cam's sine): no sine term to add
         return x, v, a, j
@@ -114,9 +129,10 @@ def evaluate_pieces(
 
 def _horner(coef: FloatArray, w: FloatArray) -> FloatArray:
     """sum(coef[..., k] w^k) by Horner's scheme."""
+    shape = np.broadcast(w, coef[..., 0] if coef.shape[-1] else coef.sum(axis=-1)).shape
     if coef.shape[-1] == 0:  # the derivative of a constant
-        return np.zeros(np.broadcast_shapes(np.shape(w), coef.shape[:-1]))
-    acc = np.empty(np.broadcast_shapes(np.shape(w), coef.shape[:-1]))
+        return np.zeros(shape)
+    acc = np.empty(shape)
     acc[...] = coef[..., -1]
     for col in range(coef.shape[-1] - 2, -1, -1):
         acc *= w

@@ -16,7 +16,7 @@ import numpy as np
 import numpy.typing as npt
 
 from drivetrain.errors import InputError
-from drivetrain.motion.cams import DEGREE, evaluate_pieces
+from drivetrain.motion.cams import DEGREE, derivatives, evaluate_derivatives, evaluate_pieces
 
 FloatArray = npt.NDArray[np.float64]
 Motion = Literal["linear", "rotary"]
@@ -214,9 +214,9 @@ class Cycle:
         simpson[1:-1:2], simpson[2:-1:2] = 4.0, 2.0
         weights = (dur[:, None] / (3.0 * (n - 1))) * simpson[None, :]
         # every segment on its own row of the grid: its coefficients broadcast, never gathered per sample
-        grid = evaluate_pieces(tab.coeffs[:, None, :], tab.amp[:, None], tab.omega[:, None], tab.phase[:, None],
-                               tab.span[:, None] * frac[None, :])
         per = self._per_segment
+        grid = evaluate_derivatives(per.derivatives, tab.amp[:, None], tab.omega[:, None], tab.phase[:, None],
+                                    tab.span[:, None] * frac[None, :])
         # Where a move starts from rest: one more sample, a copy of its first, with zero weight (breakaway),
         # right before it (np.insert's order). Columns constant over a segment are repeated n (or n + 1)
         # times; the others are copied once, by slices between the copies (a copy, not a gather).
@@ -269,6 +269,7 @@ class Cycle:
             braked=np.array([steps[i].holding == "brake" for i in step_of], dtype=bool),
             thrust=np.array([math.nan if steps[i].thrust is None else steps[i].thrust for i in step_of], dtype=float),
             move_starts=np.array(sorted(first_seg.values()), dtype=np.intp),
+            derivatives=derivatives(self._table.coeffs[:, None, :]),
         )
 
 
@@ -282,6 +283,7 @@ class _PerSegment(NamedTuple):
     braked: npt.NDArray[np.bool_]
     thrust: FloatArray
     move_starts: npt.NDArray[np.intp]
+    derivatives: tuple[FloatArray, FloatArray, FloatArray, FloatArray]
 
 
 MAX_SAMPLES = 500_000
