@@ -13,6 +13,7 @@ from hypothesis.extra.numpy import arrays
 
 from drivetrain.motion.cams import DEGREE, evaluate_pieces
 from drivetrain.physics.efficiency import speed_sign
+from drivetrain.physics.loads import coulomb_friction
 from drivetrain.physics.stage import Stage, torque_in
 
 N = 40
@@ -79,3 +80,14 @@ def test_trimmed_horner_equals_the_full_degree(degree: int, pieces: int, data: s
         derivs.append(c[..., 1:] * np.arange(1, c.shape[-1], dtype=float))
     for g, c in zip(got, derivs, strict=True):
         np.testing.assert_array_equal(g, _horner_full(c, w))
+
+
+@given(values, directions, st.one_of(st.none(), arrays(np.bool_, N)), st.floats(0.0, 1.0), st.floats(0.0, 1.0),
+       st.floats(0.0, 1e4))
+def test_coulomb_friction_equals_the_full_formula(v: np.ndarray, direction: np.ndarray, breakaway: np.ndarray | None,
+                                                  mu: float, mu_static: float, normal: float) -> None:
+    d = np.sign(direction)
+    sliding = np.where(v != 0.0, np.sign(v), d) * mu * normal
+    start = (v == 0.0) if breakaway is None else breakaway
+    want = np.where(start, d * mu_static * normal, sliding)
+    np.testing.assert_array_equal(coulomb_friction(normal, mu, mu_static, v, direction, breakaway), want)

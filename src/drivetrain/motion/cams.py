@@ -127,6 +127,17 @@ def evaluate_derivatives(
     return x + amp * sin, v + amp * omega * cos, a - amp * omega**2 * sin, j - amp * omega**3 * cos
 
 
+def horner_into(coef: FloatArray, w: FloatArray, out: FloatArray) -> None:
+    """out[:] = sum(coef[k] w^k) for one piece (``coef`` 1-D, ascending), by the operations of ``_horner``."""
+    if coef.shape[-1] == 0:
+        out[...] = 0.0
+        return
+    out[...] = coef[-1]
+    for col in range(coef.shape[-1] - 2, -1, -1):
+        out *= w
+        out += coef[col:col + 1]
+
+
 def _horner(coef: FloatArray, w: FloatArray) -> FloatArray:
     """sum(coef[..., k] w^k) by Horner's scheme."""
     shape = np.broadcast(w, coef[..., 0] if coef.shape[-1] else coef.sum(axis=-1)).shape

@@ -16,7 +16,7 @@ import numpy as np
 import numpy.typing as npt
 
 from drivetrain.errors import InputError
-from drivetrain.motion.cams import DEGREE, derivatives, evaluate_derivatives, evaluate_pieces
+from drivetrain.motion.cams import DEGREE, derivatives, evaluate_derivatives, evaluate_pieces, horner_into
 
 FloatArray = npt.NDArray[np.float64]
 Motion = Literal["linear", "rotary"]
@@ -208,19 +208,29 @@ class Cycle:
                              "per phase fit", points_per_phase)
         frac = np.linspace(0.0, 1.0, n)
         dur = tab.t1 - tab.t0
-        t = tab.t0[:, None] + dur[:, None] * frac[None, :]
-        t[:, -1] = tab.t1
         simpson = np.ones(n)
         simpson[1:-1:2], simpson[2:-1:2] = 4.0, 2.0
-        weights = (dur[:, None] / (3.0 * (n - 1))) * simpson[None, :]
-        # every segment on its own row of the grid: its coefficients broadcast, never gathered per sample
         per = self._per_segment
-        grid = evaluate_derivatives(per.derivatives, tab.amp[:, None], tab.omega[:, None], tab.phase[:, None],
-                                    tab.span[:, None] * frac[None, :])
         # Where a move starts from rest: one more sample, a copy of its first, with zero weight (breakaway),
         # right before it (np.insert's order). Columns constant over a segment are repeated n (or n + 1)
         # times; the others are copied once, by slices between the copies (a copy, not a gather).
         first = per.move_starts
+        if n >= DIRECT_POINTS:
+            if first.size:  # the speed at each move's first sample: the grid's operations at tau = 0
+                derivs = (per.derivatives[0][first], per.derivatives[1][first], per.derivatives[2][first],
+                          per.derivatives[3][first])
+                at_start = evaluate_derivatives(derivs, tab.amp[first, None], tab.omega[first, None],
+                                                tab.phase[first, None], np.zeros((first.size, 1)))
+                first = first[at_start[1][:, 0] == 0.0]
+            counts = np.full(nseg, n, dtype=np.intp)
+            counts[first] += 1
+            return self._sample_by_segment(n, frac, dur, simpson, counts)
+        t = tab.t0[:, None] + dur[:, None] * frac[None, :]
+        t[:, -1] = tab.t1
+        weights = (dur[:, None] / (3.0 * (n - 1))) * simpson[None, :]
+        # every segment on its own row of the grid: its coefficients broadcast, never gathered per sample
+        grid = evaluate_derivatives(per.derivatives, tab.amp[:, None], tab.omega[:, None], tab.phase[:, None],
+                                    tab.span[:, None] * frac[None, :])
         copied = first[grid[1][first, 0] == 0.0] if first.size else first
         counts = np.full(nseg, n, dtype=np.intp)
         counts[copied] += 1
@@ -254,6 +264,53 @@ class Cycle:
             braked=per.braked.repeat(counts), thrust=per.thrust.repeat(counts), weights=w_col, breakaway=breakaway,
         )
 
+    def _sample_by_segment(self, n: int, frac: FloatArray, dur: FloatArray, simpson: FloatArray,
+                           counts: npt.NDArray[np.intp]) -> Samples:
+        """``sample`` for many points per segment: each segment written in place into the columns, the
+        same floats by the same operations as the grid, without the copies the breakaway samples take
+        there. A Python loop over the segments only (each holds at least DIRECT_POINTS samples)."""
+        tab, per = self._table, self._per_segment
+        offsets = np.concatenate([[0], np.cumsum(counts)]).tolist()
+        total = offsets[-1]
+        t, x, v, a, j, weights = (np.empty(total) for _ in range(6))
+        consts = [(per.direction, np.empty(total, dtype=np.int8)), (per.step, np.empty(total, dtype=np.intp)),
+                  (per.phase, np.empty(total, dtype=np.intp)),
+                  (np.arange(len(counts), dtype=np.intp), np.empty(total, dtype=np.intp)),
+                  (per.holding, np.empty(total, dtype=bool)), (per.braked, np.empty(total, dtype=bool)),
+                  (per.thrust, np.empty(total))]
+        breakaway = np.zeros(total, dtype=bool)
+        scale = dur / (3.0 * (n - 1))
+        sine = bool(np.any(tab.amp))
+        for k in range(len(counts)):
+            start, end = offsets[k], offsets[k + 1]
+            copy = end - start > n
+            rows = slice(start + copy, end)
+            np.multiply(dur[k:k + 1], frac, out=t[rows])
+            t[rows] += tab.t0[k:k + 1]
+            t[end - 1] = tab.t1[k]
+            np.multiply(scale[k:k + 1], simpson, out=weights[rows])
+            tau = tab.span[k:k + 1] * frac
+            for col, coef in zip((x, v, a, j), per.derivatives, strict=True):
+                horner_into(coef[k, 0], tau, col[rows])
+            if sine:
+                amp, om = tab.amp[k:k + 1], tab.omega[k:k + 1]
+                arg = om * tau + tab.phase[k:k + 1]
+                sin, cos = np.sin(arg), np.cos(arg)
+                x[rows] += amp * sin
+                v[rows] += amp * om * cos
+                a[rows] -= amp * om**2 * sin
+                j[rows] -= amp * om**3 * cos
+            for value, col in consts:
+                col[start:end] = value[k]
+            if copy:
+                for col in (t, x, v, a, j):
+                    col[start] = col[start + 1]
+                weights[start] = 0.0
+                breakaway[start] = True
+        return Samples(t=t, x=x, v=v, a=a, j=j, direction=consts[0][1], step=consts[1][1], phase=consts[2][1],
+                       segment=consts[3][1], holding=consts[4][1], braked=consts[5][1], thrust=consts[6][1],
+                       weights=weights, breakaway=breakaway)
+
     @cached_property
     def _per_segment(self) -> _PerSegment:
         steps = self.steps
@@ -285,6 +342,9 @@ class _PerSegment(NamedTuple):
     move_starts: npt.NDArray[np.intp]
     derivatives: tuple[FloatArray, FloatArray, FloatArray, FloatArray]
 
+
+DIRECT_POINTS = 2048
+"""Points per segment from which ``Cycle.sample`` writes each segment in place (fewer: one grid)."""
 
 MAX_SAMPLES = 500_000
 """Samples one cycle may be cut into (points per phase x segments): a catalog selection holds a few
