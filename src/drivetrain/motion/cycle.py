@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any, Literal, NamedTuple
 
@@ -114,7 +114,8 @@ class Samples:
     Every segment is sampled on its own with both end points (a boundary appears twice: left
     and right limit) and an odd number of points; ``weights`` [s] are composite Simpson weights
     per segment, so ``sum(weights * f)`` integrates ``f`` over one period, exactly for
-    piecewise cubic ``f`` (e.g. the square of a piecewise-linear torque).
+    piecewise cubic ``f`` (e.g. the square of a piecewise-linear torque). ``t``, ``j``, ``step`` and
+    ``segment``, which a duty cycle does not read, are computed on first use (the same floats).
 
     ``breakaway`` marks one extra sample where each move starts from rest: a copy of the move's first
     sample with zero quadrature weight. Static friction acts there (an instant: it counts in the
@@ -122,20 +123,38 @@ class Samples:
     sample, the start and the arrival at rest included, friction slides.
     """
 
-    t: FloatArray
     x: FloatArray
     v: FloatArray
     a: FloatArray
-    j: FloatArray
     direction: npt.NDArray[np.int8]
-    step: npt.NDArray[np.intp]
     phase: npt.NDArray[np.intp]
-    segment: npt.NDArray[np.intp]
     holding: npt.NDArray[np.bool_]
     braked: npt.NDArray[np.bool_]
     thrust: FloatArray
     weights: FloatArray
-    breakaway: npt.NDArray[np.bool_] | None = None
+    breakaway: npt.NDArray[np.bool_] | None
+    layout: _Layout = field(repr=False, compare=False)
+    """Where the columns computed on first use (``t``, ``j``, ``step``, ``segment``) come from."""
+
+    @cached_property
+    def t(self) -> FloatArray:
+        """Sample times [s]."""
+        return self.layout.cycle._column("t", self.layout.counts)
+
+    @cached_property
+    def j(self) -> FloatArray:
+        """Jerk [m/s^3 or rad/s^3]."""
+        return self.layout.cycle._column("j", self.layout.counts)
+
+    @cached_property
+    def step(self) -> npt.NDArray[np.intp]:
+        """Index of each sample's step in ``Cycle.steps``."""
+        return self.layout.cycle._column("step", self.layout.counts)
+
+    @cached_property
+    def segment(self) -> npt.NDArray[np.intp]:
+        """Index of each sample's segment in ``Cycle.segments``."""
+        return self.layout.cycle._column("segment", self.layout.counts)
 
     def integral(self, y: npt.ArrayLike) -> float:
         """Integral of the sampled ``y`` over one period [unit of y times s]."""
@@ -225,44 +244,43 @@ class Cycle:
             counts = np.full(nseg, n, dtype=np.intp)
             counts[first] += 1
             return self._sample_by_segment(n, frac, dur, simpson, counts)
-        t = tab.t0[:, None] + dur[:, None] * frac[None, :]
-        t[:, -1] = tab.t1
         weights = (dur[:, None] / (3.0 * (n - 1))) * simpson[None, :]
         # every segment on its own row of the grid: its coefficients broadcast, never gathered per sample
-        grid = evaluate_derivatives(per.derivatives, tab.amp[:, None], tab.omega[:, None], tab.phase[:, None],
-                                    tab.span[:, None] * frac[None, :])
+        d = per.derivatives
+        grid = evaluate_derivatives((d[0], d[1], d[2], d[3][..., :0]), tab.amp[:, None], tab.omega[:, None],
+                                    tab.phase[:, None], tab.span[:, None] * frac[None, :])
         copied = first[grid[1][first, 0] == 0.0] if first.size else first
         counts = np.full(nseg, n, dtype=np.intp)
         counts[copied] += 1
-        cuts = (copied * n).tolist()
-        total = nseg * n + len(cuts)
-
-        def spread(rows: FloatArray) -> FloatArray:
-            flat = rows.reshape(-1)
-            if not cuts:
-                return flat
-            out = np.empty(total, dtype=flat.dtype)
-            prev = dst = 0
-            for c in cuts:
-                out[dst:dst + c - prev] = flat[prev:c]
-                dst += c - prev
-                out[dst] = flat[c]
-                dst += 1
-                prev = c
-            out[dst:] = flat[prev:]
-            return out
-
         copy_at = copied * n + np.arange(copied.size)
-        w_col = spread(weights)
+        w_col = _spread(weights, counts)
         w_col[copy_at] = 0.0
-        breakaway = np.zeros(total, dtype=bool)
+        breakaway = np.zeros(w_col.size, dtype=bool)
         breakaway[copy_at] = True
         return Samples(
-            t=spread(t), x=spread(grid[0]), v=spread(grid[1]), a=spread(grid[2]), j=spread(grid[3]),
-            direction=per.direction.repeat(counts), step=per.step.repeat(counts), phase=per.phase.repeat(counts),
-            segment=np.arange(nseg, dtype=np.intp).repeat(counts), holding=per.holding.repeat(counts),
+            x=_spread(grid[0], counts), v=_spread(grid[1], counts), a=_spread(grid[2], counts),
+            direction=per.direction.repeat(counts), phase=per.phase.repeat(counts), holding=per.holding.repeat(counts),
             braked=per.braked.repeat(counts), thrust=per.thrust.repeat(counts), weights=w_col, breakaway=breakaway,
+            layout=_Layout(self, counts),
         )
+
+    def _column(self, name: str, counts: npt.NDArray[np.intp]) -> Any:
+        """A column ``sample`` leaves for later (t, j, step or segment), by the grid's operations."""
+        per, tab = self._per_segment, self._table
+        if name == "step":
+            return per.step.repeat(counts)
+        if name == "segment":
+            return np.arange(counts.size, dtype=np.intp).repeat(counts)
+        n = int(counts.min())
+        frac = np.linspace(0.0, 1.0, n)
+        if name == "t":
+            t = tab.t0[:, None] + (tab.t1 - tab.t0)[:, None] * frac[None, :]
+            t[:, -1] = tab.t1
+            return _spread(t, counts)
+        d = per.derivatives
+        grid = evaluate_derivatives((d[0][..., :0], d[1][..., :0], d[2][..., :0], d[3]), tab.amp[:, None],
+                                    tab.omega[:, None], tab.phase[:, None], tab.span[:, None] * frac[None, :])
+        return _spread(grid[3], counts)
 
     def _sample_by_segment(self, n: int, frac: FloatArray, dur: FloatArray, simpson: FloatArray,
                            counts: npt.NDArray[np.intp]) -> Samples:
@@ -272,10 +290,8 @@ class Cycle:
         tab, per = self._table, self._per_segment
         offsets = np.concatenate([[0], np.cumsum(counts)]).tolist()
         total = offsets[-1]
-        t, x, v, a, j, weights = (np.empty(total) for _ in range(6))
-        consts = [(per.direction, np.empty(total, dtype=np.int8)), (per.step, np.empty(total, dtype=np.intp)),
-                  (per.phase, np.empty(total, dtype=np.intp)),
-                  (np.arange(len(counts), dtype=np.intp), np.empty(total, dtype=np.intp)),
+        x, v, a, weights = (np.empty(total) for _ in range(4))
+        consts = [(per.direction, np.empty(total, dtype=np.int8)), (per.phase, np.empty(total, dtype=np.intp)),
                   (per.holding, np.empty(total, dtype=bool)), (per.braked, np.empty(total, dtype=bool)),
                   (per.thrust, np.empty(total))]
         breakaway = np.zeros(total, dtype=bool)
@@ -285,12 +301,9 @@ class Cycle:
             start, end = offsets[k], offsets[k + 1]
             copy = end - start > n
             rows = slice(start + copy, end)
-            np.multiply(dur[k:k + 1], frac, out=t[rows])
-            t[rows] += tab.t0[k:k + 1]
-            t[end - 1] = tab.t1[k]
             np.multiply(scale[k:k + 1], simpson, out=weights[rows])
             tau = tab.span[k:k + 1] * frac
-            for col, coef in zip((x, v, a, j), per.derivatives, strict=True):
+            for col, coef in zip((x, v, a), per.derivatives, strict=False):
                 horner_into(coef[k, 0], tau, col[rows])
             if sine:
                 amp, om = tab.amp[k:k + 1], tab.omega[k:k + 1]
@@ -299,17 +312,16 @@ class Cycle:
                 x[rows] += amp * sin
                 v[rows] += amp * om * cos
                 a[rows] -= amp * om**2 * sin
-                j[rows] -= amp * om**3 * cos
             for value, col in consts:
                 col[start:end] = value[k]
             if copy:
-                for col in (t, x, v, a, j):
+                for col in (x, v, a):
                     col[start] = col[start + 1]
                 weights[start] = 0.0
                 breakaway[start] = True
-        return Samples(t=t, x=x, v=v, a=a, j=j, direction=consts[0][1], step=consts[1][1], phase=consts[2][1],
-                       segment=consts[3][1], holding=consts[4][1], braked=consts[5][1], thrust=consts[6][1],
-                       weights=weights, breakaway=breakaway)
+        return Samples(x=x, v=v, a=a, direction=consts[0][1], phase=consts[1][1], holding=consts[2][1],
+                       braked=consts[3][1], thrust=consts[4][1], weights=weights, breakaway=breakaway,
+                       layout=_Layout(self, counts))
 
     @cached_property
     def _per_segment(self) -> _PerSegment:
@@ -328,6 +340,33 @@ class Cycle:
             move_starts=np.array(sorted(first_seg.values()), dtype=np.intp),
             derivatives=derivatives(self._table.coeffs[:, None, :]),
         )
+
+
+class _Layout(NamedTuple):
+    """A sampled cycle's layout: its cycle and the samples of each segment (n, or n + 1 with a copy)."""
+
+    cycle: Cycle
+    counts: npt.NDArray[np.intp]
+
+
+def _spread(rows: npt.NDArray[Any], counts: npt.NDArray[np.intp]) -> npt.NDArray[Any]:
+    """The (segment x point) grid ``rows`` as one column, a copy of a segment's first sample before it
+    where ``counts`` has one more than the points (np.insert's order), by slices (a copy, not a gather)."""
+    n = rows.shape[1]
+    flat = rows.reshape(-1)
+    cuts = (np.flatnonzero(counts > n) * n).tolist()
+    if not cuts:
+        return flat
+    out = np.empty(flat.size + len(cuts), dtype=flat.dtype)
+    prev = dst = 0
+    for c in cuts:
+        out[dst:dst + c - prev] = flat[prev:c]
+        dst += c - prev
+        out[dst] = flat[c]
+        dst += 1
+        prev = c
+    out[dst:] = flat[prev:]
+    return out
 
 
 class _PerSegment(NamedTuple):
