@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from functools import cached_property
+from functools import cached_property, lru_cache
 from typing import Any, Literal, NamedTuple
 
 import numpy as np
@@ -225,10 +225,8 @@ class Cycle:
             raise InputError("points_per_phase", f"{n} points on each of {nseg} segments are {n * nseg} samples, "
                              f"more than {MAX_SAMPLES}; at most {max(3, (MAX_SAMPLES // nseg - 1) | 1)} points "
                              "per phase fit", points_per_phase)
-        frac = np.linspace(0.0, 1.0, n)
+        frac, simpson = _fractions(n)
         dur = tab.t1 - tab.t0
-        simpson = np.ones(n)
-        simpson[1:-1:2], simpson[2:-1:2] = 4.0, 2.0
         per = self._per_segment
         # Where a move starts from rest: one more sample, a copy of its first, with zero weight (breakaway),
         # right before it (np.insert's order). Columns constant over a segment are repeated n (or n + 1)
@@ -253,12 +251,13 @@ class Cycle:
         counts = np.full(nseg, n, dtype=np.intp)
         counts[copied] += 1
         copy_at = copied * n + np.arange(copied.size)
-        w_col = _spread(weights, counts)
+        cuts = (copied * n).tolist()
+        w_col = _spread(weights, cuts)
         w_col[copy_at] = 0.0
         breakaway = np.zeros(w_col.size, dtype=bool)
         breakaway[copy_at] = True
         return Samples(
-            x=_spread(grid[0], counts), v=_spread(grid[1], counts), a=_spread(grid[2], counts),
+            x=_spread(grid[0], cuts), v=_spread(grid[1], cuts), a=_spread(grid[2], cuts),
             direction=per.direction.repeat(counts), phase=per.phase.repeat(counts), holding=per.holding.repeat(counts),
             braked=per.braked.repeat(counts), thrust=per.thrust.repeat(counts), weights=w_col, breakaway=breakaway,
             layout=_Layout(self, counts),
@@ -272,15 +271,16 @@ class Cycle:
         if name == "segment":
             return np.arange(counts.size, dtype=np.intp).repeat(counts)
         n = int(counts.min())
-        frac = np.linspace(0.0, 1.0, n)
+        frac = _fractions(n)[0]
+        cuts = (np.flatnonzero(counts > n) * n).tolist()
         if name == "t":
             t = tab.t0[:, None] + (tab.t1 - tab.t0)[:, None] * frac[None, :]
             t[:, -1] = tab.t1
-            return _spread(t, counts)
+            return _spread(t, cuts)
         d = per.derivatives
         grid = evaluate_derivatives((d[0][..., :0], d[1][..., :0], d[2][..., :0], d[3]), tab.amp[:, None],
                                     tab.omega[:, None], tab.phase[:, None], tab.span[:, None] * frac[None, :])
-        return _spread(grid[3], counts)
+        return _spread(grid[3], cuts)
 
     def _sample_by_segment(self, n: int, frac: FloatArray, dur: FloatArray, simpson: FloatArray,
                            counts: npt.NDArray[np.intp]) -> Samples:
@@ -349,12 +349,20 @@ class _Layout(NamedTuple):
     counts: npt.NDArray[np.intp]
 
 
-def _spread(rows: npt.NDArray[Any], counts: npt.NDArray[np.intp]) -> npt.NDArray[Any]:
-    """The (segment x point) grid ``rows`` as one column, a copy of a segment's first sample before it
-    where ``counts`` has one more than the points (np.insert's order), by slices (a copy, not a gather)."""
-    n = rows.shape[1]
+@lru_cache(maxsize=16)
+def _fractions(n: int) -> tuple[FloatArray, FloatArray]:
+    """n points from 0 to 1 (both ends) and the composite Simpson factors 1 4 2 ... 4 1 (read-only)."""
+    frac = np.linspace(0.0, 1.0, n)
+    simpson = np.ones(n)
+    simpson[1:-1:2], simpson[2:-1:2] = 4.0, 2.0
+    frac.flags.writeable = simpson.flags.writeable = False
+    return frac, simpson
+
+
+def _spread(rows: npt.NDArray[Any], cuts: list[int]) -> npt.NDArray[Any]:
+    """The (segment x point) grid ``rows`` as one column, with a copy of the sample at each flat index of
+    ``cuts`` (ascending) right before it (np.insert's order), by slices (a copy, not a gather)."""
     flat = rows.reshape(-1)
-    cuts = (np.flatnonzero(counts > n) * n).tolist()
     if not cuts:
         return flat
     out = np.empty(flat.size + len(cuts), dtype=flat.dtype)
