@@ -105,8 +105,9 @@ def derivatives(poly: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, F
     Trailing coefficients that are zero in every piece (a trapezoid's degree is 2 of DEGREE's 5) are
     dropped: Horner's scheme from the highest non-zero one gives the same floats in fewer passes.
     """
-    nonzero = np.flatnonzero(np.any(poly != 0.0, axis=tuple(range(poly.ndim - 1)))) if poly.size else ()
-    c = poly[..., : (int(nonzero[-1]) + 1 if len(nonzero) else 1)]
+    used = np.flatnonzero(np.any(poly != 0.0, axis=tuple(range(poly.ndim - 1)))) if poly.size else np.zeros(0, int)
+    keep = int(used[-1]) + 1 if used.size else 1
+    c = poly[..., :keep]
     out = [c]
     for _ in range(3):
         c = c[..., 1:] * np.arange(1, c.shape[-1], dtype=float)

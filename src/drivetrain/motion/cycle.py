@@ -291,7 +291,8 @@ class Cycle:
         offsets = np.concatenate([[0], np.cumsum(counts)]).tolist()
         total = offsets[-1]
         x, v, a, weights = (np.empty(total) for _ in range(4))
-        consts = [(per.direction, np.empty(total, dtype=np.int8)), (per.phase, np.empty(total, dtype=np.intp)),
+        consts: list[tuple[npt.NDArray[Any], npt.NDArray[Any]]] = [
+                  (per.direction, np.empty(total, dtype=np.int8)), (per.phase, np.empty(total, dtype=np.intp)),
                   (per.holding, np.empty(total, dtype=bool)), (per.braked, np.empty(total, dtype=bool)),
                   (per.thrust, np.empty(total))]
         breakaway = np.zeros(total, dtype=bool)
