@@ -25,7 +25,8 @@ from drivetrain.cli import main
 code = main(["size", sys.argv[1], "--json"])
 print(json.dumps({"code": code, "modules": sorted(m for m in sys.modules if m.split(".")[0] in
       ("pint", "pandas", "dask", "matplotlib") or m.startswith(("drivetrain.study", "drivetrain.web",
-      "drivetrain.catalog.cli", "drivetrain.report", "drivetrain.dynamics")))}))
+      "drivetrain.catalog.cli", "drivetrain.report", "drivetrain.dynamics.simulation",
+      "drivetrain.dynamics._kernel", "drivetrain.dynamics.kernel_io")))}))
 """
 
 
