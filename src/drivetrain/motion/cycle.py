@@ -292,9 +292,9 @@ class Cycle:
         total = offsets[-1]
         x, v, a, weights = (np.empty(total) for _ in range(4))
         consts: list[tuple[npt.NDArray[Any], npt.NDArray[Any]]] = [
-                  (per.direction, np.empty(total, dtype=np.int8)), (per.phase, np.empty(total, dtype=np.intp)),
-                  (per.holding, np.empty(total, dtype=bool)), (per.braked, np.empty(total, dtype=bool)),
-                  (per.thrust, np.empty(total))]
+            (per.direction, np.empty(total, dtype=np.int8)), (per.phase, np.empty(total, dtype=np.intp)),
+            (per.holding, np.empty(total, dtype=bool)), (per.braked, np.empty(total, dtype=bool)),
+            (per.thrust, np.empty(total))]
         breakaway = np.zeros(total, dtype=bool)
         scale = dur / (3.0 * (n - 1))
         sine = bool(np.any(tab.amp))
