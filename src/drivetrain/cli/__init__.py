@@ -123,34 +123,24 @@ def _optional_parser(sub: Any, module: str) -> None:
     mod.add_parser(sub)
 
 
-ONE_SHOT_COMMANDS = ("size", "select")
-"""Commands that build their objects once and exit: run as a process of their own (the ``drivetrain``
-command), they skip the cyclic garbage collector."""
-
-
-def _own_process(words: Sequence[str]) -> None:
+def _own_process() -> None:
     """Start-up settings for a ``drivetrain`` process (never for ``main(argv)`` called inside another program).
 
     pydantic looks for plugins by reading every installed distribution's entry points (importlib.metadata)
     when it builds the first model; drivetrain uses none, so discovery is off unless the environment sets
-    ``PYDANTIC_DISABLE_PLUGINS`` itself. A one-shot command turns the cyclic garbage collector off: its
-    objects are freed by reference counting or at exit, and the collector's passes over the thousands of
-    objects that the imports create cost about 0.03 s of its start-up (bench/RESULTS.md, issue 16).
+    ``PYDANTIC_DISABLE_PLUGINS`` itself. (The cyclic garbage collector stays on: turning it off saves a
+    little more start-up but would let a large answer's reference cycles hold their memory to the end.)
     """
     import os
 
     os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
-    if _command(words) in ONE_SHOT_COMMANDS:
-        import gc
-
-        gc.disable()
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point: returns the exit status (0 passes, 1 sized but nothing passes, 2 bad input)."""
     words = sys.argv[1:] if argv is None else list(argv)
     if argv is None:
-        _own_process(words)
+        _own_process()
     parser = build_parser(optional=_command(words) not in CORE_COMMANDS)
     args = parser.parse_args(words)
     if args.version:
