@@ -560,3 +560,22 @@ def test_mechanism_checks_and_modes_show_in_the_results(page: Any) -> None:
     wait_sized(page)
     wait_until(page, "() => document.querySelector('#mechanism').hidden")
     assert page.locator("#plot-modes").is_hidden()
+
+
+def test_delete_asks_twice_and_forgets_the_first_click(page: Any) -> None:
+    """A project is deleted on the second click within 4 s; one click alone only arms the button."""
+    page.fill("#project-name", "to be deleted")
+    page.click("#save-project")
+    wait_until(page, "() => document.querySelector('#save-state').innerText.includes('saved, version 1')")
+    listed = page.locator(".project-list button", has_text="to be deleted")
+    assert listed.count() == 1
+    button = page.locator("#delete-project")
+    button.click()
+    assert button.inner_text() == "Really delete?"
+    wait_until(page, "() => document.querySelector('#delete-project').innerText === 'Delete'", timeout_s=6)
+    assert listed.count() == 1, "one click deleted the project"
+    button.click()
+    button.click()
+    wait_until(page, "() => ![...document.querySelectorAll('.project-list button')]"
+                     ".some(b => b.innerText.includes('to be deleted'))")
+    assert button.inner_text() == "Delete"

@@ -123,9 +123,24 @@ def _optional_parser(sub: Any, module: str) -> None:
     mod.add_parser(sub)
 
 
+def _own_process() -> None:
+    """Start-up settings for a ``drivetrain`` process (never for ``main(argv)`` called inside another program).
+
+    pydantic looks for plugins by reading every installed distribution's entry points (importlib.metadata)
+    when it builds the first model; drivetrain uses none, so discovery is off unless the environment sets
+    ``PYDANTIC_DISABLE_PLUGINS`` itself. (The cyclic garbage collector stays on: turning it off saves a
+    little more start-up but would let a large answer's reference cycles hold their memory to the end.)
+    """
+    import os
+
+    os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point: returns the exit status (0 passes, 1 sized but nothing passes, 2 bad input)."""
     words = sys.argv[1:] if argv is None else list(argv)
+    if argv is None:
+        _own_process()
     parser = build_parser(optional=_command(words) not in CORE_COMMANDS)
     args = parser.parse_args(words)
     if args.version:

@@ -138,12 +138,14 @@ def duty_from_samples(axis: Axis, cycle: Cycle, samples: Samples) -> DutyCycle:
         torques.append(t_out)
         omegas.append(omega / st.ratio)
         t_out, ext_out = torque_in(st, t_out, ext_out, omega, alpha, direction, model)
-    t_out = t_out + axis.spec.extra_inertia * alpha
+    if axis.spec.extra_inertia:
+        t_out = t_out + axis.spec.extra_inertia * alpha
     braked = np.asarray(samples.braked, dtype=bool)
-    torque = np.where(braked, 0.0, t_out)
+    if braked.any():  # a brake holds the load: no motor torque there
+        t_out, ext_out = np.where(braked, 0.0, t_out), np.where(braked, 0.0, ext_out)
     return DutyCycle(
-        samples=samples, cycle=cycle, omega=omega, alpha=alpha, torque=torque,
-        external=np.where(braked, 0.0, ext_out), braked=braked,
+        samples=samples, cycle=cycle, omega=omega, alpha=alpha, torque=t_out,
+        external=ext_out, braked=braked,
         stage_torque=tuple(reversed(torques)), stage_omega=tuple(reversed(omegas)),
         load_inertia=axis.load_inertia, period=float(cycle.period),
     )

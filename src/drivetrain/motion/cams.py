@@ -96,12 +96,30 @@ def evaluate_pieces(
     ``poly`` has shape ``w.shape + (n,)``; the other arrays have the shape of ``w``. Horner's
     scheme per derivative; the loop runs over the polynomial degree, never over samples.
     """
-    if poly.shape[-1] < 4:
-        poly = np.concatenate([poly, np.zeros((*poly.shape[:-1], 4 - poly.shape[-1]))], axis=-1)
-    derivs = [poly]
+    return evaluate_derivatives(derivatives(poly), amp, omega, phase, w)
+
+
+def derivatives(poly: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Coefficients of ``poly`` (ascending, last axis) and of its first three derivatives.
+
+    Trailing coefficients that are zero in every piece (a trapezoid's degree is 2 of DEGREE's 5) are
+    dropped: Horner's scheme from the highest non-zero one gives the same floats in fewer passes.
+    """
+    used = np.flatnonzero(np.any(poly != 0.0, axis=tuple(range(poly.ndim - 1)))) if poly.size else np.zeros(0, int)
+    keep = int(used[-1]) + 1 if used.size else 1
+    c = poly[..., :keep]
+    out = [c]
     for _ in range(3):
-        c = derivs[-1]
-        derivs.append(c[..., 1:] * np.arange(1, c.shape[-1], dtype=float))
+        c = c[..., 1:] * np.arange(1, c.shape[-1], dtype=float)
+        out.append(c)
+    return out[0], out[1], out[2], out[3]
+
+
+def evaluate_derivatives(
+    derivs: tuple[FloatArray, FloatArray, FloatArray, FloatArray], amp: FloatArray, omega: FloatArray,
+    phase: FloatArray, w: FloatArray,
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """:func:`evaluate_pieces` with the coefficients of :func:`derivatives` already computed."""
     x, v, a, j = (_horner(c, w) for c in derivs)
     if not np.any(amp):  # polynomial pieces only (every profile but a cam's sine): no sine term to add
         return x, v, a, j
@@ -110,9 +128,23 @@ def evaluate_pieces(
     return x + amp * sin, v + amp * omega * cos, a - amp * omega**2 * sin, j - amp * omega**3 * cos
 
 
+def horner_into(coef: FloatArray, w: FloatArray, out: FloatArray) -> None:
+    """out[:] = sum(coef[k] w^k) for one piece (``coef`` 1-D, ascending), by the operations of ``_horner``."""
+    if coef.shape[-1] == 0:
+        out[...] = 0.0
+        return
+    out[...] = coef[-1]
+    for col in range(coef.shape[-1] - 2, -1, -1):
+        out *= w
+        out += coef[col:col + 1]
+
+
 def _horner(coef: FloatArray, w: FloatArray) -> FloatArray:
     """sum(coef[..., k] w^k) by Horner's scheme."""
-    acc = np.empty(np.broadcast_shapes(np.shape(w), coef.shape[:-1]))
+    shape = np.broadcast(w, coef[..., 0] if coef.shape[-1] else coef.sum(axis=-1)).shape
+    if coef.shape[-1] == 0:  # the derivative of a constant
+        return np.zeros(shape)
+    acc = np.empty(shape)
     acc[...] = coef[..., -1]
     for col in range(coef.shape[-1] - 2, -1, -1):
         acc *= w

@@ -23,7 +23,8 @@ def speed_sign(omega: ArrayLike, direction: ArrayLike) -> NDArray[np.float64]:
     segment carry no spurious jump (design.md). ``direction`` is 0 in a dwell.
     """
     w = np.asarray(omega, dtype=float)
-    return np.where(w != 0.0, np.sign(w), np.sign(np.asarray(direction, dtype=float)))
+    # sign(where(...)) equals where(w != 0, sign(w), sign(direction)), in fewer passes
+    return np.sign(np.where(w != 0.0, w, np.asarray(direction, dtype=float)))
 
 
 def torque_through_losses(
@@ -48,8 +49,12 @@ def torque_through_losses(
     itself and passes no torque (design.md). A self-locking element lowering a load (braking
     quadrant) gives ``T * eta_back`` of the opposite sign: the motor must drive the load down.
     """
-    t = np.asarray(torque, dtype=float)
-    s = speed_sign(omega, direction)
+    return losses_by_sign(np.asarray(torque, dtype=float), speed_sign(omega, direction), efficiency, back_efficiency)
+
+
+def losses_by_sign(t: NDArray[np.float64], s: NDArray[np.float64], efficiency: float,
+                   back_efficiency: float) -> NDArray[np.float64]:
+    """:func:`torque_through_losses` with the sign of motion ``s`` (:func:`speed_sign`) already known [N m]."""
     motoring = t * s > 0.0
     out = np.where(motoring, t / efficiency, t * back_efficiency)
     holding = s == 0.0

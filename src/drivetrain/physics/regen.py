@@ -289,7 +289,8 @@ def _resistor_peak(t: FloatArray, bus: FloatArray, neg: NDArray[np.bool_], label
     h_safe = np.where(h > 0.0, h, 1.0)
     disc = np.sqrt(np.maximum(b0**2 + 2.0 * (b1 - b0) * c / h_safe, 0.0))
     den = b0 + disc
-    tau = np.where(den > 0.0, 2.0 * c / np.where(den > 0.0, den, 1.0), 0.0)
+    with np.errstate(over="ignore"):  # a subnormal den gives tau = inf, clipped to the interval's end below
+        tau = np.where(den > 0.0, 2.0 * c / np.where(den > 0.0, den, 1.0), 0.0)
     p_star = np.clip(b0 + (b1 - b0) * np.clip(tau / h_safe, 0.0, 1.0), np.minimum(b0, b1), np.maximum(b0, b1))
     later = np.maximum.reduceat(np.where(after, bus, 0.0), start)
     return np.where(found & (h > 0.0), np.maximum(p_star, later), sampled)

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from drivetrain.physics.efficiency import EfficiencyModel, torque_through_losses
+from drivetrain.physics.efficiency import EfficiencyModel, losses_by_sign, speed_sign
 
 
 @dataclass(frozen=True)
@@ -110,13 +110,21 @@ def torque_in(
     every quadrant; inertial torque passes without loss.
     """
     i = stage.ratio
-    coulomb = stage.friction_torque_in * np.sign(np.where(omega_in != 0.0, omega_in, direction))
+    # sign(omega, or the move direction at rest) serves the stage's Coulomb friction and the quadrant
+    s = speed_sign(omega_in, direction)
+    coulomb = stage.friction_torque_in * s if stage.friction_torque_in else None
     if model == "load_torque_only":
-        ext = external_out / (i * stage.efficiency) + coulomb
+        ext = external_out / (i * stage.efficiency)
+        if coulomb is not None:
+            ext = ext + coulomb
         inertial = (torque_out - external_out) / i + stage.inertia * alpha_in
         return inertial + ext, ext
-    bracket = stage.inertia_inside * alpha_in + torque_out / i
-    total = stage.inertia_in * alpha_in + torque_through_losses(
-        bracket, omega_in, direction, stage.efficiency, stage.back_efficiency
-    ) + coulomb
+    bracket = torque_out / i
+    if stage.inertia_inside:
+        bracket = stage.inertia_inside * alpha_in + bracket
+    total = losses_by_sign(bracket, s, stage.efficiency, stage.back_efficiency)
+    if stage.inertia_in:
+        total = stage.inertia_in * alpha_in + total
+    if coulomb is not None:
+        total = total + coulomb
     return total, external_out / i

@@ -2,7 +2,7 @@
 // and the catalog browser. Every change re-sizes after a short pause; a newer request cancels
 // an older one still in flight.
 
-import { el } from "./dom.js";
+import { confirmedTwice, el } from "./dom.js";
 import { api, ApiError, filenameOf, saveBlob } from "./api.js";
 import { CatalogView } from "./catalog.js";
 import { AxisForm } from "./form.js";
@@ -356,17 +356,7 @@ async function duplicateProject() {
 async function deleteProject() {
   if (!state.project) return;
   const b = $("delete-project");
-  if (!state.deleteArmed) {
-    b.textContent = "Really delete?";
-    state.deleteArmed = setTimeout(() => {
-      b.textContent = "Delete";
-      state.deleteArmed = null;
-    }, 4000);
-    return;
-  }
-  clearTimeout(state.deleteArmed);
-  state.deleteArmed = null;
-  b.textContent = "Delete";
+  if (!confirmedTwice(b, state)) return;
   try {
     const name = state.project.name;
     await api.del(`/api/projects/${state.project.id}`);

@@ -11,3 +11,20 @@ export function el(tag, attrs = {}, ...children) {
   for (const c of children) if (c !== null && c !== undefined) node.append(c);
   return node;
 }
+
+// A destructive button asks twice: the first click arms it for 4 s ("Really delete?"), the second
+// within that time returns true. ``holder[key]`` keeps the timer of the armed button.
+export function confirmedTwice(button, holder, key = "deleteArmed", label = "Delete") {
+  if (!holder[key]) {
+    button.textContent = "Really delete?";
+    holder[key] = setTimeout(() => {
+      button.textContent = label;
+      holder[key] = null;
+    }, 4000);
+    return false;
+  }
+  clearTimeout(holder[key]);
+  holder[key] = null;
+  button.textContent = label;
+  return true;
+}

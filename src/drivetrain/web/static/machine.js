@@ -4,7 +4,7 @@
 // axis's checks, and the report, AAS and YAML downloads. Projects are saved with history through
 // /api/projects (kind "machine"); sizing is /api/machine/size (docs/machine.md).
 
-import { el } from "./dom.js";
+import { confirmedTwice, el } from "./dom.js";
 import { api, ApiError, filenameOf, saveBlob } from "./api.js";
 import { fmt } from "./results.js";
 import * as MR from "./machine_results.js";
@@ -496,17 +496,7 @@ export class MachineView {
   async remove() {
     if (!this.project) return;
     const b = $("m-delete");
-    if (!this.deleteArmed) {
-      b.textContent = "Really delete?";
-      this.deleteArmed = setTimeout(() => {
-        b.textContent = "Delete";
-        this.deleteArmed = null;
-      }, 4000);
-      return;
-    }
-    clearTimeout(this.deleteArmed);
-    this.deleteArmed = null;
-    b.textContent = "Delete";
+    if (!confirmedTwice(b, this)) return;
     try {
       const name = this.project.name;
       await api.del(`/api/projects/${this.project.id}`);

@@ -3,7 +3,7 @@
 // the API's errors shown at the field they name. Text only through textContent (never HTML from data).
 
 import { el } from "./dom.js";
-import { checkName, fmt, pct, renderChecks } from "./results.js";
+import { checkName, fmt, pct, renderChecks, table } from "./results.js";
 
 const $ = (id) => document.getElementById(id);
 const copy = (x) => JSON.parse(JSON.stringify(x));
@@ -18,25 +18,6 @@ const BUS_ROWS = [
   ["supply_peak_power_W", "supply peak power", "W"], ["supply_continuous_power_W", "supply continuous power", "W"],
   ["supply_peak_current_A", "supply peak line current", "A"], ["supply_rms_current_A", "supply RMS line current", "A"],
 ];
-
-function table(caption, headers, rows, cls = "data") {
-  const t = el("table", { class: cls });
-  t.append(el("caption", { class: "sr-only", text: caption }));
-  t.append(el("thead", {}, el("tr", {}, ...headers.map((h) => el("th", { scope: "col", text: h })))));
-  const body = el("tbody");
-  for (const r of rows) {
-    const tr = el("tr", r.cls ? { class: r.cls } : {});
-    r.cells.forEach((c, k) => {
-      const cell = k === 0 ? el("th", { scope: "row" }) : el("td");
-      if (c instanceof Node) cell.append(c);
-      else cell.textContent = c;
-      tr.append(cell);
-    });
-    body.append(tr);
-  }
-  t.append(body);
-  return t;
-}
 
 export function renderTable(view, p) {
   const rows = p.table.map((r) => {

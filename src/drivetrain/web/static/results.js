@@ -29,7 +29,7 @@ export function pct(margin) {
 }
 
 
-function table(caption, headers, rows, cls = "data") {
+export function table(caption, headers, rows, cls = "data") {
   const t = el("table", { class: cls });
   if (caption) t.append(el("caption", { class: "sr-only", text: caption }));
   t.append(el("thead", {}, el("tr", {}, ...headers.map((h) => el("th", { scope: "col", text: h })))));
