@@ -562,13 +562,21 @@ def test_mechanism_checks_and_modes_show_in_the_results(page: Any) -> None:
     assert page.locator("#plot-modes").is_hidden()
 
 
-def test_delete_asks_twice_and_forgets_the_first_click(page: Any) -> None:
-    """A project is deleted on the second click within 4 s; one click alone only arms the button."""
+def test_history_restores_and_delete_asks_twice(page: Any) -> None:
+    """Restoring a version adds one; a project is deleted on the second click within 4 s, one click only arms."""
     page.fill("#project-name", "to be deleted")
     page.click("#save-project")
     wait_until(page, "() => document.querySelector('#save-state').innerText.includes('saved, version 1')")
     listed = page.locator(".project-list button", has_text="to be deleted")
     assert listed.count() == 1
+    set_field(page, "axis", "second version")  # a second version, then back to the first
+    wait_until(page, "() => document.querySelector('#yaml-text').value.includes('second version')")
+    page.click("#save-project")
+    wait_until(page, "() => document.querySelectorAll('#version-list li').length === 2")
+    page.click("#history summary")
+    page.click("#version-list button[aria-label='Restore version 1']")
+    wait_until(page, "() => document.querySelectorAll('#version-list li').length === 3")
+    assert page.locator("#version-list button[aria-label='Restore version 3']").count() == 0  # the current one
     button = page.locator("#delete-project")
     button.click()
     assert button.inner_text() == "Really delete?"

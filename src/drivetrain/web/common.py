@@ -127,8 +127,8 @@ def dump_yaml(axis: dict[str, Any]) -> str:
     return text
 
 
-def parse_axis_text(text: str, field: str = "yaml") -> dict[str, Any]:
-    """Axis YAML text to a mapping through the CLI's safe loader and limits."""
+def _yaml_mapping(text: str, field: str, keys: str) -> dict[str, Any]:
+    """YAML text to a mapping through the CLI's safe loader and limits; ``keys`` names what it should hold."""
     from drivetrain.axis.model import parse_yaml
 
     try:
@@ -136,26 +136,19 @@ def parse_axis_text(text: str, field: str = "yaml") -> dict[str, Any]:
     except InputError as exc:
         raise InputError(field, exc.rule, exc.value, has_value=exc.has_value) from None
     if not isinstance(data, dict):
-        raise InputError(field, "must be a mapping of axis keys (axis, mechanism, transmission, profile, motor)",
-                         type(data).__name__)
+        raise InputError(field, f"must be a mapping of {keys}", type(data).__name__)
     check_unicode(data, field)
     return {str(k): v for k, v in data.items()}
 
+
+def parse_axis_text(text: str, field: str = "yaml") -> dict[str, Any]:
+    """Axis YAML text to a mapping through the CLI's safe loader and limits."""
+    return _yaml_mapping(text, field, "axis keys (axis, mechanism, transmission, profile, motor)")
 
 
 def parse_machine_text(text: str, field: str = "yaml") -> dict[str, Any]:
     """Machine YAML text to a mapping through the CLI's safe loader and limits (its keys checked when sized)."""
-    from drivetrain.axis.model import parse_yaml
-
-    try:
-        data = parse_yaml(text)
-    except InputError as exc:
-        raise InputError(field, exc.rule, exc.value, has_value=exc.has_value) from None
-    if not isinstance(data, dict):
-        raise InputError(field, "must be a mapping of machine keys (version, machine, cycle_time, supply, axes, buses)",
-                         type(data).__name__)
-    check_unicode(data, field)
-    return {str(k): v for k, v in data.items()}
+    return _yaml_mapping(text, field, "machine keys (version, machine, cycle_time, supply, axes, buses)")
 
 
 class ResultCache:

@@ -9,6 +9,7 @@ import { AxisForm } from "./form.js";
 import { MachineView } from "./machine.js";
 import * as plots from "./plots.js";
 import * as R from "./results.js";
+import { renderVersions } from "./versions.js";
 import { toYaml } from "./yaml.js";
 
 const $ = (id) => document.getElementById(id);
@@ -383,25 +384,7 @@ async function restoreWith(promise, what) {
 }
 
 async function refreshHistory() {
-  const ol = $("version-list");
-  ol.replaceChildren();
-  if (!state.project) return;
-  let versions = [];
-  try {
-    versions = await api.get(`/api/projects/${state.project.id}/versions`);
-  } catch (err) {
-    return;
-  }
-  for (const v of versions) {
-    const label = `v${v.version} · ${new Date(v.created * 1000).toLocaleString()}${v.note ? " · " + v.note : ""}`;
-    const li = el("li", {}, el("span", { text: label }));
-    if (v.version !== state.project.version) {
-      const b = el("button", { type: "button", class: "small", text: "Restore", "aria-label": `Restore version ${v.version}` });
-      b.addEventListener("click", () => restoreWith(api.post(`/api/projects/${state.project.id}/versions/${v.version}/restore`), `restored version ${v.version}`));
-      li.append(" ", b);
-    }
-    ol.append(li);
-  }
+  await renderVersions($("version-list"), state.project, restoreWith);
 }
 
 function newProject() {

@@ -8,6 +8,7 @@ import { confirmedTwice, el } from "./dom.js";
 import { api, ApiError, filenameOf, saveBlob } from "./api.js";
 import { fmt } from "./results.js";
 import * as MR from "./machine_results.js";
+import { renderVersions } from "./versions.js";
 import { toYaml } from "./yaml.js";
 
 const $ = (id) => document.getElementById(id);
@@ -522,24 +523,7 @@ export class MachineView {
   }
 
   async refreshHistory() {
-    const ol = $("m-version-list");
-    ol.replaceChildren();
-    if (!this.project) return;
-    let versions = [];
-    try {
-      versions = await api.get(`/api/projects/${this.project.id}/versions`);
-    } catch (err) {
-      return;
-    }
-    for (const v of versions) {
-      const li = el("li", {}, el("span", { text: `v${v.version} · ${new Date(v.created * 1000).toLocaleString()}${v.note ? " · " + v.note : ""}` }));
-      if (v.version !== this.project.version) {
-        const b = el("button", { type: "button", class: "small", text: "Restore", "aria-label": `Restore version ${v.version}` });
-        b.addEventListener("click", () => this.restoreWith(api.post(`/api/projects/${this.project.id}/versions/${v.version}/restore`), `restored version ${v.version}`));
-        li.append(" ", b);
-      }
-      ol.append(li);
-    }
+    await renderVersions($("m-version-list"), this.project, (req, what) => this.restoreWith(req, what));
   }
 
   newMachine() {
