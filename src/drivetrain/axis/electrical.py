@@ -28,10 +28,9 @@ from typing import Annotated, Any, Literal
 from pydantic import Field, model_validator
 
 from drivetrain.errors import InputError
-from drivetrain.fields import Spec, quantity
+from drivetrain.fields import Spec, Voltage, quantity
 
 Current = Annotated[float, quantity("current", gt=0.0)]
-VoltagePos = Annotated[float, quantity("voltage", gt=0.0)]
 Resistance = Annotated[float, quantity("resistance", gt=0.0)]
 Inductance = Annotated[float, quantity("inductance", gt=0.0)]
 Capacitance = Annotated[float, quantity("capacitance", gt=0.0)]
@@ -66,8 +65,8 @@ class MotorElectricalSpec(Spec):
     rated_current: Current | None = None
     stall_current: Current | None = None
     peak_current: Current | None = None
-    supply_voltage: VoltagePos | None = None
-    dc_bus_voltage: VoltagePos | None = None
+    supply_voltage: Voltage | None = None
+    dc_bus_voltage: Voltage | None = None
     thermal_time_constant: TimePos | None = None
     rated_rise: RisePos | None = None
     insulation_class: Literal["B", "F", "H"] | None = None
@@ -98,11 +97,11 @@ class DriveSpec(Spec):
     continuous_current: Current | None = None
     peak_current: Current | None = None
     peak_time: TimePos | None = None
-    supply_voltage: VoltagePos | None = None
-    dc_bus_voltage: VoltagePos | None = None
+    supply_voltage: Voltage | None = None
+    dc_bus_voltage: Voltage | None = None
     bus_capacitance: Capacitance | None = None
-    bus_max_voltage: VoltagePos | None = None
-    regen_on_voltage: VoltagePos | None = None
+    bus_max_voltage: Voltage | None = None
+    regen_on_voltage: Voltage | None = None
     absorbable_energy: EnergyNonNeg | None = None
     min_resistance: Resistance | None = None
     builtin_resistor: BuiltinResistorSpec | None = None

@@ -248,7 +248,7 @@ def parse_axis(data: Any, *, text_checked: bool = False) -> Axis:
         raise InputError("", "an axis file must be a mapping of keys (axis, mechanism, transmission, profile, ...)",
                          type(data).__name__)
     if not text_checked:
-        _check_text(data, "")
+        check_text(data, "")
     try:
         spec = AxisSpec.model_validate(data)
     except ValidationError as exc:
@@ -408,7 +408,7 @@ def _loader_class() -> Any:
     return Loader
 
 
-def _check_text(data: Any, path: str) -> None:
+def check_text(data: Any, path: str) -> None:
     """Every key and text value must be valid Unicode (a lone surrogate cannot be printed or stored)."""
     if isinstance(data, dict):
         for key, value in data.items():
@@ -417,15 +417,13 @@ def _check_text(data: Any, path: str) -> None:
                 raise InputError(path or "file", "has a key that is not valid Unicode (a lone surrogate)", key)
             if isinstance(key, str) and not key:
                 raise InputError(f"{path}.''" if path else "''", "unknown key (the key is empty)", has_value=False)
-            _check_text(value, sub)
+            check_text(value, sub)
     elif isinstance(data, list):
         for i, value in enumerate(data):
-            _check_text(value, f"{path}[{i}]")
+            check_text(value, f"{path}[{i}]")
     elif isinstance(data, str) and not _valid_unicode(data):
         raise InputError(path, "is not valid Unicode text (a lone surrogate)", data)
 
-
-check_text = _check_text
 
 
 def _valid_unicode(text: str) -> bool:

@@ -420,18 +420,7 @@ function downloadYaml() {
 async function downloadReport(format) {
   setStatus(`writing the ${format.toUpperCase()} report…`);
   try {
-    const response = await fetch(`/api/report?format=${format}`, {
-      method: "POST", headers: { "content-type": "application/json" }, body: JSON.stringify(state.axis),
-    });
-    if (!response.ok) {
-      let body = null;
-      try {
-        body = await response.json();
-      } catch (e) {
-        body = null;
-      }
-      throw new ApiError(response.status, body);
-    }
+    const response = await api.post(`/api/report?format=${format}`, state.axis, { raw: true });
     const blob = await response.blob();
     saveBlob(blob, filenameOf(response, `${safeName(axisName())}-report.${format}`));
     setStatus(`${format.toUpperCase()} report downloaded`);

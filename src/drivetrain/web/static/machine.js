@@ -384,16 +384,7 @@ export class MachineView {
     try {
       const res = await api.post("/api/machine/parse", { yaml: $("m-yaml").value });
       this.machine = res.machine;
-      const response = await fetch(url, { method: "POST", headers: { "content-type": "application/json" }, body: JSON.stringify(this.machine) });
-      if (!response.ok) {
-        let body = null;
-        try {
-          body = await response.json();
-        } catch (e) {
-          body = null;
-        }
-        throw new ApiError(response.status, body);
-      }
+      const response = await api.post(url, this.machine, { raw: true });
       saveBlob(await response.blob(), filenameOf(response, `${safeName(this.machine.machine || "machine")}${suffix}`));
       this.setStatus(`${what} downloaded`);
     } catch (err) {
