@@ -276,7 +276,7 @@ def _resistor_peak(t: FloatArray, bus: FloatArray, neg: NDArray[np.bool_], label
 
     Sources: the order capacitors first, resistor after (E_R = E_M - (E_L + E_C)) is TECO JSDAP
     manual p. 5-73 and Servotronix CDHD2 (module docstring); the root is the quadratic's
-    cancellation-free form, Press et al., *Numerical Recipes*, 3rd ed., §5.6, eq. 5.6.4.
+    cancellation-free form, Press et al., *Numerical Recipes*, 3rd ed., §5.6, eqs. 5.6.4-5.6.5.
     """
     n = t.size
     c_trap = np.concatenate(([0.0], np.cumsum(0.5 * (bus[:-1] + bus[1:]) * np.diff(t))))
