@@ -53,8 +53,10 @@ def si_rows(family: str) -> dict[str, dict[str, object]]:
 def test_every_family_file_is_shipped_and_no_other_motor_file_claims_to_be_traced() -> None:
     shipped = {f.filename for f in schema.SHIPPED_FILES}
     assert {f"motors_{family}.csv" for family in FAMILIES} <= shipped
-    assert FAMILIES == ("teco_jsma", "mitsubishi_hg_kn")
-    assert {family: len(rows) for family, rows in ROWS.items()} == {"teco_jsma": 9, "mitsubishi_hg_kn": 4}
+    assert FAMILIES == ("teco_jsma", "mitsubishi_hg_kn", "yaskawa_sigma2")
+    assert {family: len(rows) for family, rows in ROWS.items()} == {
+        "teco_jsma": 9, "mitsubishi_hg_kn": 4, "yaskawa_sigma2": 23,
+    }
 
 
 @pytest.mark.parametrize("family", FAMILIES)
@@ -148,10 +150,28 @@ CHECKS: tuple[Check, ...] = (power_matches_torque_times_speed, peak_at_least_rat
                              brake_inertia_at_least_inertia)
 
 
+# Rows whose printed rated output and printed T_N * n_N disagree by more than the power check allows, with the
+# relative deviation (T_N * omega_N - P) / P the vendor's own table gives. Yaskawa, Sigma II User's Manual p. 8-15:
+# SGMSH-15AA 1.5 kW with 4.9 N m at 3000 r/min (1.54 kW), SGMSH-30AA 3.0 kW with 9.8 N m (3.08 kW); both kept as printed.
+PRINTED_POWER_MISMATCH = {"SGMSH-15AA": 0.026, "SGMSH-30AA": 0.026}
+
+
 @pytest.mark.parametrize("family", FAMILIES)
 def test_every_row_passes_the_invariants(family: str) -> None:
-    problems = [(rid, msg) for rid, row in si_rows(family).items() for check in CHECKS if (msg := check(row))]
+    problems = [(rid, msg) for rid, row in si_rows(family).items() for check in CHECKS
+                if (msg := check(row)) and not (check is power_matches_torque_times_speed
+                                               and rid in PRINTED_POWER_MISMATCH)]
     assert problems == []
+
+
+@pytest.mark.parametrize(("rid", "deviation"), sorted(PRINTED_POWER_MISMATCH.items()))
+def test_the_power_exceptions_are_the_printed_mismatch_and_no_more(rid: str, deviation: float) -> None:
+    row = si_rows("yaskawa_sigma2")[rid]
+    p, t, n = _f(row, "rated_power"), _f(row, "rated_torque"), _f(row, "rated_speed")
+    assert p is not None and t is not None and n is not None
+    assert (t * n - p) / p == pytest.approx(deviation, abs=0.001)
+    assert power_matches_torque_times_speed(row) is not None  # still outside the general rule, hence listed
+    assert "2.6 % below" in {r["id"]: r["notes"] for r in ROWS["yaskawa_sigma2"]}[rid]
 
 
 BROKEN = [
@@ -230,6 +250,52 @@ def test_hg_kn_values_match_the_vendor_page(rid: str, column: str, printed: floa
     assert row["source_url"].startswith("https://www.mitsubishielectric.com/fa/products/drv/servo/")
 
 
+# Yaskawa Sigma-II servomotors, values as printed (kW, N m, r/min, x10^-4 kg m^2 = kg cm^2, A rms, N m/A rms):
+# SGMAH: Sigma-II Series SGM_H/SGDM User's Manual, 3.1.1, p. 3-4, read at
+#   https://www.easymanua.ls/yaskawa/sigma-ii-series/manual?p=70
+# SGMPH: Sigma II User's Manual (SGDH), 8.1.2, p. 8-7, read at https://www.easymanua.ls/yaskawa/sgmah/manual?p=333
+# SGMSH: the same manual, 8.1.4, p. 8-15, read at
+#   https://manualarchiveguide.com/manuals/YASKAWA-SGMAH-User-Manual-4781235?page=341
+PRINTED_SIGMA2 = [
+    ("SGMAH-A3B", "rated_torque [N*m]", 0.0955, "3-4"),
+    ("SGMAH-A3B", "rated_current [A]", 0.66, "3-4"),
+    ("SGMAH-01A", "torque_constant [N*m/A]", 0.378, "3-4"),
+    ("SGMAH-04A", "peak_torque [N*m]", 3.82, "3-4"),
+    ("SGMAH-08A", "rotor_inertia [kg*cm^2]", 0.672, "3-4"),
+    ("SGMAH-08A", "peak_current [A]", 13.4, "3-4"),
+    ("SGMAH-02B", "voltage [V]", 100, "3-4"),
+    ("SGMPH-04A", "rated_current [A]", 2.6, "8-7"),
+    ("SGMPH-08A", "rotor_inertia [kg*cm^2]", 2.10, "8-7"),
+    ("SGMPH-15A", "rated_torque [N*m]", 4.77, "8-7"),
+    ("SGMPH-15A", "peak_torque [N*m]", 14.3, "8-7"),
+    ("SGMPH-15A", "peak_current [A]", 23.0, "8-7"),
+    ("SGMPH-01B", "torque_constant [N*m/A]", 0.160, "8-7"),
+    ("SGMSH-10AA", "rated_torque [N*m]", 3.18, "8-15"),
+    ("SGMSH-20AA", "peak_current [A]", 42, "8-15"),
+    ("SGMSH-30AA", "torque_constant [N*m/A]", 0.573, "8-15"),
+    ("SGMSH-50AA", "rotor_inertia [kg*cm^2]", 12.3, "8-15"),
+    ("SGMSH-50AA", "peak_torque [N*m]", 47.6, "8-15"),
+    ("SGMSH-50AA", "max_speed [rpm]", 5000, "8-15"),
+]
+
+
+@pytest.mark.parametrize(("rid", "column", "printed", "page"), PRINTED_SIGMA2)
+def test_sigma2_values_match_the_page_they_cite(rid: str, column: str, printed: float, page: str) -> None:
+    row = {r["id"]: r for r in ROWS["yaskawa_sigma2"]}[rid]
+    assert float(row[column]) == printed
+    assert row["source_page"] == page and f"p. {page}:" in row["ratings_source"]
+
+
+def test_sigma2_rows_name_the_column_they_were_read_from() -> None:
+    """Each table page is one source: every row of a series cites the same page and copy; series and id agree."""
+    pages = {"SGMAH": "3-4", "SGMPH": "8-7", "SGMSH": "8-15"}
+    for r in ROWS["yaskawa_sigma2"]:
+        assert r["id"].startswith(r["series"] + "-") and r["model"] == r["id"]
+        assert r["source_page"] == pages[r["series"]], r["id"]
+        assert r["vendor"] == "Yaskawa" and r["brake"] == "no"
+    assert collections.Counter(r["series"] for r in ROWS["yaskawa_sigma2"]) == {"SGMAH": 10, "SGMPH": 7, "SGMSH": 6}
+
+
 def test_values_whose_basis_is_not_printed_stay_out_of_the_numeric_columns() -> None:
     """K_E, Ra and La are printed without their basis (phase or line-to-line, rms or peak): kept in notes only."""
     for rid, row in si_rows("teco_jsma").items():
@@ -272,3 +338,10 @@ def test_database_holds_the_rows_traced_and_in_si(data_dir: Path, monkeypatch: p
     assert kn["rated_current_A"] == 2.6 and kn["peak_current_A"] == 7.8
     assert kn["max_speed_rad_s"] == pytest.approx(5000 * RPM)
     assert "https://www.mitsubishielectric.com/" in kn["sources"]["mechanical"]
+    ph = catalog.get("SGMPH-04A")
+    assert ph["verified"] == 1 and not ph["unverified"] and ph["vendor"] == "Yaskawa"
+    assert ph["rated_power_W"] == pytest.approx(400.0) and ph["voltage_V"] == pytest.approx(200.0)
+    assert ph["rotor_inertia_kgm2"] == pytest.approx(0.331e-4) and ph["torque_constant_Nm_per_A"] == 0.535
+    assert ph["rated_speed_rad_s"] == pytest.approx(3000 * RPM) and ph["max_speed_rad_s"] == pytest.approx(5000 * RPM)
+    assert "easymanua.ls/yaskawa/sgmah" in ph["source_url"]
+    assert {"SGMAH-A3B", "SGMPH-02B"} <= set(catalog.motors(vendor="yaskawa", voltage="100 V").ids)
