@@ -152,7 +152,7 @@ CHECKS: tuple[Check, ...] = (power_matches_torque_times_speed, peak_at_least_rat
 
 # Rows whose printed rated output and printed T_N * n_N disagree by more than the power check allows, with the
 # relative deviation (T_N * omega_N - P) / P the vendor's own table gives. Yaskawa, Sigma II User's Manual p. 8-15:
-# SGMSH-15AA 1.5 kW with 4.9 N m at 3000 r/min (1.54 kW), SGMSH-30AA 3.0 kW with 9.8 N m (3.08 kW); both kept as printed.
+# SGMSH-15AA 1.5 kW with 4.9 N m at 3000 r/min (1.54 kW), SGMSH-30AA 3.0 kW with 9.8 N m (3.08 kW); kept as printed.
 PRINTED_POWER_MISMATCH = {"SGMSH-15AA": 0.026, "SGMSH-30AA": 0.026}
 
 
