@@ -55,7 +55,7 @@ def test_every_family_file_is_shipped_and_no_other_motor_file_claims_to_be_trace
     assert {f"motors_{family}.csv" for family in FAMILIES} <= shipped
     assert FAMILIES == ("teco_jsma", "mitsubishi_hg_kn", "yaskawa_sigma2", "mitsubishi_hc_meldas")
     assert {family: len(rows) for family, rows in ROWS.items()} == {
-        "teco_jsma": 9, "mitsubishi_hg_kn": 4, "yaskawa_sigma2": 23, "mitsubishi_hc_meldas": 15,
+        "teco_jsma": 9, "mitsubishi_hg_kn": 4, "yaskawa_sigma2": 23, "mitsubishi_hc_meldas": 20,
     }
 
 
@@ -154,9 +154,10 @@ CHECKS: tuple[Check, ...] = (power_matches_torque_times_speed, peak_at_least_rat
 # relative deviation (T_N * omega_N - P) / P the vendor's own table gives. Yaskawa, Sigma II User's Manual p. 8-15:
 # SGMSH-15AA 1.5 kW with 4.9 N m at 3000 r/min (1.54 kW), SGMSH-30AA 3.0 kW with 9.8 N m (3.08 kW); kept as printed.
 PRINTED_POWER_MISMATCH = {"SGMSH-15AA": 0.026, "SGMSH-30AA": 0.026}
-# Rows whose printed K_T * I_N / T_N lies outside the torque-constant check, with the ratio the table gives:
-# Mitsubishi MELDAS HC153 (p. 2-3) prints K_T 6.9 kgf cm/Arms (+-10 %), I_N 8.6 A and T_N 4.77 N m; kept as printed.
-PRINTED_KT_MISMATCH = {"HC153": 1.22}
+# Rows whose printed K_T * I / T lies outside the torque-constant check, with the ratio the table gives (Mitsubishi
+# MELDAS, K_T printed +-10 %): HC153 (p. 2-3) K_T 6.9 kgf cm/Arms, I_N 8.6 A, T_N 4.77 N m -> K_T * I_N / T_N = 1.22;
+# HC103R (p. 2-4) K_T 5.9 kgf cm/Arms, I_max 18.4 A, T_max 7.95 N m -> K_T * I_max / T_max = 1.34. Kept as printed.
+PRINTED_KT_MISMATCH = {"HC153": 1.22, "HC103R": 1.34}
 EXCEPTIONS: dict[Check, dict[str, float]] = {
     power_matches_torque_times_speed: PRINTED_POWER_MISMATCH,
     torque_constant_fits_the_currents: PRINTED_KT_MISMATCH,
@@ -174,12 +175,16 @@ def test_every_row_passes_the_invariants(family: str) -> None:
     assert problems == []
 
 
-def test_the_torque_constant_exception_is_the_printed_mismatch_and_no_more() -> None:
-    row = si_rows("mitsubishi_hc_meldas")["HC153"]
-    kt, i_n, t = _f(row, "torque_constant"), _f(row, "rated_current"), _f(row, "rated_torque")
-    assert kt is not None and i_n is not None and t is not None
-    assert kt * i_n / t == pytest.approx(PRINTED_KT_MISMATCH["HC153"], abs=0.005)
+@pytest.mark.parametrize(("rid", "ratio"), sorted(PRINTED_KT_MISMATCH.items()))
+def test_the_torque_constant_exceptions_are_the_printed_mismatch_and_no_more(rid: str, ratio: float) -> None:
+    row = si_rows("mitsubishi_hc_meldas")[rid]
+    kt = _f(row, "torque_constant")
+    assert kt is not None
+    ratios = [kt * float(row[i]) / float(row[t])  # type: ignore[arg-type]
+              for i, t in (("rated_current", "rated_torque"), ("peak_current", "peak_torque"))]
+    assert any(r == pytest.approx(ratio, abs=0.005) for r in ratios)
     assert torque_constant_fits_the_currents(row) is not None
+    assert "kept as printed" in {r["id"]: r["notes"] for r in ROWS["mitsubishi_hc_meldas"]}[rid]
 
 
 @pytest.mark.parametrize(("rid", "deviation"), sorted(PRINTED_POWER_MISMATCH.items()))
@@ -315,9 +320,9 @@ def test_sigma2_rows_name_the_column_they_were_read_from() -> None:
 
 
 # Mitsubishi Electric MELDAS HC servomotors, "2-1 List of specifications", values as printed (kW, N m, r/min,
-# kg cm^2, A, ohm, kgf cm/Arms): HC Series (2000r/min. rating), p. 2-2, read at
-# https://manualshive.com/ru/manual/mitsubishi/cnc-meldas-hc-series/1809098?page=13 ; HC Series (3000r/min. rating),
-# p. 2-3, read at https://www.easymanua.ls/mitsubishi/cnc-meldas-hc-series/manual?p=14
+# kg cm^2, A, ohm, kgf cm/Arms, min), read at https://www.easymanua.ls/mitsubishi/cnc-meldas-hc-series/manual?p=N:
+# HC Series (2000r/min. rating) p. 2-2 (N = 13), HC Series (3000r/min. rating) p. 2-3 (N = 14), HC**R Series p. 2-4
+# (N = 15).
 PRINTED_HC = [
     ("HC52", "rated_torque [N*m]", 2.39, "2-2"),
     ("HC52", "stall_current [A]", 3.94, "2-2"),
@@ -334,6 +339,14 @@ PRINTED_HC = [
     ("HC353", "peak_current [A]", 85, "2-3"),
     ("HC703", "peak_torque [N*m]", 105, "2-3"),
     ("HC703", "max_speed [rpm]", 3000, "2-3"),
+    ("HC452", "torque_constant [kgf*cm/A]", 10.4, "2-2"),
+    ("HC702", "torque_constant [kgf*cm/A]", 11.1, "2-2"),
+    ("HC103R", "rotor_inertia [kg*cm^2]", 1.5, "2-4"),
+    ("HC103R", "peak_current [A]", 18.4, "2-4"),
+    ("HC203R", "stall_current [A]", 14.0, "2-4"),
+    ("HC353R", "thermal_time_constant [min]", 35, "2-4"),
+    ("HC503R", "peak_torque [N*m]", 39.8, "2-4"),
+    ("HC503R", "rotor_inertia_brake [kg*cm^2]", 15.5, "2-4"),
 ]
 
 
@@ -346,12 +359,13 @@ def test_hc_values_match_the_page_they_cite(rid: str, column: str, printed: floa
 
 def test_hc_values_printed_between_wires_or_cut_off_stay_out_of_the_numeric_columns() -> None:
     """Inductance and induced voltage are printed 'between wires' while R is per phase (one basis field cannot hold
-    both); HC452, HC702 and HC902 have no torque constant in the copy read. Neither is filled in."""
+    both); HC902 has no torque constant in the copy read. Neither is filled in."""
     si = si_rows("mitsubishi_hc_meldas")
     for rid, row in si.items():
         assert row.get("winding_inductance") is None and row.get("back_emf") is None, rid
         assert "per phase" in str(row.get("resistance_basis")), rid
-    assert [rid for rid, row in si.items() if row.get("torque_constant") is None] == ["HC452", "HC702", "HC902"]
+    assert [rid for rid, row in si.items() if row.get("torque_constant") is None] == ["HC902"]
+    assert si["HC503R"]["thermal_time_constant"] == pytest.approx(40 * 60.0)
     assert si["HC352"]["torque_constant"] == pytest.approx(10.9 * 0.0980665)
     notes = {r["id"]: r["notes"] for r in ROWS["mitsubishi_hc_meldas"]}
     assert "armature inductance 13.9 mH" in notes["HC52"] and "inductive voltage constant 46.8 mV/rpm" in notes["HC703"]
