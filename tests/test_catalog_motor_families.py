@@ -157,8 +157,10 @@ CHECKS: tuple[Check, ...] = (power_matches_torque_times_speed, peak_at_least_rat
 # 8.3 N m at 2000 min^-1 (1.738 kW), MHP112A-024 2.6 kW with 10.1 N m at 2500 min^-1 (2.644 kW); kept as printed.
 PRINTED_POWER_MISMATCH = {"SGMSH-15AA": 0.026, "SGMSH-30AA": 0.026, "MHP093A-024": 0.0226, "MHP112A-024": 0.0170}
 # the family file of each excused row and the words its notes use for the mismatch
-POWER_MISMATCH_NOTES = {"SGMSH-15AA": ("yaskawa_sigma2", "2.6 % below"), "SGMSH-30AA": ("yaskawa_sigma2", "2.6 % below"),
-                        "MHP093A-024": ("rexroth_mhp", "2.2 % above"), "MHP112A-024": ("rexroth_mhp", "1.7 % above")}
+POWER_MISMATCH_NOTES = {
+    "SGMSH-15AA": ("yaskawa_sigma2", "2.6 % below"), "SGMSH-30AA": ("yaskawa_sigma2", "2.6 % below"),
+    "MHP093A-024": ("rexroth_mhp", "2.2 % above"), "MHP112A-024": ("rexroth_mhp", "1.7 % above"),
+}
 # Rows whose printed K_T * I / T lies outside the torque-constant check, with the ratio the table gives (Mitsubishi
 # MELDAS, K_T printed +-10 %): HC153 (p. 2-3) K_T 6.9 kgf cm/Arms, I_N 8.6 A, T_N 4.77 N m -> K_T * I_N / T_N = 1.22;
 # HC103R (p. 2-4) K_T 5.9 kgf cm/Arms, I_max 18.4 A, T_max 7.95 N m -> K_T * I_max / T_max = 1.34. Kept as printed.
