@@ -101,3 +101,31 @@ def test_database_holds_the_rows_traced_and_in_si(data_dir: Path, monkeypatch: p
     assert row["torque_constant_Nm_per_A"] == 6.59 and row["rated_current_A"] == 2.1
     assert row["peak_current_A"] is None
     assert {"SGM7D-02K", "SGM7D-30L"} <= set(catalog.motors(vendor="yaskawa", voltage="200 V").ids)
+
+
+def test_a_direct_drive_motor_too_slow_for_the_cycle_is_not_judged_on_torque() -> None:
+    """On a fast axis (examples/belt_gantry.yaml) every SGM7D configuration fails max_speed first; where the cycle's
+    mean speed is beyond the motor too, its RMS torque is not judged (never "available 0 N*m, -100 %")."""
+    import numpy as np
+
+    from drivetrain.axis.model import load_axis
+    from drivetrain.sizing.reasons import candidate_dict
+    from drivetrain.sizing.result import size
+
+    res = size(load_axis(Path(__file__).parents[1] / "examples" / "belt_gantry.yaml"))
+    c = res.selection["_candidates"]
+    motors, gb = res.selection["_tables"]
+    ids = np.asarray(motors.ids).astype(str)
+    direct = [int(k) for k in c.of_motors(np.flatnonzero(np.char.startswith(ids, "SGM7D-"))) if c.gearbox(int(k)) < 0]
+    assert direct
+    judged = []
+    for k in direct:
+        d = candidate_dict(c, k, motors, gb, None)
+        assert d["failures"][0].startswith("max_speed: the cycle needs"), d["failures"]
+        rms = {ch["name"]: ch for ch in d["checks"]}["rms_torque"]
+        assert rms["status"] in ("not_judged", "pass", "fail") and rms["available"] != 0.0
+        if rms["status"] == "not_judged":
+            assert rms["note"].startswith("not judged: the cycle's mean speed") and rms["margin"] is None
+        judged.append(rms["status"])
+        assert all("available 0 N*m" not in f for f in d["failures"])
+    assert "not_judged" in judged  # the case this guards: without the rule, RMS shows "available 0 N*m"
