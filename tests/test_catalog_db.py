@@ -144,8 +144,9 @@ def test_queries_see_the_union_flagged_by_origin(user_motors: None) -> None:
 
 
 def test_vendor_filter_is_case_insensitive_and_takes_several(user_motors: None) -> None:
-    assert len(catalog.motors(vendor="yaskawa")) == 38 + 23  # configurator rows + motors_yaskawa_sigma2.csv
-    assert len(catalog.motors(vendor=["Yaskawa", "siemens"])) == 38 + 23 + 31
+    # configurator rows + motors_yaskawa_sigma2.csv + motors_yaskawa_sgm7d.csv
+    assert len(catalog.motors(vendor="yaskawa")) == 38 + 23 + 6
+    assert len(catalog.motors(vendor=["Yaskawa", "siemens"])) == 38 + 23 + 6 + 31
     assert len(catalog.motors(vendor="userco")) == 2
     with pytest.raises(InputError, match="no motor vendor matches") as exc:
         catalog.motors(vendor="Rockwell")
@@ -158,7 +159,7 @@ def test_kind_voltage_and_flange_filters(user_motors: None) -> None:
     assert set(v400.voltage) == {400.0} and "U-400" in v400.ids
     assert len(v400) == 3 + 1  # three shipped 400 V motors; LS and Siemens have no voltage class
     v200 = catalog.motors(voltage=200, kind="ac_servo")
-    assert set(v200.voltage) == {200.0} and len(v200) == 157 + 17 + 1  # 17: the 200 V rows of motors_yaskawa_sigma2.csv
+    assert set(v200.voltage) == {200.0} and len(v200) == 157 + 17 + 6 + 1  # 200 V rows: sigma2 17, sgm7d 6
     flange = catalog.motors(flange="80 mm")
     assert np.allclose(flange.flange, 0.080) and "U-200" in flange.ids
     with pytest.raises(InputError, match="kind"):
