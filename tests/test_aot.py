@@ -111,6 +111,34 @@ def test_the_hull_build_gives_numbas_vertices(built_cache: dict[str, str]) -> No
     assert out["identical"]
 
 
+OWN_PROCESS = textwrap.dedent("""
+    import json, sys
+    from drivetrain.cli import main
+    sys.argv = ["drivetrain", "size", sys.argv[1], "--json"]
+    code = main()
+    from pydantic.plugin._loader import get_plugins
+    print(json.dumps({"code": code, "plugins": list(get_plugins()), "modules": sorted(
+        m for m in sys.modules if m in ("importlib.metadata", "email", "numpy.ma", "numba"))}))
+""")
+
+
+def test_a_drivetrain_process_loads_no_plugin_machinery_or_masked_arrays(built_cache: dict[str, str]) -> None:
+    """A ``drivetrain size`` process with the kernels built: pydantic's plugin loader (importlib.metadata,
+    email) is not imported with discovery off, nor numpy.ma (by np.unique); the answer is main(argv)'s
+    in a program whose pydantic looks for plugins."""
+    env = {k: v for k, v in built_cache.items() if k != "PYDANTIC_DISABLE_PLUGINS"}
+    axis = str(ROOT / "examples" / "ball_screw.yaml")
+    for _ in range(2):  # the first run remembers the unit factors
+        run = subprocess.run([sys.executable, "-c", OWN_PROCESS, axis], env=env, capture_output=True, text=True,
+                             check=True).stdout
+    out = json.loads(run.splitlines()[-1])
+    assert out["code"] in (0, 1) and out["plugins"] == [] and out["modules"] == []
+    called = subprocess.run([sys.executable, "-c", "import sys; from drivetrain.cli import main; "
+                             "main(['size', sys.argv[1], '--json'])", axis],
+                            env=env, capture_output=True, text=True, check=True).stdout
+    assert json.loads("\n".join(run.splitlines()[:-1])) == json.loads(called)
+
+
 def test_a_second_build_reuses_the_first(built_cache: dict[str, str]) -> None:
     files = sorted((Path(built_cache["DRIVETRAIN_CACHE_DIR"]) / "aot").iterdir())
     again = subprocess.run([sys.executable, "-m", "drivetrain.sizing.aot"], env=built_cache, capture_output=True,

@@ -16,6 +16,7 @@ import pytest
 from conftest import family_motor_rows
 from drivetrain import catalog
 from drivetrain.catalog import cli, db
+from drivetrain.catalog.schema import MOTOR, ROW_TABLES
 from drivetrain.errors import InputError
 
 USER_MOTORS = (
@@ -141,6 +142,15 @@ def test_queries_see_the_union_flagged_by_origin(user_motors: None) -> None:
     assert set(m.origin[:-2]) == {"builtin"} and set(m.origin[-2:]) == {"user"}
     assert catalog.get("U-400")["origin"] == "user"
     assert catalog.get("HG-KR43")["origin"] == "builtin"
+
+
+def test_rows_read_each_database_in_file_order_as_the_sorted_union_does(user_motors: None) -> None:
+    # rows() without a condition reads the databases one after the other; with one it sorts their union
+    with db.reader() as rd:
+        for spec in ROW_TABLES:
+            assert rd.rows(spec) == rd.rows(spec, "1")
+        motors = rd.rows(MOTOR)
+    assert [r["origin"] for r in motors[-2:]] == ["user", "user"] and motors[0]["origin"] == "builtin"
 
 
 def test_vendor_filter_is_case_insensitive_and_takes_several(user_motors: None) -> None:

@@ -516,9 +516,18 @@ class Reader:
     def rows(self, spec: TableSpec, where: str = "", params: Sequence[Any] = ()) -> list[dict[str, Any]]:
         """Rows of ``spec`` as dicts keyed by column (plus ``origin``), shipped rows first, in file order."""
         columns = [f.column for f in spec.fields]
+        if not where:
+            # Each database in its file (rowid) order, one after the other: the rows and order of the
+            # sorted union below, without SQLite sorting every row of the union (about 3x faster).
+            out: list[dict[str, Any]] = []
+            for schema in ("builtin", "user") if self.has_user else ("builtin",):
+                cursor = self.conn.execute(
+                    f"SELECT {', '.join(columns)}, '{schema}' AS origin FROM {schema}.{spec.sql} ORDER BY rowid")
+                names = [d[0] for d in cursor.description]
+                out += [dict(zip(names, r, strict=True)) for r in cursor]
+            return out
         sql = f"SELECT * FROM ({self._union(spec.sql, ', '.join(columns))})"
-        if where:
-            sql += f" WHERE {where}"
+        sql += f" WHERE {where}"
         sql += " ORDER BY _db, _rowid"
         cursor = self.conn.execute(sql, tuple(params))
         names = [d[0] for d in cursor.description]

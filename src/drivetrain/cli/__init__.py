@@ -128,12 +128,23 @@ def _own_process() -> None:
 
     pydantic looks for plugins by reading every installed distribution's entry points (importlib.metadata)
     when it builds the first model; drivetrain uses none, so discovery is off unless the environment sets
-    ``PYDANTIC_DISABLE_PLUGINS`` itself. (The cyclic garbage collector stays on: turning it off saves a
+    ``PYDANTIC_DISABLE_PLUGINS`` itself; with discovery off, pydantic's loader module (which imports
+    importlib.metadata, email and socket whether discovery is on or not) is replaced by one that finds no
+    plugin, as pydantic's own does then. (The cyclic garbage collector stays on: turning it off saves a
     little more start-up but would let a large answer's reference cycles hold their memory to the end.)
     """
     import os
 
     os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
+    if os.environ["PYDANTIC_DISABLE_PLUGINS"] in ("__all__", "1", "true") and _LOADER not in sys.modules:
+        import types
+
+        loader = types.ModuleType(_LOADER, "pydantic's plugin loader with plugin discovery turned off")
+        loader.get_plugins = lambda: ()  # type: ignore[attr-defined]
+        sys.modules[_LOADER] = loader
+
+
+_LOADER = "pydantic.plugin._loader"
 
 
 def main(argv: Sequence[str] | None = None) -> int:
