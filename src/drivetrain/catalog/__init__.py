@@ -70,6 +70,7 @@ __all__ = [
     "get",
     "history",
     "import_file",
+    "motor_row",
     "motors",
     "remove",
     "update",
@@ -84,6 +85,8 @@ Names = str | Sequence[str] | None
 
 
 _CACHE: dict[tuple[Any, ...], Any] = {}
+_ON_DISK = ("motor", "gearbox")
+"""Queries whose tables a new process reads from disk while the catalog is unchanged (catalog.table_cache)."""
 P = ParamSpec("P")
 R = TypeVar("R")
 
@@ -112,7 +115,12 @@ def _cached(kind: str) -> Callable[[Callable[P, R]], Callable[P, R]]:
             if key not in _CACHE:
                 if len(_CACHE) > 64:
                     _CACHE.clear()
-                _CACHE[key] = fn(*args, **kwargs)
+                if kind in _ON_DISK and "ids" not in kwargs and not args:
+                    from drivetrain.catalog.table_cache import cached
+
+                    _CACHE[key] = cached(f"{kind}|{key[3]}", lambda: fn(*args, **kwargs))
+                else:
+                    _CACHE[key] = fn(*args, **kwargs)
             return _CACHE[key]
 
         return query
@@ -220,6 +228,22 @@ def get(id: str) -> dict[str, Any]:
     Raises InputError('id', ...) naming close matches, or why the shipped data left it out.
     """
     return copy.deepcopy(_get(id))  # the caller's own copy of the remembered record
+
+
+def motor_row(id: str) -> dict[str, Any] | None:
+    """One motor's database columns (SI, unit in the key: the values ``get`` gives for them) without its
+    curve and provenance, or None when no motor has this id. Read from the remembered rows, with no
+    database connection: for callers that need a few columns of many motors (the drive post-pass)."""
+    found = _motor_index().get(id)
+    return None if found is None else dict(found)
+
+
+@_cached("motor_index")
+def _motor_index() -> dict[str, dict[str, Any]]:
+    index: dict[str, dict[str, Any]] = {}
+    for row in _rows(MOTOR.name):
+        index.setdefault(row["id"], row)  # the first row of an id, as get() finds it
+    return index
 
 
 @_cached("get")
