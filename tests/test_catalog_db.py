@@ -240,6 +240,17 @@ def test_get_returns_any_kind_with_provenance() -> None:
     assert gearhead["source"].startswith("ekrimsk/MGDB@215cacc")
 
 
+def test_motor_row_gives_the_columns_get_gives(user_motors: None) -> None:
+    ids = [str(i) for i in catalog.motors().ids]
+    for mid in ids[:: max(1, len(ids) // 40)] + ["U-400"]:
+        row, record = catalog.motor_row(mid), catalog.get(mid)
+        assert row is not None and row["id"] == mid
+        assert {k: v for k, v in row.items() if k not in ("unverified", "unverified_reason", "derived")} == \
+            {k: record[k] for k in row if k not in ("unverified", "unverified_reason", "derived")}
+    assert catalog.motor_row("no such motor") is None
+    assert catalog.motor_row(catalog.drives().ids[0]) is None  # a drive, not a motor
+
+
 def test_get_unknown_id_suggests_close_matches() -> None:
     with pytest.raises(InputError) as exc:
         catalog.get("SGM7J-04")
