@@ -118,17 +118,18 @@ OWN_PROCESS = textwrap.dedent("""
     code = main()
     from pydantic.plugin._loader import get_plugins
     print(json.dumps({"code": code, "plugins": list(get_plugins()), "modules": sorted(
-        m for m in sys.modules if m in ("importlib.metadata", "email", "numpy.ma", "numba"))}))
+        m for m in sys.modules if m in ("importlib.metadata", "email", "numpy.ma", "numba", "yaml"))}))
 """)
 
 
 def test_a_drivetrain_process_loads_no_plugin_machinery_or_masked_arrays(built_cache: dict[str, str]) -> None:
     """A ``drivetrain size`` process with the kernels built: pydantic's plugin loader (importlib.metadata,
-    email) is not imported with discovery off, nor numpy.ma (by np.unique); the answer is main(argv)'s
-    in a program whose pydantic looks for plugins."""
+    email) is not imported with discovery off, nor numpy.ma (by np.unique), nor the YAML library for a
+    file read before (axis/yaml_cache.py; numba, absent here, would import it for its own configuration);
+    the answer is main(argv)'s in a program whose pydantic looks for plugins."""
     env = {k: v for k, v in built_cache.items() if k != "PYDANTIC_DISABLE_PLUGINS"}
     axis = str(ROOT / "examples" / "ball_screw.yaml")
-    for _ in range(2):  # the first run remembers the unit factors
+    for _ in range(2):  # the first run remembers the unit factors and the file's data
         run = subprocess.run([sys.executable, "-c", OWN_PROCESS, axis], env=env, capture_output=True, text=True,
                              check=True).stdout
     out = json.loads(run.splitlines()[-1])

@@ -242,7 +242,7 @@ def test_get_returns_any_kind_with_provenance() -> None:
 
 def test_motor_row_gives_the_columns_get_gives(user_motors: None) -> None:
     ids = [str(i) for i in catalog.motors().ids]
-    for mid in ids[:: max(1, len(ids) // 40)] + ["U-400"]:
+    for mid in [*ids[::max(1, len(ids) // 40)], "U-400"]:
         row, record = catalog.motor_row(mid), catalog.get(mid)
         assert row is not None and row["id"] == mid
         assert {k: v for k, v in row.items() if k not in ("unverified", "unverified_reason", "derived")} == \

@@ -23,7 +23,6 @@ import operator
 import os
 import re
 import sys
-import tempfile
 import time
 from collections.abc import Iterator, Sequence
 from importlib import resources
@@ -159,6 +158,7 @@ def _meta_of(path: Path, key: str) -> str | None:
 def _build(path: Path, stamp: str, files: str | None = None) -> None:
     """Write the shipped database to a temporary file, then move it into place atomically."""
     import sqlite3
+    import tempfile  # here: its imports would cost every start 3-5 ms
 
     path.parent.mkdir(parents=True, exist_ok=True)
     _remove_stale_temps(path.parent)

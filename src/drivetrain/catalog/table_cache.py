@@ -19,7 +19,6 @@ import hashlib
 import os
 import pickle
 import sys
-import tempfile
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar
@@ -152,6 +151,8 @@ def _store(path: Path, key: str, table: Any) -> None:
     tmp = None
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
+        import tempfile  # only when writing (its imports cost 3-5 ms of every start)
+
         fd, tmp = tempfile.mkstemp(prefix=".table-", suffix=".bin", dir=path.parent)
         with os.fdopen(fd, "wb") as fh:
             fh.write(MAGIC + len(header).to_bytes(8, "little") + header)
