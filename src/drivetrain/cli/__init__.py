@@ -130,11 +130,17 @@ def _own_process() -> None:
     when it builds the first model; drivetrain uses none, so discovery is off unless the environment sets
     ``PYDANTIC_DISABLE_PLUGINS`` itself; with discovery off, pydantic's loader module (which imports
     importlib.metadata, email and socket whether discovery is on or not) is replaced by one that finds no
-    plugin, as pydantic's own does then. (The cyclic garbage collector stays on: turning it off saves a
-    little more start-up but would let a large answer's reference cycles hold their memory to the end.)
+    plugin, as pydantic's own does then. numpy's OpenBLAS runs one thread unless the environment says
+    otherwise: at import it would start a thread per core, which spins on the other core (about 30 ms of
+    CPU and 10 ms of wall time per start on two cores) for matrices of a few rows, where one thread is
+    as fast (worker processes parallelise the study and the web app). (The cyclic garbage collector stays
+    on: turning it off saves a little more start-up but would let a large answer's reference cycles hold
+    their memory to the end.)
     """
     import os
 
+    if "numpy" not in sys.modules and not any(os.environ.get(v) for v in _BLAS_THREADS):
+        os.environ["OPENBLAS_NUM_THREADS"] = "1"
     os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
     if os.environ["PYDANTIC_DISABLE_PLUGINS"] in ("__all__", "1", "true") and _LOADER not in sys.modules:
         import types
@@ -145,6 +151,8 @@ def _own_process() -> None:
 
 
 _LOADER = "pydantic.plugin._loader"
+_BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")
+"""What OpenBLAS reads for its thread count, in its order; one set by the user is left as it is."""
 
 
 def main(argv: Sequence[str] | None = None) -> int:
