@@ -248,6 +248,10 @@ def test_motor_row_gives_the_columns_get_gives(user_motors: None) -> None:
         assert {k: v for k, v in row.items() if k not in ("unverified", "unverified_reason", "derived")} == \
             {k: record[k] for k in row if k not in ("unverified", "unverified_reason", "derived")}
     assert catalog.motor_row("no such motor") is None
+    catalog._MOTOR_ROWS.clear()
+    both = catalog.motor_rows(["U-400", "no such motor", ids[0], "U-400"])
+    assert list(both) == ["U-400", ids[0]] and both["U-400"] == catalog.motor_row("U-400")
+    assert list(catalog.motor_rows(i for i in ("U-400",))) == ["U-400"]  # any iterable
     assert catalog.motor_row(catalog.drives().ids[0]) is None  # a drive, not a motor
 
 

@@ -71,6 +71,7 @@ __all__ = [
     "history",
     "import_file",
     "motor_row",
+    "motor_rows",
     "motors",
     "remove",
     "update",
@@ -232,18 +233,33 @@ def get(id: str) -> dict[str, Any]:
 
 def motor_row(id: str) -> dict[str, Any] | None:
     """One motor's database columns (SI, unit in the key: the values ``get`` gives for them) without its
-    curve and provenance, or None when no motor has this id. Read from the remembered rows, with no
-    database connection: for callers that need a few columns of many motors (the drive post-pass)."""
-    found = _motor_index().get(id)
+    curve and provenance, or None when no motor has this id (``motor_rows``)."""
+    found = motor_rows([id]).get(id)
     return None if found is None else dict(found)
 
 
-@_cached("motor_index")
-def _motor_index() -> dict[str, dict[str, Any]]:
-    index: dict[str, dict[str, Any]] = {}
-    for row in _rows(MOTOR.name):
-        index.setdefault(row["id"], row)  # the first row of an id, as get() finds it
-    return index
+_MOTOR_ROWS: dict[tuple[Any, ...], dict[str, dict[str, Any] | None]] = {}
+
+
+def motor_rows(ids: Iterable[str]) -> dict[str, dict[str, Any]]:
+    """The database columns of these motors (as ``motor_row``; the ids no motor has are left out), read
+    with one query for those not read before while the catalog is unchanged: for callers that need a
+    few columns of several motors (the drive post-pass) without reading every row. Do not change them."""
+    ids = list(ids)
+    state = _state()
+    if state not in _MOTOR_ROWS:
+        _MOTOR_ROWS.clear()
+    known = _MOTOR_ROWS.setdefault(state, {})
+    wanted = [i for i in dict.fromkeys(ids) if i not in known]
+    if wanted:
+        with db.reader() as rd:
+            for start in range(0, len(wanted), 500):  # SQLite's limit on parameters
+                part = wanted[start:start + 500]
+                for found in rd.rows(MOTOR, f"id IN ({', '.join('?' * len(part))})", part):
+                    known.setdefault(found["id"], found)  # the first row of an id, as get() finds it
+        for i in wanted:
+            known.setdefault(i, None)
+    return {i: row for i in ids if (row := known.get(i)) is not None}
 
 
 @_cached("get")

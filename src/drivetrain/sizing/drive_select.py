@@ -46,7 +46,7 @@ def catalog_electrical(motor_id: str) -> MotorElectrical:
     """The catalog motor's electrical data (its electrical columns; empty where not known)."""
     from drivetrain import catalog
 
-    row = catalog.motor_row(motor_id)  # the motor's columns, without a database connection
+    row = catalog.motor_row(motor_id)  # the motor's columns (read once, see attach_drives)
     return electrical_from_catalog_row(catalog.get(motor_id) if row is None else row)
 
 
@@ -161,6 +161,11 @@ def attach_drives(axis: Axis, duty: DutyCycle, chosen: dict[str, Any], margins: 
     c = sel["_candidates"]
     motors, _ = sel["_tables"]
     shown: list[int] = sel.get("_shown", [])
+    from drivetrain import catalog
+
+    ks = [k for _, k in zip(chosen["candidates"], shown, strict=False)]
+    ks += [int(sel["_best"])] if "selected" in sel else []
+    catalog.motor_rows([str(motors.ids[int(c.motor[k])]) for k in ks])  # one query for the motors below
     for cand, k in zip(chosen["candidates"], shown, strict=False):
         cycle, inertia = candidate_cycle(axis, duty, sel, k)
         m = int(c.motor[k])
