@@ -21,7 +21,6 @@ The data folder is ``$DRIVETRAIN_DATA_DIR`` or the platform's user data folder; 
 from __future__ import annotations
 
 import copy
-import difflib
 import functools
 from collections.abc import Callable, Iterable, Sequence
 from typing import TYPE_CHECKING, Any, ParamSpec, TypeVar
@@ -337,6 +336,8 @@ def sources(
 
 
 def _did_you_mean(value: str, known: Sequence[str]) -> str:
+    import difflib  # only for an unknown id
+
     by_upper = {k.upper(): k for k in known}
     close = difflib.get_close_matches(value.upper(), list(by_upper), n=3, cutoff=0.6)
     return f"; did you mean {', '.join(by_upper[c] for c in close)}?" if close else ""
