@@ -265,7 +265,8 @@ def motor_rows(ids: Iterable[str]) -> dict[str, dict[str, Any]]:
 def _get(id: str) -> dict[str, Any]:
     with db.reader() as rd:
         for spec in ROW_TABLES:
-            found = [r for r in _rows(spec.name) if r["id"] == id]
+            # this id's rows in the order of _rows (one query: the tables may come from disk, unread)
+            found = rd.rows(spec, "id = ?", (id,))
             if found:
                 return _record(spec, found[0], rd.curves([id]).get(id), rd.curve_sources(id))
         rejected = rd.rejected(id)
