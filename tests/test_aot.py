@@ -117,9 +117,10 @@ OWN_PROCESS = textwrap.dedent("""
     sys.argv = ["drivetrain", "size", sys.argv[1], "--json"]
     code = main()
     from pydantic.plugin._loader import get_plugins
-    import os
+    import gc, os
     threads = len(os.listdir("/proc/self/task")) if os.path.isdir("/proc/self/task") else None
-    print(json.dumps({"code": code, "plugins": list(get_plugins()), "threads": threads, "modules": sorted(
+    print(json.dumps({"code": code, "plugins": list(get_plugins()), "threads": threads,
+                      "collector": [gc.isenabled(), gc.get_freeze_count()], "modules": sorted(
         m for m in sys.modules if m in ("importlib.metadata", "email", "numpy.ma", "numba", "yaml"))}))
 """)
 
@@ -128,8 +129,9 @@ def test_a_drivetrain_process_loads_no_plugin_machinery_or_masked_arrays(built_c
     """A ``drivetrain size`` process with the kernels built: pydantic's plugin loader (importlib.metadata,
     email) is not imported with discovery off, nor numpy.ma (by np.unique), nor the YAML library for a
     file read before (axis/yaml_cache.py; numba, absent here, would import it for its own configuration);
-    numpy's OpenBLAS starts no thread; the answer is main(argv)'s in a program whose pydantic looks for
-    plugins and whose OpenBLAS runs its threads."""
+    numpy's OpenBLAS starts no thread; the garbage collector is on, the start-up imports' objects frozen
+    (cli._import_for_sizing); the answer is main(argv)'s in a program whose pydantic looks for plugins,
+    whose OpenBLAS runs its threads and whose collector ran throughout."""
     env = {k: v for k, v in built_cache.items()
            if k not in ("PYDANTIC_DISABLE_PLUGINS", "OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")}
     axis = str(ROOT / "examples" / "ball_screw.yaml")
@@ -139,6 +141,7 @@ def test_a_drivetrain_process_loads_no_plugin_machinery_or_masked_arrays(built_c
     out = json.loads(run.splitlines()[-1])
     assert out["code"] in (0, 1) and out["plugins"] == [] and out["modules"] == []
     assert out["threads"] in (1, None)  # OpenBLAS started no thread of its own
+    assert out["collector"][0] and out["collector"][1] > 10_000  # on again, the imports' objects frozen
     called = subprocess.run([sys.executable, "-c", "import sys; from drivetrain.cli import main; "
                              "main(['size', sys.argv[1], '--json'])", axis],
                             env=env, capture_output=True, text=True, check=True).stdout

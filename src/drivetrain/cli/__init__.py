@@ -155,11 +155,32 @@ _BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")
 """What OpenBLAS reads for its thread count, in its order; one set by the user is left as it is."""
 
 
+def _import_for_sizing() -> None:
+    """Import the modules every sizing needs (numpy, pydantic, the axis model, the sizing engine) with the
+    cyclic garbage collector paused, then freeze what exists (``gc.freeze``: the modules, classes and
+    functions, which live to the end of the process anyway) and turn the collector on again for the
+    command itself. The collector would otherwise examine each of these ~55,000 objects twice while
+    they are made and again later, for nothing (30-50 ms of a warm ``size``); the few cycles the
+    imports leave (about 460 objects, 0.3 MB) are not collected. Only in a ``drivetrain`` process."""
+    import gc
+
+    if not gc.isenabled():
+        return
+    gc.disable()
+    try:
+        import drivetrain.sizing.result  # noqa: F401
+    finally:
+        gc.freeze()
+        gc.enable()
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point: returns the exit status (0 passes, 1 sized but nothing passes, 2 bad input)."""
     words = sys.argv[1:] if argv is None else list(argv)
     if argv is None:
         _own_process()
+        if _command(words) in ("size", "select"):
+            _import_for_sizing()
     parser = build_parser(optional=_command(words) not in CORE_COMMANDS)
     args = parser.parse_args(words)
     if args.version:
