@@ -111,6 +111,55 @@ def test_the_hull_build_gives_numbas_vertices(built_cache: dict[str, str]) -> No
     assert out["identical"]
 
 
+OWN_PROCESS = textwrap.dedent("""
+    import json, sys
+    from drivetrain.cli import main
+    sys.argv = ["drivetrain", "size", sys.argv[1], "--json"]
+    code = main()
+    from pydantic.plugin._loader import get_plugins
+    import gc, os
+    threads = len(os.listdir("/proc/self/task")) if os.path.isdir("/proc/self/task") else None
+    print(json.dumps({"code": code, "plugins": list(get_plugins()), "threads": threads,
+                      "collector": [gc.isenabled(), gc.get_freeze_count()], "modules": sorted(
+        m for m in sys.modules if m in ("importlib.metadata", "email", "numpy.ma", "numba", "yaml"))}))
+""")
+
+
+def test_a_drivetrain_process_loads_no_plugin_machinery_or_masked_arrays(built_cache: dict[str, str]) -> None:
+    """A ``drivetrain size`` process with the kernels built: pydantic's plugin loader (importlib.metadata,
+    email) is not imported with discovery off, nor numpy.ma (by np.unique), nor the YAML library for a
+    file read before (axis/yaml_cache.py; numba, absent here, would import it for its own configuration);
+    numpy's OpenBLAS starts no thread; the garbage collector is on, the start-up imports' objects frozen
+    (cli._import_for_sizing); the answer is main(argv)'s in a program whose pydantic looks for plugins,
+    whose OpenBLAS runs its threads and whose collector ran throughout."""
+    env = {k: v for k, v in built_cache.items()
+           if k not in ("PYDANTIC_DISABLE_PLUGINS", "OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")}
+    axis = str(ROOT / "examples" / "ball_screw.yaml")
+    for _ in range(2):  # the first run remembers the unit factors and the file's data
+        run = subprocess.run([sys.executable, "-c", OWN_PROCESS, axis], env=env, capture_output=True, text=True,
+                             check=True).stdout
+    out = json.loads(run.splitlines()[-1])
+    assert out["code"] in (0, 1) and out["plugins"] == [] and out["modules"] == []
+    assert out["threads"] in (1, None)  # OpenBLAS started no thread of its own
+    assert out["collector"][0] and out["collector"][1] > 10_000  # on again, the imports' objects frozen
+    called = subprocess.run([sys.executable, "-c", "import sys; from drivetrain.cli import main; "
+                             "main(['size', sys.argv[1], '--json'])", axis],
+                            env=env, capture_output=True, text=True, check=True).stdout
+    assert json.loads("\n".join(run.splitlines()[:-1])) == json.loads(called)
+
+
+def test_a_thread_count_the_user_set_is_kept(built_cache: dict[str, str]) -> None:
+    env = {**{k: v for k, v in built_cache.items() if k != "OPENBLAS_NUM_THREADS"}, "OMP_NUM_THREADS": "2"}
+    probe = ("import os, sys; from drivetrain.cli import main; sys.argv = ['drivetrain', '--version']; main(); "
+             "import numpy; print(os.environ.get('OPENBLAS_NUM_THREADS'), len(os.listdir('/proc/self/task')), "
+             "os.cpu_count())")
+    if not Path("/proc/self/task").is_dir():
+        pytest.skip("no /proc: the thread count cannot be read")
+    out = subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True, check=True).stdout
+    setting, threads, cpus = out.split()[-3:]
+    assert setting == "None" and int(threads) == min(2, int(cpus))  # OpenBLAS: at most one thread per CPU
+
+
 def test_a_second_build_reuses_the_first(built_cache: dict[str, str]) -> None:
     files = sorted((Path(built_cache["DRIVETRAIN_CACHE_DIR"]) / "aot").iterdir())
     again = subprocess.run([sys.executable, "-m", "drivetrain.sizing.aot"], env=built_cache, capture_output=True,

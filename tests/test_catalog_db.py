@@ -16,6 +16,7 @@ import pytest
 from conftest import family_motor_rows
 from drivetrain import catalog
 from drivetrain.catalog import cli, db
+from drivetrain.catalog.schema import MOTOR, ROW_TABLES
 from drivetrain.errors import InputError
 
 USER_MOTORS = (
@@ -143,6 +144,15 @@ def test_queries_see_the_union_flagged_by_origin(user_motors: None) -> None:
     assert catalog.get("HG-KR43")["origin"] == "builtin"
 
 
+def test_rows_read_each_database_in_file_order_as_the_sorted_union_does(user_motors: None) -> None:
+    # rows() without a condition reads the databases one after the other; with one it sorts their union
+    with db.reader() as rd:
+        for spec in ROW_TABLES:
+            assert rd.rows(spec) == rd.rows(spec, "1")
+        motors = rd.rows(MOTOR)
+    assert [r["origin"] for r in motors[-2:]] == ["user", "user"] and motors[0]["origin"] == "builtin"
+
+
 def test_vendor_filter_is_case_insensitive_and_takes_several(user_motors: None) -> None:
     # configurator rows + motors_yaskawa_sigma2.csv + motors_yaskawa_sgm7d.csv
     assert len(catalog.motors(vendor="yaskawa")) == 38 + 23 + 6
@@ -229,6 +239,21 @@ def test_get_returns_any_kind_with_provenance() -> None:
     gearhead = catalog.get("354723")
     assert gearhead["table"] == "gearbox" and gearhead["kind"] == "small_gearhead"
     assert gearhead["source"].startswith("ekrimsk/MGDB@215cacc")
+
+
+def test_motor_row_gives_the_columns_get_gives(user_motors: None) -> None:
+    ids = [str(i) for i in catalog.motors().ids]
+    for mid in [*ids[::max(1, len(ids) // 40)], "U-400"]:
+        row, record = catalog.motor_row(mid), catalog.get(mid)
+        assert row is not None and row["id"] == mid
+        assert {k: v for k, v in row.items() if k not in ("unverified", "unverified_reason", "derived")} == \
+            {k: record[k] for k in row if k not in ("unverified", "unverified_reason", "derived")}
+    assert catalog.motor_row("no such motor") is None
+    catalog._MOTOR_ROWS.clear()
+    both = catalog.motor_rows(["U-400", "no such motor", ids[0], "U-400"])
+    assert list(both) == ["U-400", ids[0]] and both["U-400"] == catalog.motor_row("U-400")
+    assert list(catalog.motor_rows(i for i in ("U-400",))) == ["U-400"]  # any iterable
+    assert catalog.motor_row(catalog.drives().ids[0]) is None  # a drive, not a motor
 
 
 def test_get_unknown_id_suggests_close_matches() -> None:

@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
@@ -63,3 +64,21 @@ def test_a_catalog_record_is_the_callers_own_copy() -> None:
     first["sources"].clear()
     again = catalog.get("SGM7J-04A")
     assert again["rated_torque_Nm"] > 0 and again["sources"]
+
+
+def test_the_tables_without_highlighting_are_the_same_characters(capsys: pytest.CaptureFixture[str],
+                                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+    import rich.console
+
+    from drivetrain.cli import sizing
+    from drivetrain.cli.quantities import TableUnits
+    from drivetrain.sizing.result import size
+
+    result = size(ROOT / "examples" / "ball_screw.yaml")
+    assert sizing.table_console().color_system is None  # captured: no colour, no highlighting
+    sizing.print_sizing(result, TableUnits("si", result.axis.raw))
+    plain = capsys.readouterr().out
+    default = rich.console.Console
+    monkeypatch.setattr(rich.console, "Console", lambda **kw: default(**{**kw, "highlight": True}))
+    sizing.print_sizing(result, TableUnits("si", result.axis.raw))
+    assert capsys.readouterr().out == plain

@@ -18,7 +18,6 @@ import json
 import math
 import os
 import sys
-import tempfile
 import threading
 from pathlib import Path
 
@@ -97,6 +96,8 @@ def put(unit: str, quantity: str, factors: tuple[float, float]) -> None:
         tmp = None
         try:
             path.parent.mkdir(parents=True, exist_ok=True)
+            import tempfile  # only when writing (its imports cost 3-5 ms of every start)
+
             fd, tmp = tempfile.mkstemp(prefix=".units-", suffix=".json", dir=path.parent)
             with os.fdopen(fd, "w", encoding="utf-8") as fh:
                 fh.write(content)

@@ -17,7 +17,6 @@ motor (``motor: {id: ...}``) takes whatever the shipped electrical table
 
 from __future__ import annotations
 
-import csv
 import io
 import math
 from dataclasses import asdict, dataclass, field, replace
@@ -324,6 +323,8 @@ ELECTRICAL_FILE = "motors_ac_servo_electrical.csv"
 
 @lru_cache(maxsize=1)
 def _shipped_rows() -> dict[str, dict[str, str]]:
+    import csv  # only where the shipped electrical table is read
+
     text = resources.files("drivetrain.catalog").joinpath("data", ELECTRICAL_FILE).read_text(encoding="utf-8")
     return {row["id"]: row for row in csv.DictReader(io.StringIO(text))}
 

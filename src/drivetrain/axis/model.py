@@ -315,7 +315,8 @@ def motor_from_catalog_row(row: dict[str, Any], name: str | None = None) -> Moto
 
 
 def read_yaml(path: str | Path) -> Any:
-    """Read an axis YAML file safely: size limit, safe loader, alias-bomb and depth guards."""
+    """Read an axis YAML file safely: size limit, safe loader, alias-bomb and depth guards (the data of a
+    text read before comes from ``yaml_cache``: what the loader gave for it then)."""
     p = Path(path)
     try:
         size = p.stat().st_size
@@ -328,7 +329,13 @@ def read_yaml(path: str | Path) -> Any:
         text = p.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError("file", f"cannot be read as UTF-8 text ({exc})", str(path)) from None
-    return parse_yaml(text, str(path))
+    from drivetrain.axis import yaml_cache
+
+    found, data = yaml_cache.get(text)  # a text read before: its data, without the YAML library
+    if not found:
+        data = parse_yaml(text, str(path))
+        yaml_cache.put(text, data)
+    return data
 
 
 def parse_yaml(text: str, source: str = "<text>") -> Any:

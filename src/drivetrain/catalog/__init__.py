@@ -21,7 +21,6 @@ The data folder is ``$DRIVETRAIN_DATA_DIR`` or the platform's user data folder; 
 from __future__ import annotations
 
 import copy
-import difflib
 import functools
 from collections.abc import Callable, Iterable, Sequence
 from typing import TYPE_CHECKING, Any, ParamSpec, TypeVar
@@ -70,6 +69,8 @@ __all__ = [
     "get",
     "history",
     "import_file",
+    "motor_row",
+    "motor_rows",
     "motors",
     "remove",
     "update",
@@ -84,6 +85,8 @@ Names = str | Sequence[str] | None
 
 
 _CACHE: dict[tuple[Any, ...], Any] = {}
+_ON_DISK = ("motor", "gearbox")
+"""Queries whose tables a new process reads from disk while the catalog is unchanged (catalog.table_cache)."""
 P = ParamSpec("P")
 R = TypeVar("R")
 
@@ -112,7 +115,12 @@ def _cached(kind: str) -> Callable[[Callable[P, R]], Callable[P, R]]:
             if key not in _CACHE:
                 if len(_CACHE) > 64:
                     _CACHE.clear()
-                _CACHE[key] = fn(*args, **kwargs)
+                if kind in _ON_DISK and "ids" not in kwargs and not args:
+                    from drivetrain.catalog.table_cache import cached
+
+                    _CACHE[key] = cached(f"{kind}|{key[3]}", lambda: fn(*args, **kwargs))
+                else:
+                    _CACHE[key] = fn(*args, **kwargs)
             return _CACHE[key]
 
         return query
@@ -222,11 +230,43 @@ def get(id: str) -> dict[str, Any]:
     return copy.deepcopy(_get(id))  # the caller's own copy of the remembered record
 
 
+def motor_row(id: str) -> dict[str, Any] | None:
+    """One motor's database columns (SI, unit in the key: the values ``get`` gives for them) without its
+    curve and provenance, or None when no motor has this id (``motor_rows``)."""
+    found = motor_rows([id]).get(id)
+    return None if found is None else dict(found)
+
+
+_MOTOR_ROWS: dict[tuple[Any, ...], dict[str, dict[str, Any] | None]] = {}
+
+
+def motor_rows(ids: Iterable[str]) -> dict[str, dict[str, Any]]:
+    """The database columns of these motors (as ``motor_row``; the ids no motor has are left out), read
+    with one query for those not read before while the catalog is unchanged: for callers that need a
+    few columns of several motors (the drive post-pass) without reading every row. Do not change them."""
+    ids = list(ids)
+    state = _state()
+    if state not in _MOTOR_ROWS:
+        _MOTOR_ROWS.clear()
+    known = _MOTOR_ROWS.setdefault(state, {})
+    wanted = [i for i in dict.fromkeys(ids) if i not in known]
+    if wanted:
+        with db.reader() as rd:
+            for start in range(0, len(wanted), 500):  # SQLite's limit on parameters
+                part = wanted[start:start + 500]
+                for found in rd.rows(MOTOR, f"id IN ({', '.join('?' * len(part))})", part):
+                    known.setdefault(found["id"], found)  # the first row of an id, as get() finds it
+        for i in wanted:
+            known.setdefault(i, None)
+    return {i: row for i in ids if (row := known.get(i)) is not None}
+
+
 @_cached("get")
 def _get(id: str) -> dict[str, Any]:
     with db.reader() as rd:
         for spec in ROW_TABLES:
-            found = [r for r in _rows(spec.name) if r["id"] == id]
+            # this id's rows in the order of _rows (one query: the tables may come from disk, unread)
+            found = rd.rows(spec, "id = ?", (id,))
             if found:
                 return _record(spec, found[0], rd.curves([id]).get(id), rd.curve_sources(id))
         rejected = rd.rejected(id)
@@ -297,6 +337,8 @@ def sources(
 
 
 def _did_you_mean(value: str, known: Sequence[str]) -> str:
+    import difflib  # only for an unknown id
+
     by_upper = {k.upper(): k for k in known}
     close = difflib.get_close_matches(value.upper(), list(by_upper), n=3, cutoff=0.6)
     return f"; did you mean {', '.join(by_upper[c] for c in close)}?" if close else ""

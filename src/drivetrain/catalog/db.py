@@ -23,7 +23,6 @@ import operator
 import os
 import re
 import sys
-import tempfile
 import time
 from collections.abc import Iterator, Sequence
 from importlib import resources
@@ -159,6 +158,7 @@ def _meta_of(path: Path, key: str) -> str | None:
 def _build(path: Path, stamp: str, files: str | None = None) -> None:
     """Write the shipped database to a temporary file, then move it into place atomically."""
     import sqlite3
+    import tempfile  # here: its imports would cost every start 3-5 ms
 
     path.parent.mkdir(parents=True, exist_ok=True)
     _remove_stale_temps(path.parent)
@@ -516,9 +516,18 @@ class Reader:
     def rows(self, spec: TableSpec, where: str = "", params: Sequence[Any] = ()) -> list[dict[str, Any]]:
         """Rows of ``spec`` as dicts keyed by column (plus ``origin``), shipped rows first, in file order."""
         columns = [f.column for f in spec.fields]
+        if not where:
+            # Each database in its file (rowid) order, one after the other: the rows and order of the
+            # sorted union below, without SQLite sorting every row of the union (about 3x faster).
+            out: list[dict[str, Any]] = []
+            for schema in ("builtin", "user") if self.has_user else ("builtin",):
+                cursor = self.conn.execute(
+                    f"SELECT {', '.join(columns)}, '{schema}' AS origin FROM {schema}.{spec.sql} ORDER BY rowid")
+                names = [d[0] for d in cursor.description]
+                out += [dict(zip(names, r, strict=True)) for r in cursor]
+            return out
         sql = f"SELECT * FROM ({self._union(spec.sql, ', '.join(columns))})"
-        if where:
-            sql += f" WHERE {where}"
+        sql += f" WHERE {where}"
         sql += " ORDER BY _db, _rowid"
         cursor = self.conn.execute(sql, tuple(params))
         names = [d[0] for d in cursor.description]

@@ -6,7 +6,6 @@ against those stored at its build (``db.builtin_db``), so a run does not hash th
 from __future__ import annotations
 
 import contextlib
-from importlib import resources
 from pathlib import Path
 
 from drivetrain.catalog.schema import (
@@ -23,10 +22,12 @@ def files_signature(versions: str) -> str | None:
     not plain files: equal to the one stored at the build, the database is current without hashing
     the files (``db.build_stamp``)."""
     parts = [versions]
+    folder = Path(__file__).parent / "data"  # the package's own folder (as importlib.resources finds it
+    # for a package installed as files; a zipped one has no folder: None, as resources' non-Path entry)
     for name in [f.filename for f in SHIPPED_FILES] + [REJECTS_FILE, ELECTRICAL_FILE, PAIRING_FILE,
                                                          MOTOR_DOCUMENTS_FILE]:
-        entry = resources.files("drivetrain.catalog").joinpath("data", name)
-        if not isinstance(entry, Path) or not entry.is_file():
+        entry = folder / name
+        if not entry.is_file():
             return None
         st = entry.stat()
         parts.append(f"{name}:{st.st_size}:{st.st_mtime_ns}")

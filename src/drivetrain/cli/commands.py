@@ -93,13 +93,10 @@ def size(args: argparse.Namespace) -> int:
     units = TableUnits(args.units, result.axis.raw)
     print_sizing(result, units)
     if modes is not None:
-        import sys
-
-        from rich.console import Console
-
         from drivetrain.cli.analyses import print_modes_across
+        from drivetrain.cli.sizing import table_console
 
-        print_modes_across(Console(width=None if sys.stdout.isatty() else 120), modes, units)
+        print_modes_across(table_console(), modes, units)
     for warning in result.extras.get("warnings", []):
         print(f"warning: {warning}")
     if explanation:

@@ -9,13 +9,23 @@ from typing import Any
 from drivetrain.cli.quantities import TableUnits
 
 
+def table_console() -> Any:
+    """rich's console for the tables: the terminal's width, else 120 columns. Where it shows no colour
+    (not a terminal, NO_COLOR ...), without rich's automatic highlighting of numbers and names in
+    printed lines: highlighting only adds colour, so the characters are the same, for less work."""
+    from rich.console import Console
+
+    width = None if sys.stdout.isatty() else 120
+    console = Console(width=width)
+    return console if console.color_system is not None else Console(width=width, highlight=False)
+
+
 def print_sizing(result: Any, units: TableUnits | None = None) -> None:
     """The demand at the motor shaft, every check block, and the ranked candidates with the selection."""
-    from rich.console import Console
     from rich.table import Table
 
     u = units or TableUnits()
-    console = Console(width=None if sys.stdout.isatty() else 120)
+    console = table_console()
     m = result.metrics
     torque = u.unit("torque", "N*m")
     t = Table(title=f"{result.axis.name}: demand at the motor shaft (rotor excluded)")

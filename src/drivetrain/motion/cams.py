@@ -26,7 +26,6 @@ from typing import NamedTuple
 
 import numpy as np
 import numpy.typing as npt
-from numpy.polynomial import Polynomial
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -154,6 +153,8 @@ def _horner(coef: FloatArray, w: FloatArray) -> FloatArray:
 
 def _integrate(accel: list[_Accel]) -> list[CamPiece]:
     """Integrate acceleration pieces twice from rest at u = 0, with s and s' continuous."""
+    from numpy.polynomial import Polynomial  # only where a cam law is built (4 ms of imports otherwise)
+
     s0 = v0 = 0.0
     pieces: list[CamPiece] = []
     for p in accel:

@@ -25,6 +25,7 @@ The rules (docs/checks.md, "Drive selection"):
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
@@ -37,7 +38,7 @@ from drivetrain.sizing.electrical import _drive_block, _regen_block, dc_bus, ele
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Axis, Margins, MotorData
-    from drivetrain.catalog.tables import MotorTable
+    from drivetrain.catalog.tables import DriveTable, MotorTable
     from drivetrain.duty.cycle import DutyCycle
 
 
@@ -45,7 +46,8 @@ def catalog_electrical(motor_id: str) -> MotorElectrical:
     """The catalog motor's electrical data (its electrical columns; empty where not known)."""
     from drivetrain import catalog
 
-    return electrical_from_catalog_row(catalog.get(motor_id))
+    row = catalog.motor_row(motor_id)  # the motor's columns (read once, see attach_drives)
+    return electrical_from_catalog_row(catalog.get(motor_id) if row is None else row)
 
 
 def _currents(cycle: DutyCycle, inertia: float, elec: MotorElectrical, rated: float,
@@ -61,24 +63,35 @@ def _currents(cycle: DutyCycle, inertia: float, elec: MotorElectrical, rated: fl
     return np.abs(motor_electrical.current_from_torque(cycle.motor_torque(inertia), kt, sat))
 
 
+_DRIVES: weakref.WeakKeyDictionary[DriveTable, tuple[DriveData, ...]] = weakref.WeakKeyDictionary()
+
+
+def _drive_data(table: DriveTable) -> tuple[DriveData, ...]:
+    """Every row of a drive table as DriveData, once per table (the catalog's tables are immutable and
+    remembered per query, so the candidates of one selection share them)."""
+    found = _DRIVES.get(table)
+    if found is None:
+        found = _DRIVES[table] = tuple(drive_from_catalog_row(table.row(i)) for i in range(len(table)))
+    return found
+
+
 def _pool(motor_id: str, vendor: str, voltage: float) -> tuple[list[DriveData], str]:
     """The drives a motor may use and the basis: the pairing table's, else its vendor's at its voltage."""
     from drivetrain import catalog
 
     pairs = catalog.drive_pairs().get(motor_id)
     if pairs:
-        table = catalog.drives(ids=pairs)
-        return [drive_from_catalog_row(table.row(i)) for i in range(len(table))], "vendor pairing table"
+        return list(_drive_data(catalog.drives(ids=pairs))), "vendor pairing table"
     try:
         table = catalog.drives(vendor=vendor) if vendor else catalog.drives()
     except InputError:  # the catalog has no drive of this vendor
         return [], "vendor and supply voltage"
     out = []
-    for i in range(len(table)):
+    for i, drive in enumerate(_drive_data(table)):
         v = float(table.voltage[i])
         if math.isfinite(voltage) and math.isfinite(v) and abs(v - voltage) > catalog.VOLTAGE_TOLERANCE * voltage:
             continue
-        out.append(drive_from_catalog_row(table.row(i)))
+        out.append(drive)
     basis = "vendor and supply voltage" if math.isfinite(voltage) else "vendor (the motor's voltage is not known)"
     return out, basis
 
@@ -148,6 +161,11 @@ def attach_drives(axis: Axis, duty: DutyCycle, chosen: dict[str, Any], margins: 
     c = sel["_candidates"]
     motors, _ = sel["_tables"]
     shown: list[int] = sel.get("_shown", [])
+    from drivetrain import catalog
+
+    ks = [k for _, k in zip(chosen["candidates"], shown, strict=False)]
+    ks += [int(sel["_best"])] if "selected" in sel else []
+    catalog.motor_rows([str(motors.ids[int(c.motor[k])]) for k in ks])  # one query for the motors below
     for cand, k in zip(chosen["candidates"], shown, strict=False):
         cycle, inertia = candidate_cycle(axis, duty, sel, k)
         m = int(c.motor[k])

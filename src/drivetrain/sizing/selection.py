@@ -140,7 +140,7 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
                        for d in demands]).reshape(len(demands), 3)
     sums = e_sums[e_of] * np.stack([1.0 / ratio**2, np.ones_like(ratio), ratio**2], axis=1)
     g_speed = np.empty((len(ratio), 2))
-    for r in np.unique(ratio).tolist():
+    for r in _distinct(ratio).tolist():
         speed_r = np.abs(w0 * r)
         g_speed[ratio == r] = (np.max(speed_r) if speed_r.size else 0.0, np.sum(w * speed_r) / duty.period)
     g_j_load = duty.load_inertia / ratio**2
@@ -230,11 +230,11 @@ def _energy(c: Candidates, ks: NDArray[np.intp], motors: MotorTable, gb: Gearbox
     out = np.full(len(ks), math.inf)
     ok = np.arange(min(len(ks), 5000))
     ratios, rows, motor = c.ratio(ks), c.gearbox(ks), c.motor[ks]
-    for ratio in np.unique(ratios[ok]):
+    for ratio in _distinct(ratios[ok]):
         sel = ok[ratios[ok] == ratio]
         effs = np.ones(len(sel)) if gb is None else np.where(rows[sel] >= 0,
                                                              np.nan_to_num(gb.efficiency[rows[sel]], nan=1.0), 1.0)
-        for eff in np.unique(effs):
+        for eff in _distinct(effs):
             s2 = sel[effs == eff]
             stage = Stage("g", "gearbox", ratio=float(ratio), efficiency=float(eff), back_efficiency=float(eff))
             cycle = duty.behind(stage, "four_quadrant")
@@ -265,6 +265,12 @@ def pareto_front(size: Array, margin: Array, ratio: Array) -> NDArray[np.intp]:
         strict = (size[None, :] < s) | (margin[None, :] > m) | (ratio[None, :] < r)
         keep[k] = ~np.any(dom & strict, axis=1)
     return np.flatnonzero(keep)
+
+
+def _distinct(values: NDArray[Any]) -> NDArray[Any]:
+    """``np.unique(values)``: its sorted distinct values, by its sorting path (the one that also gives the
+    indices), which skips the masked-array check of the plain call: that imports numpy.ma (10 ms at start-up)."""
+    return np.unique(values, return_index=True)[0]
 
 
 def best_per_motor(c: Candidates, ranked: NDArray[np.intp]) -> NDArray[np.intp]:
@@ -331,7 +337,7 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
     summary: dict[str, Any] = {
         "objective": spec.objective, "evaluated": len(c.motor), "motors": len(motors),
         "gearbox_rows": 0 if gb is None else len(gb), "passing": len(passing),
-        "passing_motors": len(np.unique(c.motor[passing])),
+        "passing_motors": len(_distinct(c.motor[passing])),
         "listing": "all_pairs" if all_pairs else "best_per_motor",
         "unknown_policy": spec.unknown, "failures_by_check": c.failures(), "unknown_by_check": c.unknowns(),
         "cycles_per_hour": 3600.0 / duty.period,
@@ -428,7 +434,7 @@ def optimal_ratio(axis: Axis, duty: DutyCycle, motors: MotorTable, m: int,
     mean_square = (s_tt / best**2 + 2.0 * j_m * s_ta + j_m**2 * s_aa * best**2) / duty.period
     nearest = None
     if gb is not None and len(gb):
-        ratios = np.unique(gb.ratio)
+        ratios = _distinct(gb.ratio)
         nearest = float(ratios[np.argmin(np.abs(np.log(ratios / best)))])
     return {"motor": str(motors.ids[m]), "inertia_match_ratio": math.sqrt(duty.load_inertia / j_m),
             "min_rms_ratio": best, "min_rms_torque_Nm": math.sqrt(max(mean_square, 0.0)),
