@@ -229,6 +229,9 @@ def test_an_internal_error_is_json_and_keeps_the_connection(server: Server) -> N
 
 def test_requests_past_the_time_limit_are_stopped_and_others_still_size(server: Server) -> None:
     stall = json.dumps(example_axis("stall")).encode()
+    # every worker warmed up and idle first (on a loaded machine the replacements of workers an earlier test
+    # stopped may still be starting): then each stalled request runs on one of the workers listed here
+    assert server.app.state.sizing_workers().wait_ready(120.0)
     before = [p for p in multiprocessing.active_children() if p.name == "drivetrain-sizing"]
     assert 0 < len(before) <= web_app.MAX_PARALLEL_WORK
     stalls = max(2, web_app.MAX_PARALLEL_WORK)  # as many as there are workers: every one of them is stalled
