@@ -55,6 +55,7 @@ from numpy.typing import NDArray
 
 from drivetrain.axis.model import Axis
 from drivetrain.duty.cycle import cubic_mean, duty_from_samples
+from drivetrain.errors import InputError
 from drivetrain.sizing.candidates import FIT_BIT
 from drivetrain.sizing.checks import shock_factor
 from drivetrain.sizing.hull import fast_demands
@@ -280,6 +281,30 @@ class Engine:
         from drivetrain.sizing.result import size
 
         return answer(size(axis, self.points, duty=self.duty(axis), selector=self.select, drives=self.drives))
+
+    def size_many(self, axes: list[Axis]) -> list[dict[str, Any] | InputError]:
+        """:meth:`size` of each axis (or the InputError it raises), their mechanism checks computed
+        together first (``mechanism_checks.prepare_many``: the same entries)."""
+        from drivetrain.sizing.mechanism_checks import prepare_many
+        from drivetrain.sizing.result import size
+
+        duties: list[DutyCycle | InputError] = []
+        for axis in axes:
+            try:
+                duties.append(self.duty(axis))
+            except InputError as exc:
+                duties.append(exc)
+        prepare_many([(a, d) for a, d in zip(axes, duties, strict=True) if not isinstance(d, InputError)])
+        out: list[dict[str, Any] | InputError] = []
+        for axis, duty in zip(axes, duties, strict=True):
+            if isinstance(duty, InputError):
+                out.append(duty)
+                continue
+            try:
+                out.append(answer(size(axis, self.points, duty=duty, selector=self.select, drives=self.drives)))
+            except InputError as exc:
+                out.append(exc)
+        return out
 
     def select(self, axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
                all_pairs: bool = False) -> dict[str, Any]:

@@ -13,6 +13,7 @@ import json
 import logging
 import math
 import os
+import pickle
 import sys
 import time
 from collections.abc import Callable, Iterable, Iterator
@@ -26,6 +27,8 @@ from drivetrain.study.spec import Parameter, Study
 
 if TYPE_CHECKING:
     import pandas as pd
+
+    from drivetrain.axis.model import Axis
 
 ENV_SCHEDULER = "DRIVETRAIN_SCHEDULER"
 BATCH = 200
@@ -82,29 +85,61 @@ def _engine(points: int, drives: bool = False) -> Any:
 
 def size_variant(plan: Plan, values: tuple[Any, ...]) -> dict[str, Any]:
     """One variant's result mapping (batched path, or ``size().to_dict()`` when the record needs it)."""
-    from drivetrain.axis.model import check_text, parse_axis
     from drivetrain.study.batch import full_result
+
+    axis = variant_axis(plan, values)
+    return full_result(axis, plan.points) if plan.full else _engine(plan.points, plan.drives).size(axis)
+
+
+def variant_axis(plan: Plan, values: tuple[Any, ...]) -> Axis:
+    """A variant's axis (InputError naming the field if its values make bad input)."""
+    from drivetrain.axis.model import check_text, parse_axis
 
     # the base's text was checked by make_plan (parse_axis of the base); only the new values need it
     for p, v in zip(plan.parameters, values, strict=True):
         check_text(v, p.path)
-    axis = parse_axis(plan.axis_dict(values), text_checked=True)
-    return full_result(axis, plan.points) if plan.full else _engine(plan.points, plan.drives).size(axis)
+    return parse_axis(plan.axis_dict(values), text_checked=True)
 
 
 def run_batch(plan: Plan, items: list[tuple[int, tuple[Any, ...]]]) -> list[dict[str, Any]]:
-    """Size a batch of variants; a variant whose values make bad input gets its error in its row."""
+    """Size a batch of variants; a variant whose values make bad input gets its error in its row.
+
+    On the batched path the batch's axes are sized together (``Engine.size_many``: their
+    mechanism checks as arrays over the batch), each with the answer it gets alone."""
+    results: list[dict[str, Any] | InputError] = []
+    if plan.full:
+        for _, values in items:
+            try:
+                results.append(size_variant(plan, values))
+            except InputError as exc:
+                results.append(exc)
+    else:
+        axes: list[Axis | InputError] = []
+        for _, values in items:
+            try:
+                axes.append(variant_axis(plan, values))
+            except InputError as exc:
+                axes.append(exc)
+        sized = iter(_engine(plan.points, plan.drives).size_many([a for a in axes if not isinstance(a, InputError)]))
+        results = [a if isinstance(a, InputError) else next(sized) for a in axes]
     rows = []
-    for idx, values in items:
+    for (idx, values), res in zip(items, results, strict=True):
         row: dict[str, Any] = {"variant": idx}
         row.update({p.path: v for p, v in zip(plan.parameters, values, strict=True)})
-        try:
-            row.update(row_from(size_variant(plan, values), list(plan.record)))
+        if isinstance(res, InputError):
+            row.update({"ok": False, "error": str(res)})
+        else:
+            row.update(row_from(res, list(plan.record)))
             row["error"] = ""
-        except InputError as exc:
-            row.update({"ok": False, "error": str(exc)})
         rows.append(row)
     return rows
+
+
+def run_packed(plan: Plan, packed: bytes) -> list[dict[str, Any]]:
+    """``run_batch`` of a pickled list of variants: a task's argument is one opaque object, which
+    Dask sends as it is instead of walking its 10,000 values when the task graph is built."""
+    items: list[tuple[int, tuple[Any, ...]]] = pickle.loads(packed)  # made by _run_dask
+    return run_batch(plan, items)
 
 
 def make_plan(study: Study) -> Plan:
@@ -346,7 +381,8 @@ def _run_dask(plan: Plan, todo: list[tuple[int, tuple[Any, ...]]], batch: int, a
         # small studies: enough tasks for every worker
         size = max(1, min(batch, math.ceil(len(todo) / (4 * n_workers))))
         [plan_f] = client.scatter([plan], broadcast=True)
-        futures = [client.submit(run_batch, plan_f, chunk, pure=False) for chunk in _batches(todo, size)]
+        futures = [client.submit(run_packed, plan_f, pickle.dumps(chunk, protocol=pickle.HIGHEST_PROTOCOL),
+                                 pure=False) for chunk in _batches(todo, size)]
         try:
             for fut in as_completed(futures):
                 collect(fut.result())
@@ -359,4 +395,5 @@ def _run_dask(plan: Plan, todo: list[tuple[int, tuple[Any, ...]]], batch: int, a
             cluster.close()
 
 
-__all__ = ["BATCH", "ENV_SCHEDULER", "Plan", "make_plan", "read_parquet", "run", "run_batch", "write_results"]
+__all__ = ["BATCH", "ENV_SCHEDULER", "Plan", "make_plan", "read_parquet", "run", "run_batch", "run_packed",
+           "variant_axis", "write_results"]

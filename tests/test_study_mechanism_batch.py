@@ -1,0 +1,146 @@
+"""The mechanism checks of a study's batch, computed together, equal those of each axis alone.
+
+``mechanism_checks.prepare_many`` computes the screw, nut and guide checks of many axes as arrays
+over the axes; ``mechanism_checks`` of a prepared axis returns them. Each entry (name, required,
+available, margin, ok, note) must equal, to the bit, what ``mechanism_checks`` computes for that
+axis alone, and ``Engine.size_many`` must give each axis the answer of ``Engine.size`` and of
+``drivetrain.size`` (tests/test_study_batch.py holds the sample-agreement tests of the engine).
+"""
+
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import yaml
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
+
+from drivetrain.axis.model import parse_axis
+from drivetrain.duty.cycle import duty_cycle
+from drivetrain.errors import InputError
+from drivetrain.physics import rolling_life
+from drivetrain.sizing.mechanism_checks import mechanism_checks, prepare_many
+from drivetrain.study.batch import Engine, full_result
+
+EXAMPLES = Path(__file__).parents[1] / "examples"
+BASE = yaml.safe_load((EXAMPLES / "ball_screw.yaml").read_text(encoding="utf-8"))
+
+
+def _variant(mass: float, lead: float, time: float, **changes: Any) -> dict[str, Any]:
+    v = copy.deepcopy(BASE)
+    v["mechanism"]["load"]["mass"] = mass
+    v["mechanism"]["lead"] = lead
+    v["profile"][0]["time"] = time
+    for path, value in changes.items():
+        node = v
+        *head, last = path.split("__")
+        for key in head:
+            node = node.setdefault(key, {})
+        node[last] = value
+    return v
+
+
+def _mixed() -> list[dict[str, Any]]:
+    """Variants over the benchmark grid's ranges and several groups: other guide orientations,
+    a preloaded nut, a moment without its factor, another stroke, no nut, no screw ratings."""
+    rng = np.random.default_rng(5)
+    out = []
+    for k in range(48):
+        mass, lead, time = float(rng.uniform(5.0, 40.0)), float(rng.uniform(0.004, 0.024)), float(rng.uniform(0.3, 1.0))
+        changes: dict[str, Any] = {}
+        if k % 6 == 1:
+            changes["guide__orientation"] = "horizontal"
+            changes["guide__l_x"] = "20 mm"
+        if k % 6 == 2:
+            changes["guide__orientation"] = "wall"
+            changes["guide__l_y"] = "15 mm"  # a yaw moment without a moment factor: said in the note
+        if k % 6 == 3:
+            changes["mechanism__nut__preload"] = "400 N"
+        if k % 6 == 4:
+            changes["profile"] = [{"move": "150 mm", "time": time, "accel": 0.1}, {"dwell": 0.3},
+                                  {"move": "-150 mm", "time": 0.5, "accel": 0.1}, {"dwell": 0.2}]
+        out.append(_variant(mass, lead, time, **changes))
+    no_nut = _variant(20.0, 0.01, 0.5)
+    del no_nut["mechanism"]["nut"]
+    no_screw = _variant(20.0, 0.01, 0.5)
+    del no_screw["mechanism"]["screw"]
+    return [*out, no_nut, no_screw]
+
+
+def test_prepared_checks_equal_each_axis_alone() -> None:
+    axes = [parse_axis(d) for d in _mixed()]
+    duties = [duty_cycle(a, 64) for a in axes]
+    alone = [mechanism_checks(a, d) for a, d in zip(axes, duties, strict=True)]
+    assert prepare_many(list(zip(axes, duties, strict=True))) == len(axes)
+    together = [mechanism_checks(a, d) for a, d in zip(axes, duties, strict=True)]
+    assert together == alone  # every entry to the bit, notes included
+    names = {c["name"] for checks in alone for c in checks}
+    assert {"screw_buckling", "screw_dn_speed", "nut_life", "nut_static_safety", "guide_life",
+            "guide_static_safety"} <= names
+    assert any("moments without moment_factors" in c["note"] for checks in alone for c in checks)
+
+
+def test_a_prepared_duty_cycle_serves_only_its_own_axis() -> None:
+    a, b = parse_axis(_variant(10.0, 0.01, 0.5)), parse_axis(_variant(35.0, 0.01, 0.5))
+    da = duty_cycle(a, 32)
+    prepare_many([(a, da)])
+    assert mechanism_checks(b, da) != mechanism_checks(a, da)  # computed for b, not the prepared a's
+    assert mechanism_checks(b, da) == mechanism_checks(b, duty_cycle(a, 32))
+
+
+def test_a_group_that_would_raise_is_left_to_each_axis() -> None:
+    """A group whose numbers break a rule is not prepared: each axis raises its own InputError."""
+    bad = _variant(20.0, 0.01, 0.5, mechanism__screw__home_position="790 mm")  # nut beyond the screw
+    good = _variant(20.0, 0.01, 0.5)
+    axes = [parse_axis(bad), parse_axis(good)]
+    duties = [duty_cycle(a, 32) for a in axes]
+    assert prepare_many(list(zip(axes, duties, strict=True))) == 1
+    with pytest.raises(InputError, match="home_position"):
+        mechanism_checks(axes[0], duties[0])
+
+
+def test_size_many_equals_size_axis_by_axis() -> None:
+    data = [*_mixed()[:12], _variant(4000.0, 0.002, 0.21)]
+    impossible = _variant(20.0, 0.01, 0.5)
+    impossible["profile"][0]["accel"] = "0.4 s"  # accel + decel longer than the move: bad input
+    axes = [parse_axis(d) for d in [*data, impossible]]
+    got = Engine().size_many(axes)
+    assert isinstance(got[-1], InputError)
+    with pytest.raises(InputError) as alone:
+        Engine().size(axes[-1])
+    assert str(got[-1]) == str(alone.value)
+    engine = Engine()
+    for axis, fast in zip(axes[:-1], got[:-1], strict=True):
+        assert not isinstance(fast, InputError)
+        assert fast == engine.size(axis)
+        ref = full_result(axis)
+        assert fast["mechanism_checks"] == ref["mechanism_checks"]
+        assert fast["ok"] == ref["ok"]
+        sel = ref["selection"].get("selected") or ref["candidates"][0]
+        mine = fast["selection"].get("selected") or fast["candidates"][0]
+        assert (mine["motor"], mine["gearbox"]) == (sel["motor"], sel["gearbox"])
+
+
+@settings(max_examples=60, deadline=None)
+@given(shape=st.tuples(st.integers(1, 6), st.integers(1, 40)), data=st.data(),
+       exponent=st.sampled_from([3.0, 10.0 / 3.0]))
+def test_cubic_mean_loads_equal_cubic_mean_load_row_by_row(shape: tuple[int, int], data: st.DataObject,
+                                                            exponent: float) -> None:
+    loads = data.draw(hnp.arrays(float, shape, elements=st.floats(-1e5, 1e5)))
+    weights = data.draw(hnp.arrays(float, shape, elements=st.floats(1e-6, 10.0)))
+    rows = rolling_life.cubic_mean_loads(loads, weights, exponent)
+    for k in range(shape[0]):
+        assert rows[k] == rolling_life.cubic_mean_load(loads[k], weights[k], exponent)
+
+
+def test_cubic_mean_loads_refuse_what_cubic_mean_load_refuses() -> None:
+    with pytest.raises(InputError, match="weights"):
+        rolling_life.cubic_mean_loads(np.ones((2, 3)), np.array([[1.0, 1.0, 1.0], [0.0, 0.0, 0.0]]))
+    with pytest.raises(InputError, match="finite"):
+        rolling_life.cubic_mean_loads(np.array([[1.0, np.nan]]), np.ones((1, 2)))
+    assert rolling_life.cubic_mean_loads(np.zeros((1, 3)), np.ones((1, 3)))[0] == 0.0
