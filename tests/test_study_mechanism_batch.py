@@ -144,3 +144,16 @@ def test_cubic_mean_loads_refuse_what_cubic_mean_load_refuses() -> None:
     with pytest.raises(InputError, match="finite"):
         rolling_life.cubic_mean_loads(np.array([[1.0, np.nan]]), np.ones((1, 2)))
     assert rolling_life.cubic_mean_loads(np.zeros((1, 3)), np.ones((1, 3)))[0] == 0.0
+
+
+@pytest.mark.parametrize(("n", "size", "workers"),
+                         [(10_000, 200, 2), (1000, 200, 4), (7, 3, 2), (0, 5, 1), (450, 100, 1)])
+def test_tasks_cover_every_variant_once_in_order(n: int, size: int, workers: int) -> None:
+    from drivetrain.study.runner import _tasks
+
+    items = [(k, (float(k),)) for k in range(n)]
+    tasks = list(_tasks(items, size, workers))
+    assert [it for t in tasks for it in t] == items
+    assert all(0 < len(t) <= size for t in tasks)
+    if n >= 2 * workers * size:
+        assert sum(len(t) == max(1, size // 4) for t in tasks) >= 2 * workers * 4 - 1  # the short tail
