@@ -72,7 +72,9 @@ def _mixed() -> list[dict[str, Any]]:
     return [*out, no_nut, no_screw]
 
 
-def test_prepared_checks_equal_each_axis_alone() -> None:
+@pytest.mark.parametrize("slice_", [256, 7])
+def test_prepared_checks_equal_each_axis_alone(slice_: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr("drivetrain.sizing.mechanism_checks.PREPARE_SLICE", slice_)
     axes = [parse_axis(d) for d in _mixed()]
     duties = [duty_cycle(a, 64) for a in axes]
     alone = [mechanism_checks(a, d) for a, d in zip(axes, duties, strict=True)]

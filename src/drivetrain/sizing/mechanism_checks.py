@@ -225,6 +225,8 @@ def mechanism_checks(axis: Axis, duty: DutyCycle) -> list[dict[str, Any]]:
 # many axes at once (a design-space study): the screw, nut and guide checks as arrays over axes
 
 _PREPARED = "_prepared_mechanism_checks"
+PREPARE_SLICE = 256
+"""Axes computed together at most (their arrays of samples stay a few MB)."""
 
 
 def prepare_many(pairs: Sequence[tuple[Axis, DutyCycle]]) -> int:
@@ -258,14 +260,16 @@ def prepare_many(pairs: Sequence[tuple[Axis, DutyCycle]]) -> int:
         else:
             groups.append((key, [(axis, duty, force)]))
     done = 0
-    for _, members in groups:
-        try:
-            lists = _checks_of_group(members)
-        except InputError:
-            continue
-        for (axis, duty, _), checks in zip(members, lists, strict=True):
-            duty.__dict__[_PREPARED] = (axis, checks)
-        done += len(members)
+    for _, group in groups:
+        for k in range(0, len(group), PREPARE_SLICE):
+            members = group[k:k + PREPARE_SLICE]
+            try:
+                lists = _checks_of_group(members)
+            except InputError:
+                continue
+            for (axis, duty, _), checks in zip(members, lists, strict=True):
+                duty.__dict__[_PREPARED] = (axis, checks)
+            done += len(members)
     return done
 
 
