@@ -253,16 +253,16 @@ def prepare_many(pairs: Sequence[tuple[Axis, DutyCycle]]) -> int:
                    getattr(spec, "diameter", None), axis.spec.guide, _stroke(duty), force.shape)
         except InputError:
             continue
-        for k, members in groups:
-            if k == key:
+        for known, members in groups:
+            if known == key:
                 members.append((axis, duty, force))
                 break
         else:
             groups.append((key, [(axis, duty, force)]))
     done = 0
     for _, group in groups:
-        for k in range(0, len(group), PREPARE_SLICE):
-            members = group[k:k + PREPARE_SLICE]
+        for start in range(0, len(group), PREPARE_SLICE):
+            members = group[start:start + PREPARE_SLICE]
             try:
                 lists = _checks_of_group(members)
             except InputError:
