@@ -7,7 +7,8 @@ time is what compares on a shared, loaded machine):
 
 * the obvious loop: ``drivetrain.size`` of each variant's axis mapping, one after the other (timed on
   an evenly spaced sample of the grid and extrapolated to the grid; one core);
-* the study's batched path in one process (every variant);
+* the study's batched path in one process (every variant, in the runner's batches of 200), with the
+  mechanism checks of each batch computed together and, side by side, axis by axis;
 * ``drivetrain.sweep`` as a user runs it, on the embedded LocalCluster of 2 worker processes, in a
   new Python process: everything (imports, catalog, cluster start, the result table) included, CPU
   time of that process and of its worker processes;
@@ -41,7 +42,7 @@ import drivetrain
 from drivetrain.axis.model import parse_axis
 from drivetrain.study import load_study, sweep
 from drivetrain.study.batch import Engine
-from drivetrain.study.runner import EMBEDDED_CONFIG, make_plan, run_batch
+from drivetrain.study.runner import BATCH, EMBEDDED_CONFIG, make_plan, run_batch
 
 ROOT = Path(__file__).parents[1]
 STUDY = {"study": 1, "name": "10,000-variant grid", "base": str(ROOT / "examples" / "ball_screw.yaml"),
@@ -105,13 +106,23 @@ def main() -> None:
         # agreement on a sample
         engine = Engine(study.spec.points)
         checked = sample[:: max(1, len(sample) // 100)]
-        agree = sum(_agree(engine.size(parse_axis(plan.axis_dict(variants[i]))),
-                           drivetrain.size(plan.axis_dict(variants[i])).to_dict()) for i in checked)
-        # batched path, one process, every variant
-        t0, c0 = time.perf_counter(), time.process_time()
-        rows = run_batch(plan, list(enumerate(variants)))
-        one = time.perf_counter() - t0
-        one_cpu = time.process_time() - c0
+        fast = engine.size_many([parse_axis(plan.axis_dict(variants[i])) for i in checked])  # as a task sizes them
+        agree = sum(not isinstance(f, Exception) and _agree(f, drivetrain.size(plan.axis_dict(variants[i])).to_dict())
+                    for f, i in zip(fast, checked, strict=True))
+        # batched path, one process, every variant, in the runner's batches; side by side with the
+        # mechanism checks computed axis by axis (prepare_many off), as before they were batched
+        import drivetrain.sizing.mechanism_checks as mc
+
+        items = list(enumerate(variants))
+        prepare = mc.prepare_many
+        times: dict[str, tuple[float, float]] = {}
+        for mode in ("axis by axis", "batched"):
+            mc.prepare_many = prepare if mode == "batched" else (lambda pairs: 0)  # type: ignore[assignment]
+            t0, c0 = time.perf_counter(), time.process_time()
+            rows = [r for k in range(0, n, BATCH) for r in run_batch(plan, items[k:k + BATCH])]
+            times[mode] = (time.perf_counter() - t0, time.process_time() - c0)
+        mc.prepare_many = prepare
+        one, one_cpu = times["batched"]
         n_ok = sum(bool(r["ok"]) for r in rows)
         # sweep on 2 local workers, as a user runs it: a new Python process (imports, catalog, cluster
         # start and the result table included)
@@ -152,6 +163,9 @@ def main() -> None:
     loop_total, loop_cpu_total = loop_per * n, loop_cpu * n
     print(f"| obvious loop `drivetrain.size` per variant, 1 core ({len(sample)} variants, extrapolated) | "
           f"{loop_total:.1f} s | {loop_cpu_total:.1f} s | {loop_cpu * 1e3:.2f} ms | | 1x |")
+    a_wall, a_cpu = times["axis by axis"]
+    print(f"| batched path, 1 process, mechanism checks axis by axis (as before) | {a_wall:.1f} s | {a_cpu:.1f} s | "
+          f"{a_cpu / n * 1e3:.2f} ms | | {loop_total / a_wall:.1f}x; {loop_cpu_total / a_cpu:.1f}x |")
     print(f"| batched path, 1 process | {one:.1f} s | {one_cpu:.1f} s | {one_cpu / n * 1e3:.2f} ms | | "
           f"{loop_total / one:.1f}x; {loop_cpu_total / one_cpu:.1f}x |")
     print(f"| `sweep`, embedded LocalCluster of 2 processes, everything included | {cold:.1f} s | {cold_cpu:.1f} s | "
