@@ -74,8 +74,26 @@ def test_size_imperial_converts_the_demand_table(capsys: pytest.CaptureFixture[s
     # what is the same in both systems stays: shaft speed, power, energy
     assert number(imp, "max / mean speed", "rpm") == number(si, "max / mean speed", "rpm")
     assert number(imp, "regenerated energy", "J") == number(si, "regenerated energy", "J")
-    # the failing check of the next smaller motor is rebuilt in the system's units
-    assert re.search(r"rms_torque: required [\d.]+ lbf\*in > available [\d.]+ lbf\*in", imp)
+    # the failing checks of the next smaller motor are rebuilt in the system's units (which motor that is depends
+    # on the catalog: a torque failure, where it has one, prints lbf*in; test_failure_sentence_... pins the sentence)
+    nxt = imp.split("next smaller motor", 1)[1].split("optimal ratio", 1)[0]
+    assert "N*m" not in nxt
+    assert all("lbf*in" in line for line in nxt.splitlines() if "torque: required" in line)
+
+
+def test_failure_sentence_is_rebuilt_in_imperial_units() -> None:
+    """A failing torque check (the SI sentence of drivetrain.sizing.reasons) is printed in lbf*in, by hand:
+    0.5723 N*m / 0.112985 = 5.065 lbf*in, 0.48 N*m / 0.112985 = 4.248 lbf*in; the margin stays as it is."""
+    from drivetrain.cli.quantities import TableUnits
+    from drivetrain.cli.sizing import _failure
+
+    ch = {"name": "rms_torque", "required": 0.5723, "available": 0.48, "unit": "N*m", "margin": 0.48 / 0.5723 - 1}
+    line = _failure("rms_torque: required 0.5723 N*m > available 0.48 N*m (-16.1 %)", {"rms_torque": ch},
+                    TableUnits("imperial"))
+    found = re.search(r"rms_torque: required ([\d.]+) lbf\*in > available ([\d.]+) lbf\*in \(-16.1 %\)", line)
+    assert found is not None, line
+    assert float(found.group(1)) == pytest.approx(0.5723 / LBF_IN, rel=5e-4)
+    assert float(found.group(2)) == pytest.approx(0.48 / LBF_IN, rel=5e-4)
 
 
 def test_si_is_the_default_and_prints_as_before(capsys: pytest.CaptureFixture[str]) -> None:

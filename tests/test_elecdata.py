@@ -117,6 +117,9 @@ def test_siemens_motor_module_of_table_4_8_p90() -> None:
     ("SGM7G-44A", 32.8, 84, None, "p. 7-5"),  # the copy ends before the torque-constant row
     # Siemens 1FT7 configuration manual 01/2009, Table 4-8, p. 90
     ("1FT7044-5AK7", 2.5, 30, 0.88, "p. 90"),
+    # Mitsubishi Electric FA specification page of HG-KR23BG1 1/20 (web page, no page number):
+    # "定格電流 [A] 1.3", "最大電流 [A] MR-J4-, MR-J4W_-: 4.6 / MR-JN-: 3.9"; no torque constant printed
+    ("HG-KR23", 1.3, 4.6, None, "HG-KR23BG1 1/20"),
 ])
 def test_motor_currents_and_torque_constants_as_printed(mid: str, rated: float, peak: float, kt: float | None,
                                                         page: str) -> None:
@@ -134,7 +137,7 @@ def test_motor_currents_and_torque_constants_as_printed(mid: str, rated: float, 
 
 def test_derived_torque_constants_are_rated_torque_over_rated_current_and_only_where_none_is_printed() -> None:
     derived = {mid for mid, r in ELEC.items() if r["torque_constant_basis"].startswith("derived")}
-    assert derived == {"SGM7G-30A", "SGM7G-44A", "SGM7G-55A", "SGM7G-75A", "SGM7G-1AA", "SGM7G-1EA"}
+    assert derived == {"SGM7G-30A", "SGM7G-44A", "SGM7G-55A", "SGM7G-75A", "SGM7G-1AA", "SGM7G-1EA", "HG-KR23"}
     for mid in derived:
         r = ELEC[mid]
         t_n, i_n = float(MOTORS[mid]["rated_torque_Nm"]), float(r["rated_current_A"])
@@ -143,6 +146,22 @@ def test_derived_torque_constants_are_rated_torque_over_rated_current_and_only_w
         assert "DERIVED" in r["notes"]
     # SGM7G-44A, Sigma-7 manual 7.2.4 p. 7-5: 28.4 N m at 32.8 A rms -> 0.8659 N m/A
     assert float(ELEC["SGM7G-44A"]["torque_constant_Nm_per_A"]) == 0.8659
+    # HG-KR23, the HG-KR23BG1 1/20 specification page: 0.64 N m at 1.3 A -> 0.4923 N m/A
+    assert float(ELEC["HG-KR23"]["torque_constant_Nm_per_A"]) == 0.4923
+
+
+def test_hg_kr23_row_is_the_motor_of_the_page_it_cites() -> None:
+    """The page is the HG-KR23 with brake and G1 reducer: the row is used for HG-KR23 only because the
+    page's motor ratings equal the catalog row's, and the MR-J4 maximum current is the one stored."""
+    row, motor = ELEC["HG-KR23"], MOTORS["HG-KR23"]
+    assert "formNm=HG-KR23BG1" in row["source_url"] and row["source_url"].startswith("https://www.mitsubishielectric")
+    # printed on the page: rated output 0.2 kW, rated torque 0.64 N m, rated speed 3000 r/min
+    assert (float(motor["rated_power_W"]), float(motor["rated_torque_Nm"]), float(motor["rated_speed_rpm"])) == (
+        200, 0.64, 3000)
+    assert num(row["table_rated_torque_Nm"]) == 0.64 and num(row["table_peak_torque_Nm"]) is None
+    assert "MR-JN-: 3.9" in row["notes"] and num(row["peak_current_A"]) == 4.6  # the MR-J4 value
+    # the derived k_T reproduces the catalog's peak point within the spread of the printed Yaskawa rows
+    assert 1.0 < 0.4923 * 4.6 / float(motor["peak_torque_Nm"]) < 1.25
 
 
 def test_a_derived_torque_constant_is_flagged_in_the_catalog_and_in_the_answer() -> None:
@@ -255,6 +274,8 @@ def test_ball_screw_example_answers_the_drive_as_far_as_the_catalog_allows(
             assert d["status"] == "unknown" and "torque constant" in d["reason"]
         else:
             assert d["motor_rms_current_A"] > 0 and d["motor_peak_current_A"] >= d["motor_rms_current_A"]
+            if d["status"] == "unknown":  # the motor's currents are known: what is missing is the drive's
+                assert "current ratings" in d["reason"]
         if d["status"] == "unknown":
             assert d["reason"]
         else:
@@ -264,6 +285,23 @@ def test_ball_screw_example_answers_the_drive_as_far_as_the_catalog_allows(
                                                         + regen["resistor_energy_per_cycle_J"])
     assert regen["resistor_peak_power_W"] > 0 and regen["energy_per_cycle_J"] > 0  # it lowers a load
     assert "envelope_source" in sel["electrical"] and "winding_temperature_rise_K" in sel["electrical"]
+
+
+def test_ball_screw_with_hg_kr23_answers_the_motor_currents_of_the_vendor_page(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The HG-KR23 (the shipped ball-screw selection) has its currents and a derived k_T: the answer gives
+    the motor's current checks against the page's 1.3 A / 4.6 A and says that k_T was derived."""
+    text = (EXAMPLES / "ball_screw.yaml").read_text(encoding="utf-8")
+    head, _ = text.split("\nmotor:", 1)
+    path = tmp_path / "z.yaml"
+    path.write_text(head + "\nmotor: {id: HG-KR23, margins: {torque: 1.2, inertia_ratio: 10}}\n", encoding="utf-8")
+    e = _size_json(path, capsys)["motor"]  # a given catalog motor: its electrical answer is in the motor block
+    assert e["torque_constant_NmA"] == 0.4923
+    checks = {c["name"]: c for c in e["checks"]}
+    assert checks["motor_rms_current"]["available"] == 1.3
+    assert checks["motor_peak_current"]["available"] == 4.6
+    assert 0 < e["rms_current_A"] <= e["peak_current_A"]
+    assert any(DERIVED_KT in s for s in e["electrical_sources"])
 
 
 HEAVY_Z = """\

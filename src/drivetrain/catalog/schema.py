@@ -301,7 +301,10 @@ _CONFIGURATOR = (
 )
 _MGDB = "values from the MGDB compilation (ekrimsk/MGDB, data/SOURCES.md), not read from a vendor document"
 
-TRACED_MOTOR_FAMILIES: tuple[str, ...] = ("teco_jsma", "mitsubishi_hg_kn")
+TRACED_MOTOR_FAMILIES: tuple[str, ...] = (
+    "teco_jsma", "mitsubishi_hg_kn", "yaskawa_sigma2", "mitsubishi_hc_meldas",
+    "rexroth_mhp", "yaskawa_sgm7d",
+)
 """Servo motor families shipped as ``motors_<vendor>_<family>.csv``, each read from one vendor document."""
 
 SHIPPED_FILES: tuple[ShippedFile, ...] = (

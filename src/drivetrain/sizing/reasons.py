@@ -62,6 +62,8 @@ def _unknown_note(name: str, c: Candidates, fit_gap: str) -> str:
     par = c.model[-1]
     if name == "peak_torque":
         return "not judged: the cycle's speed is beyond the motor's max speed (see max_speed)"
+    if name == "rms_torque":
+        return "not judged: the cycle's mean speed is beyond the motor's max speed (see max_speed)"
     if name == "mechanical_fit":
         return fit_gap or "the catalog lacks a dimension it needs"
     if name == "gearbox_peak_torque" and math.isnan(float(par[8])):
@@ -112,8 +114,14 @@ def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable |
             continue
         req, avail, mar = float(d.required[n][0]), float(d.available[n][0]), float(d.margin[n][0])
         status = "unknown" if math.isnan(mar) else ("pass" if mar >= 0.0 else "fail")
-        slow = n == "peak_torque" and status == "unknown" and float(d.margin["max_speed"][0]) < 0.0
-        status = "not_judged" if slow else status
+        # a motor slower than the cycle is not judged on torque where it cannot go: the peak check (margin NaN
+        # from the kernel) and the RMS check when the cycle's mean speed is beyond it too (no continuous torque
+        # there, e.g. a low-speed direct drive motor): max_speed fails instead
+        too_slow = float(d.margin["max_speed"][0]) < 0.0
+        slow = too_slow and ((n == "peak_torque" and status == "unknown")
+                             or (n == "rms_torque" and status == "fail" and not avail > 0.0))
+        if slow:
+            status, avail, mar = "not_judged", math.nan, math.nan
         checks[n] = {"name": n, "required": req, "available": avail if math.isfinite(avail) else None,
                      "unit": CHECK_UNITS[n], "margin": mar if math.isfinite(mar) else None,
                      "ok": status == "pass" or (status == "unknown" and not c.strict), "status": status,
