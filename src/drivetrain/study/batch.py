@@ -25,7 +25,11 @@ met here without an edit. What the batched path saves per variant, without chang
   answer holds the selected candidate (or, when nothing passes, the closest one) and, where the
   whole catalog was evaluated (objectives other than ``smallest``), the counts of ``select``;
 * the drive post-pass (a drive for the selected motor, its currents, regen) runs only for an engine
-  made with ``drives`` (a study that records one of its keys).
+  made with ``drives`` (a study that records one of its keys);
+* the mechanism checks (screw buckling, critical and DN speed, nut life and static safety, guide
+  life and static safety) of a task's variants are computed together, as arrays over the variants
+  (``Engine.size_many``, ``mechanism_checks.prepare_many``: the same entries, to the bit), and
+  ``size`` finds each variant's on its duty cycle.
 
 The smallest-first search. ``selection.ranked`` orders the passing candidates by the objective
 (motor size x 1e6 + the gearbox's rated torque, which is never negative), ties in candidate order,
