@@ -399,6 +399,8 @@ def _run_dask(plan: Plan, todo: list[tuple[int, tuple[Any, ...]]], batch: int, a
         [plan_f] = client.scatter([plan], broadcast=True)
         futures = [client.submit(run_packed, plan_f, pickle.dumps(chunk, protocol=pickle.HIGHEST_PROTOCOL),
                                  pure=False) for chunk in _tasks(todo, size, n_workers)]
+        import pandas  # noqa: F401  (for the result table, imported while the workers size rather than after)
+
         try:
             for fut in as_completed(futures):
                 collect(fut.result())
