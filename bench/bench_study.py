@@ -20,7 +20,10 @@ time is what compares on a shared, loaded machine):
 "2 cores from CPU" is the CPU time of every process of the run divided by 2: the wall time on 2
 otherwise idle cores if both stay busy.
 
-Run: ``.venv/bin/python bench/bench_study.py [--sample N] [--grid 25,20,20] [--workers 1,2,4]``.
+Run: ``.venv/bin/python bench/bench_study.py [--sample N] [--grid 25,20,20] [--workers 1,2,4]``;
+``--against OTHER/src [--rounds 3]`` also times the cold ``sweep`` of another checkout (e.g. the
+main branch exported with ``git archive main src | tar -x -C OTHER``) alternately with this one's,
+side by side in the same run (run this one with ``PYTHONPATH=src``).
 """
 
 from __future__ import annotations
@@ -75,6 +78,20 @@ def _children_cpu() -> float:
     return ru.ru_utime + ru.ru_stime
 
 
+def _cold_sweep(path: Path, src: str) -> tuple[float, float]:
+    """Wall and CPU time of ``sweep`` on 2 workers in a new Python process (with ``src`` first on
+    its path if given); the CPU time of that process and its workers."""
+    code = ("import sys; from drivetrain.study import load_study, sweep; "
+            "sweep(load_study(sys.argv[1]), workers=2)")
+    env = {**os.environ}
+    if src:
+        env["PYTHONPATH"] = os.pathsep.join([str(Path(src).resolve()), env.get("PYTHONPATH", "")])
+    k0 = _children_cpu()
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, "-c", code, str(path)], check=True, env=env)
+    return time.perf_counter() - t0, _children_cpu() - k0
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--sample", type=int, default=250, help="variants of the obvious loop (extrapolated)")
@@ -82,6 +99,9 @@ def main() -> None:
                     help="masses,leads,times of the grid (default the issue's 25,20,20; a smaller grid over the same "
                          "ranges is reported with its times scaled to 10,000 variants)")
     ap.add_argument("--workers", default="1,2,4", help="warm LocalCluster sizes to time")
+    ap.add_argument("--against", default="", help="the src directory of another checkout: its cold `sweep` "
+                    "and this one's, alternated --rounds times, side by side")
+    ap.add_argument("--rounds", type=int, default=3, help="alternations of --against")
     args = ap.parse_args()
     counts = [int(x) for x in args.grid.split(",")]
     for key, num in zip(STUDY["parameters"], counts, strict=True):
@@ -126,13 +146,11 @@ def main() -> None:
         n_ok = sum(bool(r["ok"]) for r in rows)
         # sweep on 2 local workers, as a user runs it: a new Python process (imports, catalog, cluster
         # start and the result table included)
-        code = ("import sys; from drivetrain.study import load_study, sweep; "
-                "sweep(load_study(sys.argv[1]), workers=2)")
-        k0 = _children_cpu()
-        t0 = time.perf_counter()
-        subprocess.run([sys.executable, "-c", code, str(path)], check=True, env={**os.environ})
-        cold = time.perf_counter() - t0
-        cold_cpu = _children_cpu() - k0
+        cold, cold_cpu = _cold_sweep(path, "")
+        against: dict[str, list[tuple[float, float]]] = {"this": [], "against": []}
+        for _ in range(args.rounds if args.against else 0):
+            against["against"].append(_cold_sweep(path, args.against))
+            against["this"].append(_cold_sweep(path, ""))
         # warm clusters of 1, 2, 4 workers
         import dask
         from distributed import Client, LocalCluster
@@ -179,6 +197,14 @@ def main() -> None:
         print("\nThroughput of the warm clusters (variants per second of wall time): " + ", ".join(
             f"{w} worker{'s' if w > 1 else ''} {n / t:,.0f} ({(warm[base][0] / t):.2f}x {base})"
             for w, (t, _) in warm.items()) + f"; {os.cpu_count()} CPUs.")
+    if against["this"]:
+        def med(xs: list[tuple[float, float]], k: int) -> float:
+            return sorted(x[k] for x in xs)[len(xs) // 2]
+
+        print(f"\nCold `sweep` on 2 workers, alternated {len(against['this'])} times with `{args.against}`: "
+              + "; ".join(f"{name}: wall {', '.join(f'{x[0]:.1f}' for x in xs)} s (median {med(xs, 0):.1f} s), "
+                          f"CPU {', '.join(f'{x[1]:.1f}' for x in xs)} s (median {med(xs, 1):.1f} s)"
+                          for name, xs in against.items()) + ".")
     print(f"\nAgreement with `drivetrain.size` (selected motor, gearbox, every margin): {agree} of {len(checked)} "
           "sampled variants. Target (issue 15): < 10 s on 2 cores, >= 20x the obvious loop.")
 
