@@ -10,6 +10,7 @@ axis alone, and ``Engine.size_many`` must give each axis the answer of ``Engine.
 from __future__ import annotations
 
 import copy
+import itertools
 from pathlib import Path
 from typing import Any
 
@@ -159,3 +160,70 @@ def test_tasks_cover_every_variant_once_in_order(n: int, size: int, workers: int
     assert all(0 < len(t) <= size for t in tasks)
     if n >= 2 * workers * size:
         assert sum(len(t) == max(1, size // 4) for t in tasks) >= 2 * workers * 4 - 1  # the short tail
+
+
+def _one_motion() -> list[dict[str, Any]]:
+    """Variants of one lead and move time (the load masses of one motion), some with other margins
+    or gearbox options, and two of another motion."""
+    out = [_variant(m, 0.01, 0.5) for m in (5.0, 12.0, 25.0, 40.0, 400.0, 4000.0)]
+    out += [_variant(20.0, 0.01, 0.5, motor__select__gearbox="only"),
+            _variant(20.0, 0.01, 0.5, motor__margins__torque=1.6),
+            _variant(20.0, 0.01, 0.5, motor__select__objective="energy"),
+            _variant(8.0, 0.016, 0.4), _variant(30.0, 0.016, 0.4)]
+    return out
+
+
+def test_hulls_of_one_motion_equal_each_variant_alone() -> None:
+    """The hulls ``size_many`` computes for the variants of one motion together equal, array for
+    array, those of each variant alone (``fast_demands``), the load inertia its own."""
+    from drivetrain.sizing.hull import fast_demands
+    from drivetrain.sizing.selection import lossy_torque
+
+    engine = Engine()
+    axes = [parse_axis(d) for d in _one_motion()]
+    pairs = [(a, engine.duty(a)) for a in axes]
+    engine._prepare_hulls(pairs)
+    checked = 0
+    for axis, duty in pairs:
+        prepared = engine._prepared.get(id(duty))
+        for eff, dem in ({} if prepared is None else prepared[2]).items():
+            [alone] = fast_demands(duty.omega, duty.alpha, [lossy_torque(axis, duty, eff)], duty.weights, duty.period,
+                                   duty.load_inertia)
+            for name in ("omega", "alpha", "torque", "weights", "hull_speed", "hull_torque", "hull_alpha",
+                         "all_torque", "all_alpha"):
+                assert np.array_equal(getattr(dem, name), getattr(alone, name)), name
+            assert (dem.period, dem.load_inertia) == (alone.period, alone.load_inertia)
+            checked += 1
+    engine._prepared.clear()
+    assert checked >= 8
+
+
+def test_size_many_of_one_motion_equals_size() -> None:
+    axes = [parse_axis(d) for d in _one_motion()]
+    got = Engine().size_many(axes)
+    engine = Engine()
+    for axis, fast in zip(axes, got, strict=True):
+        assert fast == engine.size(axis)
+        ref = full_result(axis)
+        assert fast["ok"] == ref["ok"]
+        sel = ref["selection"].get("selected") or ref["candidates"][0]
+        mine = fast["selection"].get("selected") or fast["candidates"][0]
+        assert (mine["motor"], mine["gearbox"]) == (sel["motor"], sel["gearbox"])
+        for a, b in zip(mine["checks"], sel["checks"], strict=True):
+            assert a["name"] == b["name"]
+            assert a["margin"] == b["margin"] or a["margin"] == pytest.approx(b["margin"], rel=1e-12)
+
+
+def test_variants_of_one_motion_go_together() -> None:
+    from drivetrain.study import load_study
+    from drivetrain.study.runner import _by_motion
+
+    study_file = EXAMPLES / "studies" / "grid.yaml"
+    study = load_study(study_file)
+    items = list(enumerate(study.variants()))
+    grouped = _by_motion(items, study.parameters)
+    assert sorted(grouped) == items
+    motion = [tuple(v for p, v in zip(study.parameters, values, strict=True) if p.path != "mechanism.load.mass")
+              for _, values in grouped]
+    changes = sum(a != b for a, b in itertools.pairwise(motion))
+    assert changes == len(set(motion)) - 1  # each motion's variants in one run

@@ -264,6 +264,26 @@ def _batches(items: list[tuple[int, tuple[Any, ...]]], size: int) -> Iterator[li
         yield items[k:k + size]
 
 
+MOTION_NEUTRAL = ("mechanism.load.", "motor.", "guide.", "mechanism.nut.", "mechanism.screw.", "drive.",
+                  "environment.")
+"""Parameter paths that never change the motor shaft's speeds (loads, ratings, margins)."""
+
+
+def _by_motion(items: list[tuple[int, tuple[Any, ...]]],
+               parameters: tuple[Parameter, ...]) -> list[tuple[int, tuple[Any, ...]]]:
+    """The variants with the values that can change the motion (profile, lead, ratios) next to each
+    other, in order of first appearance: a task then holds whole groups of variants of one motion,
+    whose hulls the engine computes together (``Engine.size_many``). Rows are sorted by variant at
+    the end, so the order changes nothing else."""
+    moving = [k for k, p in enumerate(parameters) if not p.path.startswith(MOTION_NEUTRAL)]
+    if len(moving) == len(parameters):
+        return items
+    groups: dict[str, list[tuple[int, tuple[Any, ...]]]] = {}
+    for it in items:
+        groups.setdefault(repr([it[1][k] for k in moving]), []).append(it)
+    return [it for group in groups.values() for it in group]
+
+
 def _tasks(items: list[tuple[int, tuple[Any, ...]]], size: int,
            n_workers: int) -> Iterator[list[tuple[int, tuple[Any, ...]]]]:
     """Batches of ``size`` variants, the last ``2 x n_workers`` of them cut in quarters: the workers'
@@ -331,7 +351,7 @@ def run(study: Study, *, out: Path | None = None, scheduler: str | None = None, 
     if resume and out is not None:
         rows = _resume_rows(study, out)
     done = {int(r["variant"]) for r in rows}
-    todo = [(i, v) for i, v in enumerate(variants) if i not in done]
+    todo = _by_motion([(i, v) for i, v in enumerate(variants) if i not in done], study.parameters)
     bar = _Progress(len(variants), len(done), progress, study.spec.name)
     last = time.monotonic()
 
