@@ -7,8 +7,8 @@ time is what compares on a shared, loaded machine):
 
 * the obvious loop: ``drivetrain.size`` of each variant's axis mapping, one after the other (timed on
   an evenly spaced sample of the grid and extrapolated to the grid; one core);
-* the study's batched path in one process (every variant, in the runner's batches of 200), with the
-  mechanism checks of each batch computed together and, side by side, axis by axis;
+* the study's batched path in one process (every variant, in the runner's order and batches of
+  200), with the mechanism checks of each batch computed together and, side by side, axis by axis;
 * ``drivetrain.sweep`` as a user runs it, on the embedded LocalCluster of 2 worker processes, in a
   new Python process: everything (imports, catalog, cluster start, the result table) included, CPU
   time of that process and of its worker processes;
@@ -45,7 +45,7 @@ import drivetrain
 from drivetrain.axis.model import parse_axis
 from drivetrain.study import load_study, sweep
 from drivetrain.study.batch import Engine
-from drivetrain.study.runner import BATCH, EMBEDDED_CONFIG, make_plan, run_batch
+from drivetrain.study.runner import BATCH, EMBEDDED_CONFIG, _by_motion, make_plan, run_batch
 
 ROOT = Path(__file__).parents[1]
 STUDY = {"study": 1, "name": "10,000-variant grid", "base": str(ROOT / "examples" / "ball_screw.yaml"),
@@ -133,7 +133,7 @@ def main() -> None:
         # mechanism checks computed axis by axis (prepare_many off), as before they were batched
         import drivetrain.sizing.mechanism_checks as mc
 
-        items = list(enumerate(variants))
+        items = _by_motion(list(enumerate(variants)), study.parameters)  # the runner's order
         prepare = mc.prepare_many
         times: dict[str, tuple[float, float]] = {}
         for mode in ("axis by axis", "batched"):
