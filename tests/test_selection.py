@@ -65,6 +65,18 @@ def test_selected_passes_and_next_smaller_fails(family: str) -> None:
         assert best["rated_power_W"] == np.nanmin(powers)
 
 
+def test_next_smaller_motor_can_reach_the_cycle_speed() -> None:
+    """The shipped catalog holds low-speed direct-drive motors (Yaskawa SGM7D, 360 r/min max) smaller than the
+    ball-screw example's pick: the next smaller motor named is one that reaches the cycle's speed, so its failing
+    checks say how tight the pick is (a motor that only fails max_speed would say nothing)."""
+    sel = size(EXAMPLES / "ball_screw.yaml").selection
+    nxt = sel["next_smaller"]
+    checks = {c["name"]: c for c in nxt["checks"]}
+    assert checks["max_speed"]["status"] == "pass"
+    assert {c["name"] for c in nxt["checks"] if c["status"] == "fail"} & {"rms_torque", "peak_torque", "inertia_ratio"}
+    assert nxt["rated_power_W"] < sel["selected"]["rated_power_W"]
+
+
 def test_every_motor_against_every_ratio() -> None:
     res = size(EXAMPLES / "ball_screw.yaml")
     n_m = len(catalog.motors(kind="ac_servo"))

@@ -363,13 +363,22 @@ def _label(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None) -
     return str(motors.ids[c.motor[k]]) + ("" if g < 0 or gb is None else f" + {gb.ids[g]}")
 
 
+_MAX_SPEED_BIT = list(CHECK_UNITS).index("max_speed")
+
+
 def _next_smaller(c: Candidates, motors: MotorTable, gb: GearboxTable | None, best: int) -> dict[str, Any] | None:
     """The next smaller motor than the selected one, in its best configuration, and why it fails."""
     size = _size_key(motors)
     smaller = np.flatnonzero(size < size[c.motor[best]])  # every motor has candidates
     if not len(smaller):
         return None
-    k = closest(c, c.of_motors(np.flatnonzero(size == np.max(size[smaller]))))
+    # a motor that cannot reach the cycle's speed in any configuration (e.g. a low-speed direct-drive motor) says
+    # nothing about how tight the selection is: the next smaller motor is one that can, where there is one
+    fast = np.zeros(len(size), dtype=bool)
+    fast[c.motor[(c.failed & (1 << _MAX_SPEED_BIT)) == 0]] = True
+    if fast[smaller].any():
+        smaller = smaller[fast[smaller]]
+    k = closest(c, c.of_motors(smaller[size[smaller] == np.max(size[smaller])]))
     return candidate_dict(c, k, motors, gb, None)
 
 
