@@ -29,7 +29,10 @@ met here without an edit. What the batched path saves per variant, without chang
 * the mechanism checks (screw buckling, critical and DN speed, nut life and static safety, guide
   life and static safety) of a task's variants are computed together, as arrays over the variants
   (``Engine.size_many``, ``mechanism_checks.prepare_many``: the same entries, to the bit), and
-  ``size`` finds each variant's on its duty cycle.
+  ``size`` finds each variant's on its duty cycle;
+* the variants of a task with the same motion (the runner puts e.g. the load masses of one lead and
+  move time in one task) get the hulls of their first motor chunk from one compiled pass
+  (``Engine.size_many``; ``fast_demands`` gives each torque array the hull it gives it alone).
 
 The smallest-first search. ``selection.ranked`` orders the passing candidates by the objective
 (motor size x 1e6 + the gearbox's rated torque, which is never negative), ties in candidate order,
@@ -290,7 +293,8 @@ class Engine:
 
     def size_many(self, axes: list[Axis]) -> list[dict[str, Any] | InputError]:
         """:meth:`size` of each axis (or the InputError it raises), their mechanism checks computed
-        together first (``mechanism_checks.prepare_many``: the same entries)."""
+        together first (``mechanism_checks.prepare_many``: the same entries) and the hulls of
+        variants of equal motion in one pass (``_prepare_hulls``)."""
         from drivetrain.sizing.mechanism_checks import prepare_many
         from drivetrain.sizing.result import size
 
@@ -359,8 +363,9 @@ class Engine:
         if all_pairs:
             return select(axis, duty, spec, margins, all_pairs=True)
         tb = self.tables(axis, spec)
-        prepared = self._prepared.get(id(duty))
-        if prepared is not None and prepared[0] is not duty:
+        prepared = self._prepared.get(id(duty))  # made by size_many for this duty cycle and the axis's own spec
+        if prepared is not None and (prepared[0] is not duty or axis.spec.motor is None
+                                     or spec is not axis.spec.motor.select or margins is not axis.spec.motor.margins):
             prepared = None
         demands: dict[float, Demand] = {} if prepared is None else dict(prepared[2])
 
