@@ -7,7 +7,8 @@ time is what compares on a shared, loaded machine):
 
 * the obvious loop: ``drivetrain.size`` of each variant's axis mapping, one after the other (timed on
   an evenly spaced sample of the grid and extrapolated to the grid; one core);
-* the study's batched path in one process (every variant);
+* the study's batched path in one process (every variant, in the runner's order and batches of
+  200), with the mechanism checks of each batch computed together and, side by side, axis by axis;
 * ``drivetrain.sweep`` as a user runs it, on the embedded LocalCluster of 2 worker processes, in a
   new Python process: everything (imports, catalog, cluster start, the result table) included, CPU
   time of that process and of its worker processes;
@@ -19,7 +20,10 @@ time is what compares on a shared, loaded machine):
 "2 cores from CPU" is the CPU time of every process of the run divided by 2: the wall time on 2
 otherwise idle cores if both stay busy.
 
-Run: ``.venv/bin/python bench/bench_study.py [--sample N] [--grid 25,20,20] [--workers 1,2,4]``.
+Run: ``.venv/bin/python bench/bench_study.py [--sample N] [--grid 25,20,20] [--workers 1,2,4]``;
+``--against OTHER/src [--rounds 3]`` also times the cold ``sweep`` of another checkout (e.g. the
+main branch exported with ``git archive main src | tar -x -C OTHER``) alternately with this one's,
+side by side in the same run (run this one with ``PYTHONPATH=src``).
 """
 
 from __future__ import annotations
@@ -41,7 +45,7 @@ import drivetrain
 from drivetrain.axis.model import parse_axis
 from drivetrain.study import load_study, sweep
 from drivetrain.study.batch import Engine
-from drivetrain.study.runner import EMBEDDED_CONFIG, make_plan, run_batch
+from drivetrain.study.runner import BATCH, EMBEDDED_CONFIG, _by_motion, make_plan, run_batch
 
 ROOT = Path(__file__).parents[1]
 STUDY = {"study": 1, "name": "10,000-variant grid", "base": str(ROOT / "examples" / "ball_screw.yaml"),
@@ -74,6 +78,20 @@ def _children_cpu() -> float:
     return ru.ru_utime + ru.ru_stime
 
 
+def _cold_sweep(path: Path, src: str) -> tuple[float, float]:
+    """Wall and CPU time of ``sweep`` on 2 workers in a new Python process (with ``src`` first on
+    its path if given); the CPU time of that process and its workers."""
+    code = ("import sys; from drivetrain.study import load_study, sweep; "
+            "sweep(load_study(sys.argv[1]), workers=2)")
+    env = {**os.environ}
+    if src:
+        env["PYTHONPATH"] = os.pathsep.join([str(Path(src).resolve()), env.get("PYTHONPATH", "")])
+    k0 = _children_cpu()
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, "-c", code, str(path)], check=True, env=env)
+    return time.perf_counter() - t0, _children_cpu() - k0
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--sample", type=int, default=250, help="variants of the obvious loop (extrapolated)")
@@ -81,6 +99,9 @@ def main() -> None:
                     help="masses,leads,times of the grid (default the issue's 25,20,20; a smaller grid over the same "
                          "ranges is reported with its times scaled to 10,000 variants)")
     ap.add_argument("--workers", default="1,2,4", help="warm LocalCluster sizes to time")
+    ap.add_argument("--against", default="", help="the src directory of another checkout: its cold `sweep` "
+                    "and this one's, alternated --rounds times, side by side")
+    ap.add_argument("--rounds", type=int, default=3, help="alternations of --against")
     args = ap.parse_args()
     counts = [int(x) for x in args.grid.split(",")]
     for key, num in zip(STUDY["parameters"], counts, strict=True):
@@ -105,23 +126,31 @@ def main() -> None:
         # agreement on a sample
         engine = Engine(study.spec.points)
         checked = sample[:: max(1, len(sample) // 100)]
-        agree = sum(_agree(engine.size(parse_axis(plan.axis_dict(variants[i]))),
-                           drivetrain.size(plan.axis_dict(variants[i])).to_dict()) for i in checked)
-        # batched path, one process, every variant
-        t0, c0 = time.perf_counter(), time.process_time()
-        rows = run_batch(plan, list(enumerate(variants)))
-        one = time.perf_counter() - t0
-        one_cpu = time.process_time() - c0
+        fast = engine.size_many([parse_axis(plan.axis_dict(variants[i])) for i in checked])  # as a task sizes them
+        agree = sum(not isinstance(f, Exception) and _agree(f, drivetrain.size(plan.axis_dict(variants[i])).to_dict())
+                    for f, i in zip(fast, checked, strict=True))
+        # batched path, one process, every variant, in the runner's batches; side by side with the
+        # mechanism checks computed axis by axis (prepare_many off), as before they were batched
+        import drivetrain.sizing.mechanism_checks as mc
+
+        items = _by_motion(list(enumerate(variants)), study.parameters)  # the runner's order
+        prepare = mc.prepare_many
+        times: dict[str, tuple[float, float]] = {}
+        for mode in ("axis by axis", "batched"):
+            mc.prepare_many = prepare if mode == "batched" else (lambda pairs: 0)  # type: ignore[assignment]
+            t0, c0 = time.perf_counter(), time.process_time()
+            rows = [r for k in range(0, n, BATCH) for r in run_batch(plan, items[k:k + BATCH])]
+            times[mode] = (time.perf_counter() - t0, time.process_time() - c0)
+        mc.prepare_many = prepare
+        one, one_cpu = times["batched"]
         n_ok = sum(bool(r["ok"]) for r in rows)
         # sweep on 2 local workers, as a user runs it: a new Python process (imports, catalog, cluster
         # start and the result table included)
-        code = ("import sys; from drivetrain.study import load_study, sweep; "
-                "sweep(load_study(sys.argv[1]), workers=2)")
-        k0 = _children_cpu()
-        t0 = time.perf_counter()
-        subprocess.run([sys.executable, "-c", code, str(path)], check=True, env={**os.environ})
-        cold = time.perf_counter() - t0
-        cold_cpu = _children_cpu() - k0
+        cold, cold_cpu = _cold_sweep(path, "")
+        against: dict[str, list[tuple[float, float]]] = {"this": [], "against": []}
+        for _ in range(args.rounds if args.against else 0):
+            against["against"].append(_cold_sweep(path, args.against))
+            against["this"].append(_cold_sweep(path, ""))
         # warm clusters of 1, 2, 4 workers
         import dask
         from distributed import Client, LocalCluster
@@ -152,6 +181,9 @@ def main() -> None:
     loop_total, loop_cpu_total = loop_per * n, loop_cpu * n
     print(f"| obvious loop `drivetrain.size` per variant, 1 core ({len(sample)} variants, extrapolated) | "
           f"{loop_total:.1f} s | {loop_cpu_total:.1f} s | {loop_cpu * 1e3:.2f} ms | | 1x |")
+    a_wall, a_cpu = times["axis by axis"]
+    print(f"| batched path, 1 process, mechanism checks axis by axis (as before) | {a_wall:.1f} s | {a_cpu:.1f} s | "
+          f"{a_cpu / n * 1e3:.2f} ms | | {loop_total / a_wall:.1f}x; {loop_cpu_total / a_cpu:.1f}x |")
     print(f"| batched path, 1 process | {one:.1f} s | {one_cpu:.1f} s | {one_cpu / n * 1e3:.2f} ms | | "
           f"{loop_total / one:.1f}x; {loop_cpu_total / one_cpu:.1f}x |")
     print(f"| `sweep`, embedded LocalCluster of 2 processes, everything included | {cold:.1f} s | {cold_cpu:.1f} s | "
@@ -165,6 +197,14 @@ def main() -> None:
         print("\nThroughput of the warm clusters (variants per second of wall time): " + ", ".join(
             f"{w} worker{'s' if w > 1 else ''} {n / t:,.0f} ({(warm[base][0] / t):.2f}x {base})"
             for w, (t, _) in warm.items()) + f"; {os.cpu_count()} CPUs.")
+    if against["this"]:
+        def med(xs: list[tuple[float, float]], k: int) -> float:
+            return sorted(x[k] for x in xs)[len(xs) // 2]
+
+        print(f"\nCold `sweep` on 2 workers, alternated {len(against['this'])} times with `{args.against}`: "
+              + "; ".join(f"{name}: wall {', '.join(f'{x[0]:.1f}' for x in xs)} s (median {med(xs, 0):.1f} s), "
+                          f"CPU {', '.join(f'{x[1]:.1f}' for x in xs)} s (median {med(xs, 1):.1f} s)"
+                          for name, xs in against.items()) + ".")
     print(f"\nAgreement with `drivetrain.size` (selected motor, gearbox, every margin): {agree} of {len(checked)} "
           "sampled variants. Target (issue 15): < 10 s on 2 cores, >= 20x the obvious loop.")
 

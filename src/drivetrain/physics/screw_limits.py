@@ -274,9 +274,17 @@ def nut_life(dynamic_rating: float, axial_load: ArrayLike, speed: ArrayLike, dt:
         raise InputError("dt", "must be >= 0 s", dt)
     revs = np.abs(w) * t / (2.0 * math.pi)
     f_m = cubic_mean_load(preloaded_nut_load(f, preload), revs)
-    life_revs = (c / (fw * f_m)) ** 3 * 1e6
-    cycle_time = float(np.sum(t))
-    revs_per_cycle = float(np.sum(revs))
-    return ScrewLife(equivalent_load=f_m, revolutions=life_revs, distance=life_revs * h,
+    return nut_life_from_mean(c, f_m, float(np.sum(revs)), float(np.sum(t)), h, fw)
+
+
+def nut_life_from_mean(dynamic_rating: float, equivalent_load: float, revs_per_cycle: float, cycle_time: float,
+                       lead: float, load_factor: float = 1.0) -> ScrewLife:
+    """:func:`nut_life` from its cycle's cubic-mean load F_m [N] (preload included), the screw
+    revolutions per cycle [-] and the cycle time [s] (dwells included); ``lead`` [m/rev], C_a
+    [N] and f_w as there (already checked by the caller). The same formulas and sources as
+    :func:`nut_life`, which ends here.
+    """
+    life_revs = (dynamic_rating / (load_factor * equivalent_load)) ** 3 * 1e6
+    return ScrewLife(equivalent_load=equivalent_load, revolutions=life_revs, distance=life_revs * lead,
                      time=life_revs / revs_per_cycle * cycle_time,
                      mean_speed=revs_per_cycle * 2.0 * math.pi / cycle_time)

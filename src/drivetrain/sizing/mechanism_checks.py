@@ -10,6 +10,7 @@ entry shaped like the motor checks (name, required, available, margin, ok, unit)
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -205,9 +206,180 @@ def _rack_checks(axis: Axis, duty: DutyCycle, force: Array) -> list[dict[str, An
 
 
 def mechanism_checks(axis: Axis, duty: DutyCycle) -> list[dict[str, Any]]:
-    """Every mechanism check the axis file has ratings for (empty if none, or for a rotary mechanism)."""
+    """Every mechanism check the axis file has ratings for (empty if none, or for a rotary mechanism).
+
+    A duty cycle that :func:`prepare_many` prepared for this axis gives its checks computed there
+    (the same entries, computed together with those of other axes).
+    """
     if axis.mechanism.motion != "linear":
         return []
+    known = duty.__dict__.get(_PREPARED)
+    if known is not None and known[0] is axis:
+        return [dict(c) for c in known[1]]
     force = axial_force(axis, duty)
     return [*_screw_checks(axis, duty, force), *_guide_checks(axis, duty, force), *_belt_checks(axis, duty, force),
             *_rack_checks(axis, duty, force)]
+
+
+# ---------------------------------------------------------------------------------------------
+# many axes at once (a design-space study): the screw, nut and guide checks as arrays over axes
+
+_PREPARED = "_prepared_mechanism_checks"
+PREPARE_SLICE = 256
+"""Axes computed together at most (their arrays of samples stay a few MB)."""
+
+
+def prepare_many(pairs: Sequence[tuple[Axis, DutyCycle]]) -> int:
+    """Compute the mechanism checks of many (axis, duty cycle) pairs together and keep each on its
+    duty cycle, where :func:`mechanism_checks` of that axis finds it; returns how many were prepared.
+
+    The axes are taken in groups that differ only in what the checks read per axis (the load's
+    mass and forces, the screw lead, the motion's speeds and sample weights) and share the rest
+    (screw, nut and guide ratings, the stroke, the number of samples, no belt or rack). Each
+    group's sample-wise work (peak speeds and forces, equivalent loads, cubic means) runs as arrays
+    over its axes, with the same formulas and the same arithmetic as :func:`mechanism_checks`, which
+    ``tests/test_study_batch.py`` asserts to be equal, entry for entry. A group whose numbers would
+    raise an InputError (or any axis outside these cases) is left to :func:`mechanism_checks`.
+    """
+    groups: list[tuple[tuple[Any, ...], list[tuple[Axis, DutyCycle, Array]]]] = []
+    for axis, duty in pairs:
+        spec = axis.spec.mechanism
+        if (axis.mechanism.motion != "linear" or not isinstance(axis.mechanism.load, LinearLoad)
+                or getattr(spec, "belt", None) is not None or getattr(spec, "rack", None) is not None):
+            continue
+        try:
+            force = axial_force(axis, duty)
+            key = (getattr(spec, "screw", None), getattr(spec, "nut", None), getattr(spec, "length", None),
+                   getattr(spec, "diameter", None), axis.spec.guide, _stroke(duty), force.shape)
+        except InputError:
+            continue
+        for known, members in groups:
+            if known == key:
+                members.append((axis, duty, force))
+                break
+        else:
+            groups.append((key, [(axis, duty, force)]))
+    done = 0
+    for _, group in groups:
+        for start in range(0, len(group), PREPARE_SLICE):
+            members = group[start:start + PREPARE_SLICE]
+            try:
+                lists = _checks_of_group(members)
+            except InputError:
+                continue
+            for (axis, duty, _), checks in zip(members, lists, strict=True):
+                duty.__dict__[_PREPARED] = (axis, checks)
+            done += len(members)
+    return done
+
+
+def _checks_of_group(members: list[tuple[Axis, DutyCycle, Array]]) -> list[list[dict[str, Any]]]:
+    """The screw, nut and guide checks of axes that share their ratings and stroke (prepare_many)."""
+    first, first_duty, _ = members[0]
+    spec = first.spec.mechanism
+    limits = getattr(spec, "screw", None)
+    nut = getattr(spec, "nut", None)
+    force = np.stack([f for _, _, f in members])
+    lever = np.array([a.mechanism.lever for a, _, _ in members])
+    v = np.stack([np.asarray(d.samples.v, dtype=float) for _, d, _ in members])
+    weights = np.stack([d.weights for _, d, _ in members])
+    omega = v / lever[:, None]
+    w_peak = np.max(np.abs(omega), axis=1)
+    f_peak = np.max(np.abs(force), axis=1)
+    out: list[list[dict[str, Any]]] = [[] for _ in members]
+    if limits is not None:  # the ratings and the stroke are the group's: the first axis's checks hold for all
+        pos, span = nut_travel_positions(first, first_duty)
+        d1 = limits.root_diameter
+        buck = float(screw_limits.buckling_load(d1, screw_limits.buckling_length(pos, span, limits.mounting),
+                                                limits.mounting, limits.youngs_modulus).min())
+        tensile = screw_limits.permissible_tensile_compressive_load(d1)
+        crit = float(screw_limits.critical_speed(d1, span, limits.mounting, limits.youngs_modulus))
+        dn = None
+        if limits.dn_limit is not None:
+            dcirc = limits.ball_circle_diameter or getattr(spec, "diameter", None)
+            if dcirc is None:
+                raise InputError("mechanism.screw.ball_circle_diameter", "is required", has_value=False)
+            dn = (screw_limits.dn_speed_limit(dcirc, limits.dn_limit) * RPM, dcirc)
+        for k, row in enumerate(out):
+            row.append(_check("screw_buckling", f_peak[k], buck, "N", SRC_THK_AXIAL,
+                              "largest axial load taken as compressive; worst nut position over the stroke"))
+            row.append(_check("screw_tensile_compressive", f_peak[k], tensile, "N", SRC_THK_AXIAL))
+            row.append(_check("screw_critical_speed", w_peak[k] * RPM, crit * RPM, "rpm", SRC_THK_SPEED,
+                              f"unsupported length {span:g} m, {limits.mounting}"))
+            if dn is not None:
+                row.append(_check("screw_dn_speed", w_peak[k] * RPM, dn[0], "rpm", SRC_THK_SPEED,
+                                  f"DN {limits.dn_limit:g} mm/min at D = {dn[1] * 1e3:g} mm"))
+    if nut is not None:
+        _nut_checks(members, nut, force, omega, weights, out)
+    if first.spec.guide is not None and first.spec.guide.dynamic_rating is not None:
+        _guide_rows(members, force, v, weights, out)
+    return out
+
+
+def _nut_checks(members: list[tuple[Axis, DutyCycle, Array]], nut: Any, force: Array, omega: Array, weights: Array,
+                out: list[list[dict[str, Any]]]) -> None:
+    """nut_life and nut_static_safety of a group (screw_limits.nut_life row by row)."""
+    try:
+        c = screw_limits._positive(nut.C_a, "nut.C_a", "N")
+        fw = screw_limits._positive(nut.load_factor, "load_factor", "")
+        if not np.all(np.isfinite(weights)) or np.any(weights < 0.0):
+            raise InputError("dt", "must be >= 0 s", has_value=False)
+        revs = np.abs(omega) * weights / (2.0 * math.pi)
+        loaded = screw_limits.preloaded_nut_load(force, nut.preload)
+        f_m = rolling_life.cubic_mean_loads(loaded, revs)
+    except InputError as exc:
+        raise exc.at("mechanism.nut") from None
+    revs_cycle = np.sum(revs, axis=1)
+    cycle_time = np.sum(weights, axis=1)
+    f_static = np.max(loaded, axis=1)
+    for k, (axis, _, _) in enumerate(members):
+        lead = getattr(axis.spec.mechanism, "lead", axis.mechanism.lever * 2 * math.pi)
+        h = screw_limits._positive(lead, "lead", "m")
+        life = screw_limits.nut_life_from_mean(c, float(f_m[k]), float(revs_cycle[k]), float(cycle_time[k]), h, fw)
+        out[k].append(_check("nut_life", nut.required_life / 3600.0, life.hours, "h", SRC_NUT_LIFE,
+                             f"F_m = {life.equivalent_load:.4g} N, L10 = {life.revolutions:.4g} rev = "
+                             f"{life.km:.4g} km"))
+        if nut.C_0a is not None:
+            fs = nut.C_0a / float(f_static[k]) if f_static[k] > 0 else math.inf
+            out[k].append(_check("nut_static_safety", nut.static_safety, fs, "-",
+                                 SRC_THK_AXIAL + "; ISO 76 s0 = C0 / P0"))
+
+
+def _guide_rows(members: list[tuple[Axis, DutyCycle, Array]], force: Array, v: Array, weights: Array,
+                out: list[list[dict[str, Any]]]) -> None:
+    """guide_life and guide_static_safety of a group (_guide_checks row by row)."""
+    g = members[0][0].spec.guide
+    assert g is not None and g.dynamic_rating is not None
+    weight = np.array([[a.mechanism.load.mass * a.gravity] for a, _, _ in members])  # type: ignore[union-attr]
+    mom = carriage_moments(force, weight, g.l_x, g.l_y, g.l_z, g.d_p, g.d_r, g.orientation)  # type: ignore[arg-type]
+    moments = {k.split("_")[0]: mom[k] for k in ("pitch_Nm", "roll_Nm", "yaw_Nm")}
+    factors: dict[str, float] = {str(k): float(v) for k, v in (g.moment_factors or {}).items()}
+    used: dict[str, ArrayLike] = {name: m for name, m in moments.items() if name in factors}
+    unused = np.zeros(len(members), dtype=bool)
+    for name, m in moments.items():
+        if name not in factors:
+            unused |= np.any(np.abs(m) > 0, axis=1)
+    p = rolling_life.guide_equivalent_load(mom["normal_N"] / g.carriages, used, factors)
+    travel = rolling_life.travel_weights(v, weights)
+    loaded = np.max(p, axis=1) > 0.0
+    p_m = np.zeros(len(members))
+    if np.any(loaded):
+        p_m[loaded] = rolling_life.cubic_mean_loads(p[loaded], travel[loaded], rolling_life.life_exponent(g.rolling))
+    travel_cycle = np.sum(travel, axis=1)
+    fs = None
+    if g.static_rating is not None:
+        fs = np.min(rolling_life.guide_static_safety_factor(g.static_rating, np.maximum(p, 1e-300)), axis=1)
+    for k, (_, duty, _) in enumerate(members):
+        if not loaded[k]:
+            out[k].append(_check("guide_life", g.required_life / 3600.0, math.inf, "h", SRC_GUIDE,
+                                 "no load on the carriages"))
+            continue
+        note = "moments without moment_factors are not in the carriage load" if unused[k] else ""
+        life_m = float(rolling_life.guide_life(g.dynamic_rating, max(float(p_m[k]), 1e-12), g.rating_distance,
+                                               g.rolling, f_w=g.load_factor))
+        hours = float(rolling_life.life_time(life_m, float(travel_cycle[k]), duty.period)) / 3600.0
+        out[k].append(_check("guide_life", g.required_life / 3600.0, hours, "h", SRC_GUIDE,
+                             f"P_m = {float(p_m[k]):.4g} N per carriage, L10 = {life_m / 1e3:.4g} km"
+                             + (f"; {note}" if note else "")))
+        if fs is not None:
+            out[k].append(_check("guide_static_safety", g.static_safety, float(fs[k]), "-", SRC_GUIDE))

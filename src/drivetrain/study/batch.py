@@ -25,7 +25,14 @@ met here without an edit. What the batched path saves per variant, without chang
   answer holds the selected candidate (or, when nothing passes, the closest one) and, where the
   whole catalog was evaluated (objectives other than ``smallest``), the counts of ``select``;
 * the drive post-pass (a drive for the selected motor, its currents, regen) runs only for an engine
-  made with ``drives`` (a study that records one of its keys).
+  made with ``drives`` (a study that records one of its keys);
+* the mechanism checks (screw buckling, critical and DN speed, nut life and static safety, guide
+  life and static safety) of a task's variants are computed together, as arrays over the variants
+  (``Engine.size_many``, ``mechanism_checks.prepare_many``: the same entries, to the bit), and
+  ``size`` finds each variant's on its duty cycle;
+* the variants of a task with the same motion (the runner puts e.g. the load masses of one lead and
+  move time in one task) get the hulls of their first motor chunk from one compiled pass
+  (``Engine.size_many``; ``fast_demands`` gives each torque array the hull it gives it alone).
 
 The smallest-first search. ``selection.ranked`` orders the passing candidates by the objective
 (motor size x 1e6 + the gearbox's rated torque, which is never negative), ties in candidate order,
@@ -46,7 +53,7 @@ those of ``drivetrain.size``, and checks the bounds against every candidate of t
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
@@ -55,6 +62,7 @@ from numpy.typing import NDArray
 
 from drivetrain.axis.model import Axis
 from drivetrain.duty.cycle import cubic_mean, duty_from_samples
+from drivetrain.errors import InputError
 from drivetrain.sizing.candidates import FIT_BIT
 from drivetrain.sizing.checks import shock_factor
 from drivetrain.sizing.hull import fast_demands
@@ -252,6 +260,8 @@ class Engine:
         self.drives = drives  # the drive post-pass of size (a drive for the selected motor, its currents)
         self._tables: dict[str, Tables] = {}
         self._kinematics: dict[str, tuple[Cycle, Samples]] = {}
+        # size_many: a variant's search bounds and the hulls computed with its motion's other variants
+        self._prepared: dict[int, tuple[DutyCycle, Search, dict[float, Demand]]] = {}
 
     def tables(self, axis: Axis, spec: SelectSpec) -> Tables:
         """The catalog tables of this axis's selection (loaded on first use, then kept)."""
@@ -281,6 +291,71 @@ class Engine:
 
         return answer(size(axis, self.points, duty=self.duty(axis), selector=self.select, drives=self.drives))
 
+    def size_many(self, axes: list[Axis]) -> list[dict[str, Any] | InputError]:
+        """:meth:`size` of each axis (or the InputError it raises), their mechanism checks computed
+        together first (``mechanism_checks.prepare_many``: the same entries) and the hulls of
+        variants of equal motion in one pass (``_prepare_hulls``)."""
+        from drivetrain.sizing.mechanism_checks import prepare_many
+        from drivetrain.sizing.result import size
+
+        duties: list[DutyCycle | InputError] = []
+        for axis in axes:
+            try:
+                duties.append(self.duty(axis))
+            except InputError as exc:
+                duties.append(exc)
+        pairs = [(a, d) for a, d in zip(axes, duties, strict=True) if not isinstance(d, InputError)]
+        prepare_many(pairs)
+        out: list[dict[str, Any] | InputError] = []
+        try:
+            self._prepare_hulls(pairs)
+            for axis, duty in zip(axes, duties, strict=True):
+                if isinstance(duty, InputError):
+                    out.append(duty)
+                    continue
+                try:
+                    out.append(answer(size(axis, self.points, duty=duty, selector=self.select, drives=self.drives)))
+                except InputError as exc:
+                    out.append(exc)
+        finally:
+            self._prepared.clear()
+        return out
+
+    def _prepare_hulls(self, pairs: list[tuple[Axis, DutyCycle]]) -> None:
+        """The search bounds of each variant whose selection searches smallest first, and the hulls
+        its first motor chunk needs, computed in one compiled pass for the variants of equal motion
+        (the same motor-shaft speeds and accelerations: e.g. the load masses of one lead and move
+        time). ``fast_demands`` gives each torque array the hull it gives it alone, so each variant's
+        hulls are those ``select`` would compute (the load inertia set to the variant's own)."""
+        by_motion: dict[int, list[tuple[Axis, DutyCycle, list[float]]]] = {}
+        for axis, duty in pairs:
+            m = axis.spec.motor
+            if axis.motor is not None or m is None or m.select is None or m.select.objective != "smallest":
+                continue
+            tb = self.tables(axis, m.select)
+            bounds = search_bounds(tb, duty, m.margins, m.select)
+            self._prepared[id(duty)] = (duty, bounds, {})
+            order = _search_order(tb, bounds)
+            first = _chunk_candidates(tb, bounds, _chunk(tb, order, 0)[0]) if len(order) else None
+            if first is not None:
+                effs = tb.efficiencies(tb.row_group[first[1]], first[0])
+                by_motion.setdefault(id(duty.samples), []).append((axis, duty, effs))
+        for members in by_motion.values():
+            while members:
+                ref = members[0][1]
+                same = [x for x in members if x[1] is ref or (x[1].period == ref.period and np.array_equal(
+                    x[1].omega, ref.omega) and np.array_equal(x[1].alpha, ref.alpha))]
+                members = [x for x in members if not any(x is y for y in same)]
+                if len(same) < 2:
+                    continue  # alone: select computes its hulls as before
+                owners = [(axis, duty, e) for axis, duty, effs in same for e in effs]
+                demands = fast_demands(ref.omega, ref.alpha, [lossy_torque(a, d, e) for a, d, e in owners],
+                                       ref.weights, ref.period, ref.load_inertia)
+                for (_, duty, e), dem in zip(owners, demands, strict=True):
+                    if duty.load_inertia != ref.load_inertia:
+                        dem = replace(dem, load_inertia=duty.load_inertia)
+                    self._prepared[id(duty)][2][e] = dem
+
     def select(self, axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
                all_pairs: bool = False) -> dict[str, Any]:
         """``selection.select``'s answer for its first candidate: the same selected (or closest)
@@ -288,7 +363,11 @@ class Engine:
         if all_pairs:
             return select(axis, duty, spec, margins, all_pairs=True)
         tb = self.tables(axis, spec)
-        demands: dict[float, Demand] = {}
+        prepared = self._prepared.get(id(duty))  # made by size_many for this duty cycle and the axis's own spec
+        if prepared is not None and (prepared[0] is not duty or axis.spec.motor is None
+                                     or spec is not axis.spec.motor.select or margins is not axis.spec.motor.margins):
+            prepared = None
+        demands: dict[float, Demand] = {} if prepared is None else dict(prepared[2])
 
         def ev(motors: MotorTable, gb: GearboxTable | None, allow_direct: bool, effs: list[float]) -> Candidates:
             missing = [e for e in effs if e not in demands]
@@ -301,7 +380,7 @@ class Engine:
                             given_demands=demands)
 
         if spec.objective == "smallest":
-            bounds = search_bounds(tb, duty, margins, spec)
+            bounds = search_bounds(tb, duty, margins, spec) if prepared is None else prepared[1]
             found = _smallest_first(ev, tb, bounds, duty)
             if found is not None:
                 return _summary(*found, tb, spec, duty, evaluated_all=False)
@@ -320,15 +399,12 @@ Found = tuple["Candidates", "MotorTable", "GearboxTable | None", NDArray[np.intp
 def _smallest_first(ev: Any, tb: Tables, bounds: Search, duty: DutyCycle) -> Found | None:
     """The candidates that hold the best one (motors of the chunks with a passing candidate, the
     gearbox rows any of them can pass with), and their ranking; None when no candidate passes."""
-    order = tb.order[np.any(bounds.feasible, axis=0)[tb.order]]
+    order = _search_order(tb, bounds)
     passing_chunks: list[NDArray[np.intp]] = []
     best: Found | None = None
     start = 0
     while start < len(order):
-        stop = min(start + CHUNK, len(order))
-        while stop < len(order) and tb.size_key[order[stop]] == tb.size_key[order[stop - 1]]:
-            stop += 1  # motors of equal size go in the same chunk
-        members = np.sort(order[start:stop])
+        members, stop = _chunk(tb, order, start)
         start = stop
         found = _evaluate_chunk(ev, tb, bounds, members)
         if found is not None and np.any(found[0].ok):
@@ -353,13 +429,38 @@ def _evaluate_chunk(ev: Any, tb: Tables, bounds: Search,
     candidate fails. The rows keep their catalog order, so the candidates keep theirs and
     ``ranked`` breaks ties as over the whole catalog.
     """
+    which = _chunk_candidates(tb, bounds, members)
+    if which is None:
+        return None
+    direct, rows = which
+    sub, gb = tb.sub_table(members), tb.sub_gearboxes(rows)
+    return ev(sub, gb, direct, tb.efficiencies(tb.row_group[rows], direct)), sub, gb
+
+
+def _search_order(tb: Tables, bounds: Search) -> NDArray[np.intp]:
+    """The motors some ratio can pass the max-speed and inertia-ratio checks with, by size key."""
+    return tb.order[np.any(bounds.feasible, axis=0)[tb.order]]
+
+
+def _chunk(tb: Tables, order: NDArray[np.intp], start: int) -> tuple[NDArray[np.intp], int]:
+    """The motors of the chunk from ``order[start]`` (ascending), and where the next one starts:
+    ``CHUNK`` motors, and those of the same size as the last."""
+    stop = min(start + CHUNK, len(order))
+    while stop < len(order) and tb.size_key[order[stop]] == tb.size_key[order[stop - 1]]:
+        stop += 1  # motors of equal size go in the same chunk
+    return np.sort(order[start:stop]), stop
+
+
+def _chunk_candidates(tb: Tables, bounds: Search,
+                      members: NDArray[np.intp]) -> tuple[bool, NDArray[np.intp]] | None:
+    """What ``_evaluate_chunk`` evaluates for the motors ``members``: (direct drive, the gearbox
+    rows), None when nothing of theirs can pass."""
     groups = np.any(bounds.feasible[:, members], axis=1)
     direct = tb.allow_direct and bool(groups[0])
     rows = np.flatnonzero(bounds.row_ok & groups[tb.row_group]) if tb.gb is not None else np.zeros(0, np.intp)
     if not direct and not len(rows):
         return None
-    sub, gb = tb.sub_table(members), tb.sub_gearboxes(rows)
-    return ev(sub, gb, direct, tb.efficiencies(tb.row_group[rows], direct)), sub, gb
+    return direct, rows
 
 
 def _closest_of_all(ev: Any, tb: Tables, bounds: Search) -> tuple[Candidates, MotorTable, GearboxTable | None] | None:

@@ -13,6 +13,7 @@ import json
 import logging
 import math
 import os
+import pickle
 import sys
 import time
 from collections.abc import Callable, Iterable, Iterator
@@ -27,6 +28,8 @@ from drivetrain.study.spec import Parameter, Study
 if TYPE_CHECKING:
     import pandas as pd
 
+    from drivetrain.axis.model import Axis
+
 ENV_SCHEDULER = "DRIVETRAIN_SCHEDULER"
 BATCH = 200
 """Variants per task."""
@@ -36,11 +39,17 @@ META_KEY = b"drivetrain.study"
 CONNECT_TIMEOUT = "10s"
 """How long to try reaching an existing scheduler."""
 EMBEDDED_CONFIG: dict[str, Any] = {"distributed.worker.profile.enabled": False,
-                                   "distributed.admin.system-monitor.gil.enabled": False}
-"""Dask settings of the embedded cluster: no statistical profiler or GIL monitor beside the sizing,
-and on Linux worker processes forked from this one, so that they start with the modules, the unit
-registry, the compiled code and the catalog tables this process has loaded (``make_plan`` sized
-the base axis); elsewhere Dask's default start method."""
+                                   "distributed.admin.system-monitor.gil.enabled": False,
+                                   "distributed.admin.tick.interval": "1s",
+                                   "distributed.admin.system-monitor.interval": "5s",
+                                   "distributed.admin.system-monitor.disk": False,
+                                   "distributed.worker.memory.monitor-interval": "1s"}
+"""Dask settings of the embedded cluster: no statistical profiler or GIL monitor beside the sizing;
+the event-loop tick, the system monitor (no disk counters) and the workers' memory monitor at
+1-5 s instead of 20-500 ms (their bookkeeping took about 6 % of a core in this process while the
+workers sized, measured); and on Linux worker processes forked from this one, so that they start
+with the modules, the unit registry, the compiled code and the catalog tables this process has
+loaded (``make_plan`` sized the base axis); elsewhere Dask's default start method."""
 if sys.platform.startswith("linux"):
     EMBEDDED_CONFIG["distributed.worker.multiprocessing-method"] = "fork"
 
@@ -82,29 +91,61 @@ def _engine(points: int, drives: bool = False) -> Any:
 
 def size_variant(plan: Plan, values: tuple[Any, ...]) -> dict[str, Any]:
     """One variant's result mapping (batched path, or ``size().to_dict()`` when the record needs it)."""
-    from drivetrain.axis.model import check_text, parse_axis
     from drivetrain.study.batch import full_result
+
+    axis = variant_axis(plan, values)
+    return full_result(axis, plan.points) if plan.full else _engine(plan.points, plan.drives).size(axis)
+
+
+def variant_axis(plan: Plan, values: tuple[Any, ...]) -> Axis:
+    """A variant's axis (InputError naming the field if its values make bad input)."""
+    from drivetrain.axis.model import check_text, parse_axis
 
     # the base's text was checked by make_plan (parse_axis of the base); only the new values need it
     for p, v in zip(plan.parameters, values, strict=True):
         check_text(v, p.path)
-    axis = parse_axis(plan.axis_dict(values), text_checked=True)
-    return full_result(axis, plan.points) if plan.full else _engine(plan.points, plan.drives).size(axis)
+    return parse_axis(plan.axis_dict(values), text_checked=True)
 
 
 def run_batch(plan: Plan, items: list[tuple[int, tuple[Any, ...]]]) -> list[dict[str, Any]]:
-    """Size a batch of variants; a variant whose values make bad input gets its error in its row."""
+    """Size a batch of variants; a variant whose values make bad input gets its error in its row.
+
+    On the batched path the batch's axes are sized together (``Engine.size_many``: their
+    mechanism checks as arrays over the batch), each with the answer it gets alone."""
+    results: list[dict[str, Any] | InputError] = []
+    if plan.full:
+        for _, values in items:
+            try:
+                results.append(size_variant(plan, values))
+            except InputError as exc:
+                results.append(exc)
+    else:
+        axes: list[Axis | InputError] = []
+        for _, values in items:
+            try:
+                axes.append(variant_axis(plan, values))
+            except InputError as exc:
+                axes.append(exc)
+        sized = iter(_engine(plan.points, plan.drives).size_many([a for a in axes if not isinstance(a, InputError)]))
+        results = [a if isinstance(a, InputError) else next(sized) for a in axes]
     rows = []
-    for idx, values in items:
+    for (idx, values), res in zip(items, results, strict=True):
         row: dict[str, Any] = {"variant": idx}
         row.update({p.path: v for p, v in zip(plan.parameters, values, strict=True)})
-        try:
-            row.update(row_from(size_variant(plan, values), list(plan.record)))
+        if isinstance(res, InputError):
+            row.update({"ok": False, "error": str(res)})
+        else:
+            row.update(row_from(res, list(plan.record)))
             row["error"] = ""
-        except InputError as exc:
-            row.update({"ok": False, "error": str(exc)})
         rows.append(row)
     return rows
+
+
+def run_packed(plan: Plan, packed: bytes) -> list[dict[str, Any]]:
+    """``run_batch`` of a pickled list of variants: a task's argument is one opaque object, which
+    Dask sends as it is instead of walking its 10,000 values when the task graph is built."""
+    items: list[tuple[int, tuple[Any, ...]]] = pickle.loads(packed)  # made by _run_dask
+    return run_batch(plan, items)
 
 
 def make_plan(study: Study) -> Plan:
@@ -113,8 +154,9 @@ def make_plan(study: Study) -> Plan:
     from drivetrain.study.batch import full_result
 
     axis = parse_axis(study.base)
-    full = full_result(axis, study.spec.points)
     fast = _engine(study.spec.points).size(axis)
+    # the full result only where the batched one lacks a recorded key (to tell unknown keys apart)
+    full = fast if not fast_covers(fast, fast, study.spec.record)[1] else full_result(axis, study.spec.points)
     covered, unknown = fast_covers(fast, full, study.spec.record)
     if unknown:
         k = study.spec.record.index(unknown[0])
@@ -222,6 +264,35 @@ def _batches(items: list[tuple[int, tuple[Any, ...]]], size: int) -> Iterator[li
         yield items[k:k + size]
 
 
+MOTION_NEUTRAL = ("mechanism.load.", "motor.", "guide.", "mechanism.nut.", "mechanism.screw.", "drive.",
+                  "environment.")
+"""Parameter paths that never change the motor shaft's speeds (loads, ratings, margins)."""
+
+
+def _by_motion(items: list[tuple[int, tuple[Any, ...]]],
+               parameters: tuple[Parameter, ...]) -> list[tuple[int, tuple[Any, ...]]]:
+    """The variants with the values that can change the motion (profile, lead, ratios) next to each
+    other, in order of first appearance: a task then holds whole groups of variants of one motion,
+    whose hulls the engine computes together (``Engine.size_many``). Rows are sorted by variant at
+    the end, so the order changes nothing else."""
+    moving = [k for k, p in enumerate(parameters) if not p.path.startswith(MOTION_NEUTRAL)]
+    if len(moving) == len(parameters):
+        return items
+    groups: dict[str, list[tuple[int, tuple[Any, ...]]]] = {}
+    for it in items:
+        groups.setdefault(repr([it[1][k] for k in moving]), []).append(it)
+    return [it for group in groups.values() for it in group]
+
+
+def _tasks(items: list[tuple[int, tuple[Any, ...]]], size: int,
+           n_workers: int) -> Iterator[list[tuple[int, tuple[Any, ...]]]]:
+    """Batches of ``size`` variants, the last ``2 x n_workers`` of them cut in quarters: the workers'
+    last tasks end closer together (one worker idles for at most a short task at the end)."""
+    tail = min(len(items), 2 * n_workers * size)
+    yield from _batches(items[:len(items) - tail], size)
+    yield from _batches(items[len(items) - tail:], max(1, size // 4))
+
+
 class _Progress:
     """A rich progress bar with rate and ETA (silent when disabled)."""
 
@@ -280,7 +351,7 @@ def run(study: Study, *, out: Path | None = None, scheduler: str | None = None, 
     if resume and out is not None:
         rows = _resume_rows(study, out)
     done = {int(r["variant"]) for r in rows}
-    todo = [(i, v) for i, v in enumerate(variants) if i not in done]
+    todo = _by_motion([(i, v) for i, v in enumerate(variants) if i not in done], study.parameters)
     bar = _Progress(len(variants), len(done), progress, study.spec.name)
     last = time.monotonic()
 
@@ -346,7 +417,10 @@ def _run_dask(plan: Plan, todo: list[tuple[int, tuple[Any, ...]]], batch: int, a
         # small studies: enough tasks for every worker
         size = max(1, min(batch, math.ceil(len(todo) / (4 * n_workers))))
         [plan_f] = client.scatter([plan], broadcast=True)
-        futures = [client.submit(run_batch, plan_f, chunk, pure=False) for chunk in _batches(todo, size)]
+        futures = [client.submit(run_packed, plan_f, pickle.dumps(chunk, protocol=pickle.HIGHEST_PROTOCOL),
+                                 pure=False) for chunk in _tasks(todo, size, n_workers)]
+        import pandas  # noqa: F401  (for the result table, imported while the workers size rather than after)
+
         try:
             for fut in as_completed(futures):
                 collect(fut.result())
@@ -359,4 +433,5 @@ def _run_dask(plan: Plan, todo: list[tuple[int, tuple[Any, ...]]], batch: int, a
             cluster.close()
 
 
-__all__ = ["BATCH", "ENV_SCHEDULER", "Plan", "make_plan", "read_parquet", "run", "run_batch", "write_results"]
+__all__ = ["BATCH", "ENV_SCHEDULER", "Plan", "make_plan", "read_parquet", "run", "run_batch", "run_packed",
+           "variant_axis", "write_results"]
