@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import http.client
 import json
-import multiprocessing
 import random
 import signal
 import socket
@@ -229,10 +228,15 @@ def test_an_internal_error_is_json_and_keeps_the_connection(server: Server) -> N
 
 def test_requests_past_the_time_limit_are_stopped_and_others_still_size(server: Server) -> None:
     stall = json.dumps(example_axis("stall")).encode()
-    # every worker warmed up and idle first (on a loaded machine the replacements of workers an earlier test
-    # stopped may still be starting): then each stalled request runs on one of the workers listed here
-    assert server.app.state.sizing_workers().wait_ready(120.0)
-    before = [p for p in multiprocessing.active_children() if p.name == "drivetrain-sizing"]
+    # every worker of this server warmed up and idle first (on a loaded machine an earlier test's request may
+    # still be computing, or the replacement of a worker it stopped still starting): then each stalled request
+    # takes one of the workers listed here, none waits for a busy one past the limit
+    pool = server.app.state.sizing_workers()
+    deadline = time.monotonic() + 120.0
+    while not (pool.wait_ready(5.0) and len(pool.idle) == pool.size):
+        assert time.monotonic() < deadline, "the sizing workers did not become idle"
+        time.sleep(0.2)
+    before = [w.process for w in pool.idle]
     assert 0 < len(before) <= web_app.MAX_PARALLEL_WORK
     stalls = max(2, web_app.MAX_PARALLEL_WORK)  # as many as there are workers: every one of them is stalled
     with ThreadPoolExecutor(stalls) as pool:
