@@ -325,6 +325,24 @@ class _Progress:
             self.bar.stop()
 
 
+_FREEZE_AT_EXIT: list[bool] = []
+
+
+def _freeze_at_exit() -> None:
+    """Once per process: at its end, freeze the objects that exist (``gc.freeze``) before the
+    interpreter's last collections, which would otherwise examine every object of the modules a
+    study imports (Dask, pandas, pyarrow) and its rows once more just before the memory is given
+    back: 0.15-0.2 s at the end of a 10,000-variant ``sweep`` on 2 workers, 0.01-0.03 s with it
+    (measured, bench/RESULTS.md). Objects still go when nothing refers to them; only cyclic
+    garbage left at the very end is not collected, as the operating system frees it anyway."""
+    if not _FREEZE_AT_EXIT:
+        import atexit
+        import gc
+
+        atexit.register(gc.freeze)
+        _FREEZE_AT_EXIT.append(True)
+
+
 def scheduler_address(scheduler: str | None) -> str | None:
     """``--scheduler`` or ``$DRIVETRAIN_SCHEDULER`` (None: an embedded cluster)."""
     return scheduler or os.environ.get(ENV_SCHEDULER) or None
@@ -346,6 +364,7 @@ def run(study: Study, *, out: Path | None = None, scheduler: str | None = None, 
     if resume and out is None:
         raise InputError("--resume", "needs the output file whose partial result to continue", has_value=False)
     plan = make_plan(study)
+    _freeze_at_exit()
     variants = study.variants()
     rows: list[dict[str, Any]] = []
     if resume and out is not None:
