@@ -106,6 +106,17 @@ class Tables:
     size_key: Array  # the objective's motor size [W]
     order: NDArray[np.intp]  # motors by size key, ascending (stable; NaN last)
     _subs: dict[bytes, Any] = field(default_factory=dict)
+    _speed: dict[tuple[float, ...], Array] = field(default_factory=dict)  # search_bounds' speed halves
+
+    def speed_half(self, key: tuple[float, ...], make: Any) -> Array:
+        """``make()``, the half of a search bound that depends on the motion alone (its top and mean
+        speeds) and the margins, computed once for the variants of equal motion (the same array)."""
+        hit = self._speed.get(key)
+        if hit is None:
+            if len(self._speed) > 256:  # (ratio groups x motors) floats each, ~150 kB
+                self._speed.clear()
+            hit = self._speed[key] = make()
+        return hit
 
     def sub_table(self, members: NDArray[np.intp]) -> MotorTable:
         """The motors ``members`` (ascending) as a table, kept for the next variant that needs them."""
@@ -204,19 +215,20 @@ def search_bounds(tb: Tables, duty: DutyCycle, margins: Margins, spec: SelectSpe
     with np.errstate(divide="ignore", invalid="ignore"):
         need = top * tb.ratios * margins.speed
         j_load = duty.load_inertia / tb.ratios**2
-        pair = np.fmin(m.max_speed[None, :] / need[:, None] - 1.0,
+        # the max-speed half depends on the motion alone: one array for the variants of one motion
+        pair = np.fmin(tb.speed_half((top, margins.speed), lambda: m.max_speed[None, :] / need[:, None] - 1.0),
                        limit * m.rotor_inertia[None, :] / j_load[:, None] - 1.0)
         row = np.zeros(0)
         if tb.gb is not None and len(tb.gb):
             gb = tb.gb
             ratio = tb.ratios[tb.row_group]
             mean = float(np.sum(duty.weights * w)) / duty.period
+            speeds = tb.speed_half((top, margins.speed, mean), lambda: np.fmin(
+                gb.max_input_speed / (top * margins.speed * ratio) - 1.0, gb.rated_input_speed / (mean * ratio) - 1.0))
             t2b_need = (float(np.max(np.abs(duty.torque))) if duty.torque.size else 0.0) * margins.torque * \
                 shock_factor(duty.period, margins.gearbox_shock_factor)  # NaN: the T2B check is unknown
             t2n_need = cubic_mean(duty.torque, duty.omega, duty.weights) * margins.torque
-            row = np.fmin(np.fmin(gb.max_input_speed / (top * margins.speed * ratio) - 1.0,
-                                  gb.rated_input_speed / (mean * ratio) - 1.0),
-                          np.fmin(gb.rated_output_torque / t2n_need - 1.0, gb.max_output_torque / t2b_need - 1.0))
+            row = np.fmin(speeds, np.fmin(gb.rated_output_torque / t2n_need - 1.0, gb.max_output_torque / t2b_need - 1.0))
     return Search(pair=pair, row=row)
 
 
