@@ -228,7 +228,8 @@ def search_bounds(tb: Tables, duty: DutyCycle, margins: Margins, spec: SelectSpe
             t2b_need = (float(np.max(np.abs(duty.torque))) if duty.torque.size else 0.0) * margins.torque * \
                 shock_factor(duty.period, margins.gearbox_shock_factor)  # NaN: the T2B check is unknown
             t2n_need = cubic_mean(duty.torque, duty.omega, duty.weights) * margins.torque
-            row = np.fmin(speeds, np.fmin(gb.rated_output_torque / t2n_need - 1.0, gb.max_output_torque / t2b_need - 1.0))
+            row = np.fmin(speeds, np.fmin(gb.rated_output_torque / t2n_need - 1.0,
+                                          gb.max_output_torque / t2b_need - 1.0))
     return Search(pair=pair, row=row)
 
 

@@ -448,7 +448,7 @@ def _run_dask(plan: Plan, todo: list[tuple[int, tuple[Any, ...]]], batch: int, a
         if frozen:
             # the workers fork from this process with every object it holds frozen: their collector
             # never examines (nor writes to, copying the pages) the modules and tables they inherit
-            # (1.0-1.5 s less CPU of the workers per 10,000 variants, bench/RESULTS.md); this process
+            # (0.4-1.3 s less CPU of the workers per 10,000 variants, bench/RESULTS.md); this process
             # unfreezes its own at once, so nothing changes for it
             gc.freeze()
         try:
