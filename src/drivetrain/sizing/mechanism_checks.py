@@ -81,81 +81,6 @@ def nut_travel_positions(axis: Axis, duty: DutyCycle, points: int = 41) -> tuple
     return np.clip(pos, 1e-6 * span, span * (1 - 1e-9) if limits.mounting == "fixed_fixed" else span), float(span)
 
 
-def _screw_checks(axis: Axis, duty: DutyCycle, force: Array) -> list[dict[str, Any]]:
-    spec = axis.spec.mechanism
-    limits = getattr(spec, "screw", None)
-    nut = getattr(spec, "nut", None)
-    out: list[dict[str, Any]] = []
-    lever = axis.mechanism.lever
-    omega = np.asarray(duty.samples.v, dtype=float) / lever
-    w_peak = float(np.max(np.abs(omega)))
-    f_peak = float(np.max(np.abs(force)))
-    if limits is not None:
-        pos, span = nut_travel_positions(axis, duty)
-        d1 = limits.root_diameter
-        buck = screw_limits.buckling_load(d1, screw_limits.buckling_length(pos, span, limits.mounting),
-                                          limits.mounting, limits.youngs_modulus)
-        out.append(_check("screw_buckling", f_peak, float(buck.min()), "N", SRC_THK_AXIAL,
-                          "largest axial load taken as compressive; worst nut position over the stroke"))
-        out.append(_check("screw_tensile_compressive", f_peak,
-                          screw_limits.permissible_tensile_compressive_load(d1), "N", SRC_THK_AXIAL))
-        crit = float(screw_limits.critical_speed(d1, span, limits.mounting, limits.youngs_modulus))
-        out.append(_check("screw_critical_speed", w_peak * RPM, crit * RPM, "rpm", SRC_THK_SPEED,
-                          f"unsupported length {span:g} m, {limits.mounting}"))
-        if limits.dn_limit is not None:
-            dcirc = limits.ball_circle_diameter or getattr(spec, "diameter", None)
-            if dcirc is None:
-                raise InputError("mechanism.screw.ball_circle_diameter", "is required for the DN check "
-                                 "(or give mechanism.diameter)", has_value=False)
-            out.append(_check("screw_dn_speed", w_peak * RPM, screw_limits.dn_speed_limit(dcirc, limits.dn_limit) * RPM,
-                              "rpm", SRC_THK_SPEED, f"DN {limits.dn_limit:g} mm/min at D = {dcirc * 1e3:g} mm"))
-    if nut is not None:
-        try:
-            lead = getattr(spec, "lead", lever * 2 * math.pi)
-            life = screw_limits.nut_life(nut.C_a, force, omega, duty.weights, lead, preload=nut.preload,
-                                         load_factor=nut.load_factor)
-        except InputError as exc:
-            raise exc.at("mechanism.nut") from None
-        out.append(_check("nut_life", nut.required_life / 3600.0, life.hours, "h", SRC_NUT_LIFE,
-                          f"F_m = {life.equivalent_load:.4g} N, L10 = {life.revolutions:.4g} rev = {life.km:.4g} km"))
-        if nut.C_0a is not None:
-            f_static = float(np.max(screw_limits.preloaded_nut_load(force, nut.preload)))
-            fs = nut.C_0a / f_static if f_static > 0 else math.inf
-            out.append(_check("nut_static_safety", nut.static_safety, fs, "-", SRC_THK_AXIAL + "; ISO 76 s0 = C0 / P0"))
-    return out
-
-
-def _guide_checks(axis: Axis, duty: DutyCycle, force: Array) -> list[dict[str, Any]]:
-    g = axis.spec.guide
-    if g is None or g.dynamic_rating is None:
-        return []
-    load = axis.mechanism.load
-    assert isinstance(load, LinearLoad)
-    mom = carriage_moments(force, load.mass * axis.gravity, g.l_x, g.l_y, g.l_z, g.d_p, g.d_r, g.orientation)
-    moments = {k.split("_")[0]: mom[k] for k in ("pitch_Nm", "roll_Nm", "yaw_Nm")}
-    note = ""
-    factors: dict[str, float] = {str(k): float(v) for k, v in (g.moment_factors or {}).items()}
-    used: dict[str, ArrayLike] = {k: m for k, m in moments.items() if k in factors}
-    if any(np.any(np.abs(m) > 0) for k, m in moments.items() if k not in factors):
-        note = "moments without moment_factors are not in the carriage load"
-    p = rolling_life.guide_equivalent_load(mom["normal_N"] / g.carriages, used, factors)
-    v = np.asarray(duty.samples.v, dtype=float)
-    travel = rolling_life.travel_weights(v, duty.weights)
-    out: list[dict[str, Any]] = []
-    if float(np.max(p)) <= 0.0:
-        return [_check("guide_life", g.required_life / 3600.0, math.inf, "h", SRC_GUIDE, "no load on the carriages")]
-    p_m = rolling_life.cubic_mean_load(p, travel, rolling_life.life_exponent(g.rolling))
-    life_m = float(rolling_life.guide_life(g.dynamic_rating, max(p_m, 1e-12), g.rating_distance, g.rolling,
-                                           f_w=g.load_factor))
-    hours = float(rolling_life.life_time(life_m, float(np.sum(travel)), duty.period)) / 3600.0
-    out.append(_check("guide_life", g.required_life / 3600.0, hours, "h", SRC_GUIDE,
-                      f"P_m = {p_m:.4g} N per carriage, L10 = {life_m / 1e3:.4g} km" + (f"; {note}" if note else "")))
-    if g.static_rating is not None:
-        fs = float(np.min(rolling_life.guide_static_safety_factor(g.static_rating, np.maximum(p, 1e-300))))
-        out.append(_check("guide_static_safety", g.static_safety, fs, "-", SRC_GUIDE))
-    return out
-
-
 def belt_positions(axis: Axis, duty: DutyCycle) -> Array:
     """Carriage positions from the drive pulley over the cycle's samples [m] (``mechanism.belt``)."""
     belt = getattr(axis.spec.mechanism, "belt", None)
@@ -217,12 +142,12 @@ def mechanism_checks(axis: Axis, duty: DutyCycle) -> list[dict[str, Any]]:
     if known is not None and known[0] is axis:
         return [dict(c) for c in known[1]]
     force = axial_force(axis, duty)
-    return [*_screw_checks(axis, duty, force), *_guide_checks(axis, duty, force), *_belt_checks(axis, duty, force),
+    return [*_checks_of_group([(axis, duty, force)])[0], *_belt_checks(axis, duty, force),
             *_rack_checks(axis, duty, force)]
 
 
 # ---------------------------------------------------------------------------------------------
-# many axes at once (a design-space study): the screw, nut and guide checks as arrays over axes
+# the screw, nut and guide checks as arrays over axes: one axis (mechanism_checks) or many (a study)
 
 _PREPARED = "_prepared_mechanism_checks"
 PREPARE_SLICE = 256
@@ -237,9 +162,10 @@ def prepare_many(pairs: Sequence[tuple[Axis, DutyCycle]]) -> int:
     mass and forces, the screw lead, the motion's speeds and sample weights) and share the rest
     (screw, nut and guide ratings, the stroke, the number of samples, no belt or rack). Each
     group's sample-wise work (peak speeds and forces, equivalent loads, cubic means) runs as arrays
-    over its axes, with the same formulas and the same arithmetic as :func:`mechanism_checks`, which
-    ``tests/test_study_batch.py`` asserts to be equal, entry for entry. A group whose numbers would
-    raise an InputError (or any axis outside these cases) is left to :func:`mechanism_checks`.
+    over its axes; :func:`mechanism_checks` of one axis is the same computation for a group of one,
+    and ``tests/test_study_mechanism_batch.py`` asserts the entries equal, to the bit. A group whose
+    numbers would raise an InputError (or any axis outside these cases) is left to
+    :func:`mechanism_checks`, which raises it for its own axis.
     """
     groups: list[tuple[tuple[Any, ...], list[tuple[Axis, DutyCycle, Array]]]] = []
     for axis, duty in pairs:
@@ -298,7 +224,8 @@ def _checks_of_group(members: list[tuple[Axis, DutyCycle, Array]]) -> list[list[
         if limits.dn_limit is not None:
             dcirc = limits.ball_circle_diameter or getattr(spec, "diameter", None)
             if dcirc is None:
-                raise InputError("mechanism.screw.ball_circle_diameter", "is required", has_value=False)
+                raise InputError("mechanism.screw.ball_circle_diameter", "is required for the DN check "
+                                 "(or give mechanism.diameter)", has_value=False)
             dn = (screw_limits.dn_speed_limit(dcirc, limits.dn_limit) * RPM, dcirc)
         for k, row in enumerate(out):
             row.append(_check("screw_buckling", f_peak[k], buck, "N", SRC_THK_AXIAL,
@@ -318,12 +245,15 @@ def _checks_of_group(members: list[tuple[Axis, DutyCycle, Array]]) -> list[list[
 
 def _nut_checks(members: list[tuple[Axis, DutyCycle, Array]], nut: Any, force: Array, omega: Array, weights: Array,
                 out: list[list[dict[str, Any]]]) -> None:
-    """nut_life and nut_static_safety of a group (screw_limits.nut_life row by row)."""
+    """nut_life and nut_static_safety of a group (screw_limits.nut_life row by row: its formulas, from the
+    cubic-mean load of each row)."""
     try:
         c = screw_limits._positive(nut.C_a, "nut.C_a", "N")
         fw = screw_limits._positive(nut.load_factor, "load_factor", "")
+        leads = [screw_limits._positive(getattr(a.spec.mechanism, "lead", a.mechanism.lever * 2 * math.pi), "lead",
+                                        "m") for a, _, _ in members]
         if not np.all(np.isfinite(weights)) or np.any(weights < 0.0):
-            raise InputError("dt", "must be >= 0 s", has_value=False)
+            raise InputError("dt", "must be >= 0 s", float(np.min(weights)))
         revs = np.abs(omega) * weights / (2.0 * math.pi)
         loaded = screw_limits.preloaded_nut_load(force, nut.preload)
         f_m = rolling_life.cubic_mean_loads(loaded, revs)
@@ -332,9 +262,7 @@ def _nut_checks(members: list[tuple[Axis, DutyCycle, Array]], nut: Any, force: A
     revs_cycle = np.sum(revs, axis=1)
     cycle_time = np.sum(weights, axis=1)
     f_static = np.max(loaded, axis=1)
-    for k, (axis, _, _) in enumerate(members):
-        lead = getattr(axis.spec.mechanism, "lead", axis.mechanism.lever * 2 * math.pi)
-        h = screw_limits._positive(lead, "lead", "m")
+    for k, h in enumerate(leads):
         life = screw_limits.nut_life_from_mean(c, float(f_m[k]), float(revs_cycle[k]), float(cycle_time[k]), h, fw)
         out[k].append(_check("nut_life", nut.required_life / 3600.0, life.hours, "h", SRC_NUT_LIFE,
                              f"F_m = {life.equivalent_load:.4g} N, L10 = {life.revolutions:.4g} rev = "
@@ -347,10 +275,12 @@ def _nut_checks(members: list[tuple[Axis, DutyCycle, Array]], nut: Any, force: A
 
 def _guide_rows(members: list[tuple[Axis, DutyCycle, Array]], force: Array, v: Array, weights: Array,
                 out: list[list[dict[str, Any]]]) -> None:
-    """guide_life and guide_static_safety of a group (_guide_checks row by row)."""
+    """guide_life and guide_static_safety of a group, row by row."""
     g = members[0][0].spec.guide
     assert g is not None and g.dynamic_rating is not None
-    weight = np.array([[a.mechanism.load.mass * a.gravity] for a, _, _ in members])  # type: ignore[union-attr]
+    loads = [a.mechanism.load for a, _, _ in members]
+    assert all(isinstance(load, LinearLoad) for load in loads)  # a linear mechanism's load
+    weight = np.array([[load.mass * a.gravity] for load, (a, _, _) in zip(loads, members, strict=True)])  # type: ignore[union-attr]
     mom = carriage_moments(force, weight, g.l_x, g.l_y, g.l_z, g.d_p, g.d_r, g.orientation)  # type: ignore[arg-type]
     moments = {k.split("_")[0]: mom[k] for k in ("pitch_Nm", "roll_Nm", "yaw_Nm")}
     factors: dict[str, float] = {str(k): float(v) for k, v in (g.moment_factors or {}).items()}
