@@ -307,6 +307,14 @@ TRACED_MOTOR_FAMILIES: tuple[str, ...] = (
 )
 """Servo motor families shipped as ``motors_<vendor>_<family>.csv``, each read from one vendor document."""
 
+TRACED_DRIVE_FAMILIES: tuple[str, ...] = ()
+"""Servo drive families shipped as ``drives_<vendor>_<family>.csv`` (the columns of drives_servo.csv),
+each read from one vendor document."""
+
+TRACED_GEARBOX_FAMILIES: tuple[str, ...] = ()
+"""Servo gearbox families shipped as ``gearboxes_<vendor>_<family>.csv`` (the columns of the Beckhoff
+files), each read from one vendor document; ids are model-ratio, as the other gearbox files."""
+
 SHIPPED_FILES: tuple[ShippedFile, ...] = (
     # data/SOURCES.md: the id is the vendor's model code
     ShippedFile("motors_ac_servo.csv", MOTOR, "ac_servo", model_pattern=r"^(.*)$", unverified=_CONFIGURATOR),
@@ -331,13 +339,18 @@ SHIPPED_FILES: tuple[ShippedFile, ...] = (
     # data/SOURCES.md: Beckhoff planetary gear units, every row read from Beckhoff's technical-data pages
     *(
         ShippedFile(
-            f"gearboxes_beckhoff_{family}.csv",
+            f"gearboxes_{family}.csv",
             GEARBOX,
             "servo_gearbox",
             constants=(("type", "planetary"),),
             model_pattern=r"^(.*)-i[0-9.]+$",
         )
-        for family in ("ag2250", "ag2400", "ag3400")
+        for family in ("beckhoff_ag2250", "beckhoff_ag2400", "beckhoff_ag3400")
+    ),
+    # data/SOURCES.md: further servo gearbox families; each file has a `type` column (planetary, ...)
+    *(
+        ShippedFile(f"gearboxes_{family}.csv", GEARBOX, "servo_gearbox", model_pattern=r"^(.*)-i[0-9.]+$")
+        for family in TRACED_GEARBOX_FAMILIES
     ),
     ShippedFile("gearboxes_small.csv", GEARBOX, "small_gearhead", unverified=_MGDB),
     # data/SOURCES.md, "Servo motors read from vendor documents": one file per vendor family, every row
@@ -349,6 +362,7 @@ SHIPPED_FILES: tuple[ShippedFile, ...] = (
     ShippedFile("drives.csv", DRIVE, "servo_drive"),
     # data/SOURCES.md, "Drives": every number read from the vendor document named in its row
     ShippedFile("drives_servo.csv", DRIVE, "servo_drive"),
+    *(ShippedFile(f"drives_{family}.csv", DRIVE, "servo_drive") for family in TRACED_DRIVE_FAMILIES),
 )
 ELECTRICAL_FILE = "motors_ac_servo_electrical.csv"
 """Motor electrical data by motor id, merged into the motors rows when the shipped database is built."""
