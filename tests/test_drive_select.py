@@ -351,3 +351,8 @@ def test_no_orderable_drive_fails_the_answer_and_says_why(walk_catalog: None, tm
     path.write_text(yaml.safe_dump(a), encoding="utf-8")
     assert cli.main(["size", str(path)]) == 1
     assert "not orderable" in capsys.readouterr().out
+    from drivetrain.report import write_report
+
+    write_report(r, tmp_path / "r.html")
+    html = (tmp_path / "r.html").read_text(encoding="utf-8")
+    assert "No passing motor has a drive that can be ordered" in html and "Not orderable" in html
