@@ -356,3 +356,25 @@ def test_no_orderable_drive_fails_the_answer_and_says_why(walk_catalog: None, tm
     write_report(r, tmp_path / "r.html")
     html = (tmp_path / "r.html").read_text(encoding="utf-8")
     assert "No passing motor has a drive that can be ordered" in html and "Not orderable" in html
+
+
+def test_results_verdict_fails_a_selection_without_an_orderable_drive() -> None:
+    """results.js: the banner's verdict follows selection.drive_advice (node, when available)."""
+    import shutil
+    import subprocess
+
+    node = shutil.which("node")
+    if node is None:
+        pytest.skip("node is not installed")
+    js = Path(__file__).resolve().parents[1] / "src/drivetrain/web/static/results.js"
+    script = f"""
+      globalThis.Node = class {{}};
+      const R = await import({json.dumps(js.as_uri())});
+      const sel = {{ selected: {{ motor: "TC-02", checks: [] }}, passing: 2, evaluated: 3 }};
+      const ok = R.verdict({{ selection: sel }});
+      const bad = R.verdict({{ selection: {{ ...sel, drive_advice: "none of the 2 ..." }} }});
+      console.log(JSON.stringify([ok.ok, bad.ok, bad.failed]));
+    """
+    out = subprocess.run([node, "--input-type=module", "-e", script], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert json.loads(out.stdout) == [True, False, "not orderable: none of the 2 ..."]

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 import weakref
+from collections.abc import Callable
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
@@ -96,6 +97,32 @@ def _pool(motor_id: str, vendor: str, voltage: float) -> tuple[list[DriveData], 
     return out, basis
 
 
+def prospect(motor_id: str, vendor: str, voltage: float,
+             given: DriveData | None = None) -> tuple[list[DriveData], dict[str, Any], MotorElectrical]:
+    """What can be said of a motor's drive before its current is known: the drives it may use, the
+    block's ``basis`` and ``candidates``, and (``status`` and ``reason`` in the block) why its drive
+    cannot be checked: no torque constant (``unknown``), no drive (``none``), no drive with current
+    ratings (``unknown``). A block without ``status`` means the drive can be checked."""
+    elec = catalog_electrical(motor_id)
+    if given is not None:
+        pool, basis = [given], "given in the axis file"
+    else:
+        pool, basis = _pool(motor_id, vendor, voltage)
+    base: dict[str, Any] = {"basis": basis, "candidates": [d.name for d in pool]}
+    first = pool[0].name if len(pool) == 1 else None
+    if elec.kt is None and elec.ke is None:
+        base.update({"status": "unknown", "id": first, "ok": None,
+                     "reason": f"the catalog has no torque constant for {motor_id}: its current, and so the drive, "
+                               "cannot be checked"})
+    elif not pool:
+        base.update({"status": "none", "id": None, "ok": None,
+                     "reason": f"the catalog has no {vendor} drive for this motor's supply voltage"})
+    elif not any(math.isfinite(d.continuous_current) and math.isfinite(d.peak_current) for d in pool):
+        base.update({"status": "unknown", "id": first, "ok": None,
+                     "reason": f"no {vendor} drive in the catalog has current ratings (data/SOURCES.md, \"Drives\")"})
+    return pool, base, elec
+
+
 def pick_drive(cycle: DutyCycle, inertia: float, motor_id: str, vendor: str, voltage: float,
                rated: float, peak: float, given: DriveData | None = None) -> tuple[dict[str, Any], DriveData | None]:
     """The drive block of one candidate and the DriveData chosen (None when none can be named).
@@ -104,31 +131,19 @@ def pick_drive(cycle: DutyCycle, inertia: float, motor_id: str, vendor: str, vol
     given drive fails), ``unknown`` (no torque constant, or no drive with current ratings),
     ``none`` (no drive of the vendor and voltage in the catalog).
     """
-    elec = catalog_electrical(motor_id)
+    pool, base, elec = prospect(motor_id, vendor, voltage, given)
     current = _currents(cycle, inertia, elec, rated, peak)
-    if given is not None:
-        pool, basis = [given], "given in the axis file"
-    else:
-        pool, basis = _pool(motor_id, vendor, voltage)
-    base: dict[str, Any] = {"basis": basis, "candidates": [d.name for d in pool]}
-    if current is None:
-        first = pool[0] if len(pool) == 1 else None
-        return ({**base, "status": "unknown", "id": None if first is None else first.name, "ok": None,
-                 "reason": f"the catalog has no torque constant for {motor_id}: its current, and so the drive, "
-                           "cannot be checked"}, first)
-    i_rms = float(drive_overload.rms_current(current, cycle.weights, cycle.period))
-    i_peak = float(current.max()) if current.size else 0.0
-    base.update({"motor_rms_current_A": i_rms, "motor_peak_current_A": i_peak})
-    if not pool:
-        return {**base, "status": "none", "id": None, "ok": None,
-                "reason": f"the catalog has no {vendor} drive for this motor's supply voltage"}, None
+    if current is not None:
+        i_rms = float(drive_overload.rms_current(current, cycle.weights, cycle.period))
+        base.update({"motor_rms_current_A": i_rms, "motor_peak_current_A": float(current.max()) if current.size
+                     else 0.0})
+    if "status" in base:
+        named = [d for d in pool if d.name == base["id"]]
+        return base, (named[0] if named else None)
+    assert current is not None
+    i_rms, i_peak = base["motor_rms_current_A"], base["motor_peak_current_A"]
     rated_drives = sorted((d for d in pool if math.isfinite(d.continuous_current) and math.isfinite(d.peak_current)),
                           key=lambda d: (d.continuous_current, d.peak_current))
-    if not rated_drives:
-        first = pool[0] if len(pool) == 1 else None
-        return ({**base, "status": "unknown", "id": None if first is None else first.name, "ok": None,
-                 "reason": f"no {vendor} drive in the catalog has current ratings (data/SOURCES.md, \"Drives\")"},
-                first)
     block: dict[str, Any] = {}
     chosen = rated_drives[-1]
     for d in rated_drives:
@@ -170,41 +185,101 @@ def _drive_reason(block: dict[str, Any]) -> str:
     return f"its drive is {block['status']}: {block.get('reason', '')}"
 
 
+_PROSPECTS: weakref.WeakKeyDictionary[MotorTable, dict[tuple[int, DriveData | None], dict[str, Any]]] = (
+    weakref.WeakKeyDictionary())
+
+
+def _motor_prospect(motors: MotorTable, m: int, given: DriveData | None) -> dict[str, Any]:
+    """``prospect``'s block for row ``m`` of a motor table, once per table (a catalog table is new
+    whenever the catalog changes, so a study's variants share it)."""
+    memo = _PROSPECTS.setdefault(motors, {})
+    key = (m, given)
+    if key not in memo:
+        memo[key] = prospect(str(motors.ids[m]), str(motors.vendor[m]), _motor_voltage(motors, m), given)[1]
+    return memo[key]
+
+
 def _walk(axis: Axis, duty: DutyCycle, sel: dict[str, Any], motors: MotorTable,
-          strict: bool) -> tuple[int | None, dict[str, Any], DriveData | None, list[dict[str, Any]]]:
+          strict: bool) -> tuple[int | None, list[dict[str, Any]]]:
     """The first passing motor (best configuration, ranked order) whose drive can be ordered.
 
     A drive is an answer when it passes its current checks (``ok``); under ``unknown: flag`` a drive
     that cannot be checked (``unknown``, ``none``) is an answer too, marked so, but one that fails is
     not: a motor no drive can feed cannot be ordered. Returns the candidate (None when no motor within
-    the first ``_WALK`` has one), its drive block and drive, and the motors passed over with why.
+    the first ``_WALK`` has one) and the motors passed over with why.
     """
     from drivetrain.sizing.selection import best_per_motor
 
     c = sel["_candidates"]
     passed: list[dict[str, Any]] = []
     for k in best_per_motor(c, sel["_ranked"])[:_WALK]:
-        block, drive = _candidate_drive(axis, duty, sel, motors, int(k))
+        m = int(c.motor[k])
+        block = _motor_prospect(motors, m, axis.drive)
+        if "status" not in block:  # checkable: its current decides
+            block, _ = _candidate_drive(axis, duty, sel, motors, int(k))
         if block["status"] == "ok" or (not strict and block["status"] != "fails"):
-            return int(k), block, drive, passed
-        passed.append({"motor": str(motors.ids[int(c.motor[k])]), "drive_status": block["status"],
-                       "reason": _drive_reason(block)})
-    return None, {}, None, passed
+            return int(k), passed
+        passed.append({"motor": str(motors.ids[m]), "drive_status": block["status"], "reason": _drive_reason(block)})
+    return None, passed
+
+
+def _needs_walk(axis: Axis, duty: DutyCycle, sel: dict[str, Any], strict: bool) -> bool:
+    """Whether the best-ranked motor's drive keeps it from being the answer (cheap when its drive
+    cannot be checked: no current trace then)."""
+    motors, _ = sel["_tables"]
+    best = int(sel["_best"])
+    block = _motor_prospect(motors, int(sel["_candidates"].motor[best]), axis.drive)
+    if "status" in block:
+        return strict
+    block, _ = _candidate_drive(axis, duty, sel, motors, best)
+    return block["status"] != "ok"
+
+
+def orderable(axis: Axis, duty: DutyCycle, chosen: dict[str, Any],
+              reselect: Callable[[], dict[str, Any]] | None = None) -> dict[str, Any]:
+    """The selection with an orderable drive (docs/checks.md, "Drive selection"), in place.
+
+    The selected motor becomes the best-ranked passing one whose drive can be ordered (``_walk``);
+    the motors passed over for their drive go to ``selection.drive_passed_over``; when none
+    qualifies the best-ranked stays, ``selection.drive_advice`` says why and the answer fails.
+    ``reselect`` gives the whole ranked selection where ``chosen`` ranks only near its pick (a
+    study's stand-in selector); it is called only when the best-ranked motor's drive matters.
+    """
+    sel = chosen["selection"]
+    if "_best" not in sel:
+        return chosen
+    spec = axis.spec.motor.select if axis.spec.motor is not None else None
+    strict = spec is not None and spec.unknown == "fail"
+    if not _needs_walk(axis, duty, sel, strict):
+        return chosen
+    if reselect is not None:
+        chosen = reselect()
+        sel = chosen["selection"]
+    motors, gb = sel["_tables"]
+    best, passed = _walk(axis, duty, sel, motors, strict)
+    if passed:  # the first ones, and how many in all
+        sel["drive_passed_over"], sel["drive_passed_over_count"] = passed[:20], len(passed)
+    if best is None:  # keep the best-ranked motor and say why it cannot be ordered
+        rule = "passes its current checks" + (" (unknown: fail)" if strict else "")
+        sel["drive_advice"] = (f"none of the {len(passed)} passing motors tried has a drive that {rule}; "
+                               f"the best-ranked, {passed[0]['motor']}: {passed[0]['reason']}")
+    elif best != int(sel["_best"]):
+        _reselect(axis, duty, sel, motors, gb, best, passed)
+    return chosen
 
 
 def attach_drives(axis: Axis, duty: DutyCycle, chosen: dict[str, Any], margins: Margins | None) -> None:
     """Add a ``drive`` block to every listed candidate and to ``selection.selected`` (in place).
 
-    The selected candidate is the best-ranked passing motor whose drive can be ordered (``_walk``);
-    the motors passed over for their drive are listed in ``selection.drive_passed_over``. It also
-    gets ``electrical`` (motor currents, envelope source, winding temperature, with their checks)
-    and ``regen`` (energy into the bus, braking resistor).
+    The selected candidate (made orderable by ``orderable`` before) also gets ``electrical`` (motor
+    currents, envelope source, winding temperature, with their checks) and ``regen`` (energy into
+    the bus, braking resistor).
     """
     sel = chosen["selection"]
     if "_candidates" not in sel:
         return
     c = sel["_candidates"]
-    motors, gb = sel["_tables"]
+    motors, _ = sel["_tables"]
     shown: list[int] = sel.get("_shown", [])
     from drivetrain import catalog
 
@@ -215,19 +290,8 @@ def attach_drives(axis: Axis, duty: DutyCycle, chosen: dict[str, Any], margins: 
         cand["drive"], _ = _candidate_drive(axis, duty, sel, motors, k)
     if "selected" not in sel:
         return
-    spec = axis.spec.motor.select if axis.spec.motor is not None else None
-    strict = spec is not None and spec.unknown == "fail"
-    best, block, drive, passed = _walk(axis, duty, sel, motors, strict)
-    if passed:  # the first ones, and how many in all
-        sel["drive_passed_over"], sel["drive_passed_over_count"] = passed[:20], len(passed)
-    if best is None:  # keep the best-ranked motor, with its drive, and say why it cannot be ordered
-        best = int(sel["_best"])
-        block, drive = _candidate_drive(axis, duty, sel, motors, best)
-        rule = "passes its current checks" + (" (unknown: fail)" if strict else "")
-        sel["drive_advice"] = (f"none of the {len(passed)} passing motors tried has a drive that {rule}; "
-                               f"the best-ranked, {passed[0]['motor']}: {passed[0]['reason']}")
-    elif best != int(sel["_best"]):
-        _reselect(axis, duty, sel, motors, gb, best, passed)
+    best = int(sel["_best"])
+    block, drive = _candidate_drive(axis, duty, sel, motors, best)
     from drivetrain.sizing.selection import candidate_cycle
 
     cycle, _ = candidate_cycle(axis, duty, sel, best)

@@ -391,11 +391,13 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64,
                 result.extras[key] = block
         gear = gearbox_rating_checks(axis, duty, axis.motor)
     elif axis.spec.motor is not None and axis.spec.motor.select is not None:
-        from drivetrain.sizing.drive_select import attach_drives
+        from drivetrain.sizing.drive_select import attach_drives, orderable
         from drivetrain.sizing.selection import select
 
-        chosen = (selector or select)(axis, duty, axis.spec.motor.select, axis.spec.motor.margins,
-                                      all_pairs=all_pairs)
+        spec, margins = axis.spec.motor.select, axis.spec.motor.margins
+        chosen = (selector or select)(axis, duty, spec, margins, all_pairs=all_pairs)
+        chosen = orderable(axis, duty, chosen, None if selector is None else  # the whole ranking, if needed
+                           lambda: select(axis, duty, spec, margins, all_pairs=all_pairs))
         if drives:
             attach_drives(axis, duty, chosen, axis.spec.motor.margins)  # the electrical post-pass
         result.candidates = chosen["candidates"]

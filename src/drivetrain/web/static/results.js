@@ -69,7 +69,9 @@ export function verdict(result) {
   const sel = result.selection;
   if (sel && sel.selected) {
     const c = sel.selected;
-    return { who: c.motor + (c.gearbox ? ` + ${c.gearbox}` : ""), ok: true, failed: "", checks: c.checks, kind: "selection", candidate: c };
+    // a selection whose passing motors have no orderable drive fails (drive_select.orderable)
+    const failed = sel.drive_advice ? `not orderable: ${sel.drive_advice}` : "";
+    return { who: c.motor + (c.gearbox ? ` + ${c.gearbox}` : ""), ok: !sel.drive_advice, failed, checks: c.checks, kind: "selection", candidate: c };
   }
   if (sel) return { who: null, ok: false, failed: sel.advice || "no candidate passes every check", checks: [], kind: "none-pass" };
   return null;
@@ -95,7 +97,9 @@ export function renderBanner(node, result) {
       el("strong", { text: `Selected motor: ${c.motor}` }),
       ` (${c.vendor})${c.gearbox ? ` with gearbox ${c.gearbox}, ratio ${fmt(c.ratio)}`
         : s.transmission_gearbox ? `, on the axis's ${s.transmission_gearbox}` : ", direct drive"}: ` +
-        `${s.passing} of ${s.evaluated} combinations pass.`,
+        `${s.passing} of ${s.evaluated} combinations pass.` +
+        (s.drive_passed_over ? ` Passed over for the drive: ${s.drive_passed_over.map((p) => p.motor).join(", ")}.` : "") +
+        (v.failed ? ` ${v.failed}` : ""),
     );
   } else {
     node.replaceChildren(el("strong", { text: `Motor ${v.who}: ${v.ok ? "OK" : "FAILS"}` }), v.ok ? ": every check passes." : `: ${v.failed}`);
