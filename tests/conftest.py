@@ -28,3 +28,19 @@ def family_motor_rows() -> int:
     base = ("motors_ac_servo.csv", "motors_small_dc.csv")
     files = [f.filename for f in SHIPPED_FILES if f.table is MOTOR and f.filename not in base]
     return sum(len(list(csv.DictReader(io.StringIO(shipped_text(name))))) for name in files)
+
+
+def family_drive_rows() -> int:
+    """Rows of the vendor-sourced drive family files (``drives_<vendor>_<family>.csv``), counted from the files.
+
+    The shipped drives are the 44 rows of drives_servo.csv plus these; tests that count shipped drives add it.
+    """
+    import csv
+    import io
+
+    from drivetrain.catalog.db import shipped_text
+    from drivetrain.catalog.schema import DRIVE, SHIPPED_FILES
+
+    base = ("drives.csv", "drives_servo.csv")
+    files = [f.filename for f in SHIPPED_FILES if f.table is DRIVE and f.filename not in base]
+    return sum(len(list(csv.DictReader(io.StringIO(shipped_text(name))))) for name in files)

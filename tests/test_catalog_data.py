@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import family_drive_rows
 from drivetrain import catalog
 from drivetrain.catalog import db
 from drivetrain.catalog.schema import SHIPPED_FILES
@@ -409,7 +410,8 @@ def test_database_holds_every_shipped_row_in_si(use_data_dir: Path) -> None:
     assert len(catalog.motors(kind="ac_servo")) == 297 + family
     assert len(catalog.gearboxes(kind="servo_gearbox")) == 713 + 68
     assert len(catalog.gearboxes(kind="small_gearhead")) == 300
-    assert len(catalog.drives()) == 44  # data/drives_servo.csv
+    # data/drives_servo.csv (44 rows) plus the vendor-sourced drive family files (drives_<vendor>_<family>.csv)
+    assert len(catalog.drives()) == 44 + family_drive_rows()
     row = catalog.get("HG-KR43")
     assert row["rated_speed_rad_s"] == pytest.approx(3000 * RPM)
     assert row["max_speed_rad_s"] == pytest.approx(6000 * RPM)

@@ -54,10 +54,10 @@ def test_every_family_file_is_shipped_and_no_other_motor_file_claims_to_be_trace
     shipped = {f.filename for f in schema.SHIPPED_FILES}
     assert {f"motors_{family}.csv" for family in FAMILIES} <= shipped
     assert FAMILIES == ("teco_jsma", "mitsubishi_hg_kn", "yaskawa_sigma2", "mitsubishi_hc_meldas", "rexroth_mhp",
-                        "yaskawa_sgm7d")
+                        "yaskawa_sgm7d", "yaskawa_sgmp")
     assert {family: len(rows) for family, rows in ROWS.items()} == {
         "teco_jsma": 9, "mitsubishi_hg_kn": 4, "yaskawa_sigma2": 23, "mitsubishi_hc_meldas": 20, "rexroth_mhp": 2,
-        "yaskawa_sgm7d": 6,
+        "yaskawa_sgm7d": 6, "yaskawa_sgmp": 3,
     }
 
 

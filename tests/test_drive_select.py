@@ -90,8 +90,10 @@ def test_drives_without_current_ratings_answer_unknown() -> None:
         d = cand["drive"]
         assert d["status"] == "unknown" and "current ratings" in d["reason"]
         assert d["motor_rms_current_A"] > 0 and d["candidates"]
-        # the pool is the vendor's drives at the motor's supply voltage (200 V): SGD7S-xxxA, never the 100 V F models
-        assert all(x.endswith("A") for x in d["candidates"])
+        # the pool is the vendor's drives at the motor's supply voltage: SGD7S-xxxA for the 200 V motors, the
+        # 100 V F models for the 100 V ones (SGMP-..B, SGMAH-..B), never a mix
+        suffix = {200.0: "A", 100.0: "F"}[catalog.get(cand["motor"])["voltage_V"]]
+        assert all(x.endswith(suffix) for x in d["candidates"]), (cand["motor"], d["candidates"])
 
 
 def test_shipped_electrical_merge_matches_the_table_reader() -> None:

@@ -304,10 +304,13 @@ _MGDB = "values from the MGDB compilation (ekrimsk/MGDB, data/SOURCES.md), not r
 TRACED_MOTOR_FAMILIES: tuple[str, ...] = (
     "teco_jsma", "mitsubishi_hg_kn", "yaskawa_sigma2", "mitsubishi_hc_meldas",
     "rexroth_mhp", "yaskawa_sgm7d",
+    "yaskawa_sgmp",
 )
 """Servo motor families shipped as ``motors_<vendor>_<family>.csv``, each read from one vendor document."""
 
-TRACED_DRIVE_FAMILIES: tuple[str, ...] = ()
+TRACED_DRIVE_FAMILIES: tuple[str, ...] = (
+    "teco_jsdap",
+)
 """Servo drive families shipped as ``drives_<vendor>_<family>.csv`` (the columns of drives_servo.csv),
 each read from one vendor document."""
 
