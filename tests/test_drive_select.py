@@ -289,3 +289,70 @@ def test_a_vendor_without_drives_answers_none() -> None:
     for cand in r.candidates:
         d = cand["drive"]
         assert d["status"] in ("none", "unknown") and d["ok"] is None and d["candidates"] == []
+
+
+# ------------------------------------------------------------- the selected motor needs an orderable drive
+
+# TC-02 passes every mechanical check but draws ~50 A at its peak (k_T 0.06 N m/A): no Testco drive feeds it.
+# TC-08 is larger (ranked after it) and runs on TD-M. TC-NK (another vendor) has no torque constant.
+WALK_MOTORS = USER_MOTORS.split("TC-04")[0] + """\
+TC-02,Testco,T,1.27,4.46,3000,6000,0.486,400,200,0.06,0.04,0.02,0.05,10,21,22,80,1200,100,test fixture
+TC-08,Testco,T,2.4,7.1,3000,6000,0.9,750,200,0.6,0.4,1.2,3.0,10,4,4.2,12,1500,100,test fixture
+TC-NK,Unco,U,1.27,4.46,3000,6000,0.486,400,200,,,,,,,,,,,test fixture
+"""
+
+
+@pytest.fixture()
+def walk_catalog(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from drivetrain.catalog import db
+
+    monkeypatch.setenv(db.ENV_DATA_DIR, str(tmp_path / "data"))
+    for name, text in (("m.csv", WALK_MOTORS), ("d.csv", USER_DRIVES)):
+        (tmp_path / name).write_text(text, encoding="utf-8")
+        catalog.import_file(tmp_path / name)
+
+
+def test_a_motor_no_drive_can_feed_is_passed_over_for_the_next(walk_catalog: None) -> None:
+    r = size(axis(motor={"select": {"vendor": "testco", "gearbox": "none", "max_inertia_ratio": 100}}))
+    ranked = [c["motor"] for c in r.candidates if c["rank"] is not None]
+    assert ranked[0] == "TC-02"  # the smallest passes mechanically ...
+    assert r.candidates[0]["drive"]["status"] == "fails"  # ... but the largest Testco drive cannot feed it
+    sel = r.selection
+    assert sel["selected"]["motor"] == "TC-08" and sel["selected"]["drive"]["status"] == "ok"
+    assert sel["selected"]["drive"]["id"] == "TD-M"  # k_T 0.6: about 1 A rms, 4 A peak
+    assert [p["motor"] for p in sel["drive_passed_over"]] == ["TC-02"]
+    why = sel["drive_passed_over"][0]["reason"]
+    assert "TD-L" in why and "drive_peak_current" in why
+    # the next smaller motor is the one passed over, with the drive as its reason
+    assert sel["next_smaller"]["motor"] == "TC-02" and sel["next_smaller"]["failed"].startswith("drive: ")
+    assert sel["optimal_ratio"]["motor"] == "TC-08"
+    assert r.ok
+
+
+def test_unknown_fail_passes_over_a_motor_whose_drive_cannot_be_checked(walk_catalog: None) -> None:
+    both = {"vendor": ["testco", "unco"], "gearbox": "none", "max_inertia_ratio": 100}
+    flag = size(axis(motor={"select": both}))
+    strict = size(axis(motor={"select": {**both, "unknown": "fail"}}))
+    # flag: TC-NK (as small as TC-02) is an answer, its drive marked unknown; TC-02's drive fails either way
+    assert flag.selection["selected"]["motor"] == "TC-NK" and flag.selection["selected"]["drive"]["status"] == "unknown"
+    assert flag.ok
+    assert strict.selection["selected"]["motor"] == "TC-08" and strict.selection["selected"]["drive"]["status"] == "ok"
+    over = {p["motor"]: p["drive_status"] for p in strict.selection["drive_passed_over"]}
+    assert over == {"TC-NK": "unknown", "TC-02": "fails"} and strict.ok
+
+
+def test_no_orderable_drive_fails_the_answer_and_says_why(walk_catalog: None, tmp_path: Path,
+                                                        capsys: pytest.CaptureFixture[str]) -> None:
+    a = axis(motor={"select": {"vendor": "testco", "gearbox": "none", "max_inertia_ratio": 100}}, drive={"id": "TD-S"})
+    r = size(a)
+    assert not r.ok and "none of the" in r.selection["drive_advice"]
+    assert r.selection["selected"]["drive"]["status"] == "fails"  # the best-ranked, with the checks that fail
+    path = tmp_path / "z.yaml"
+    path.write_text(yaml.safe_dump(a), encoding="utf-8")
+    assert cli.main(["size", str(path)]) == 1
+    assert "not orderable" in capsys.readouterr().out
+    from drivetrain.report import write_report
+
+    write_report(r, tmp_path / "r.html")
+    html = (tmp_path / "r.html").read_text(encoding="utf-8")
+    assert "No passing motor has a drive that can be ordered" in html and "Not orderable" in html

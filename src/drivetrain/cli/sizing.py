@@ -204,6 +204,11 @@ def _print_candidates(console: Any, result: Any, u: TableUnits) -> None:
                if pick.get("gearbox") else (f", on the axis's {sel['transmission_gearbox']}"
                                             if sel.get("transmission_gearbox") else ", direct drive"))
         console.print(f"selected: {pick['motor']} ({pick['vendor']}){how}")
+        if sel.get("drive_advice"):
+            console.print(f"[bold red]not orderable: {sel['drive_advice']}[/]")
+        else:
+            for over in sel.get("drive_passed_over", [])[:5]:
+                console.print(f"  passed over for its drive: {over['motor']}: {over['reason']}")
         _print_selected_electrical(console, pick, u)
         if pick.get("unknown"):
             console.print("  not judged (the catalog lacks the data): "

@@ -200,6 +200,9 @@ def _motor_verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) 
                         sorted(bad, key=lambda c: (c["name"] != "max_speed", c.get("margin") or 0.0))[:2]]
         if sel.get("advice"):
             details += str(sel["advice"]).splitlines()
+        if sel.get("drive_advice"):  # the motors pass, but none can be ordered with a drive
+            return Verdict("fail", "No passing motor has a drive that can be ordered",
+                           [*details, f"Not orderable: {sel['drive_advice']}."])
         return Verdict("fail", "No catalog motor passes every check", details)
     return Verdict("info", "Demand at the motor shaft (no motor given)", [
         f"Peak {du.fmt(m['peak_torque_Nm'], 'torque')}, RMS {du.fmt(m['rms_torque_Nm'], 'torque')}, "

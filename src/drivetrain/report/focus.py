@@ -168,7 +168,9 @@ def _from_selection(result: SizingResult) -> Focus | None:
     for key in ("rms_torque_Nm", "peak_torque_Nm"):
         if isinstance(cand.get(key), (int, float)):
             metrics[key] = float(cand[key])
-    return Focus("selection", candidate_label(cand), motor, gb, list(cand.get("checks", [])), bool(cand.get("ok")),
+    # a selection whose motor no orderable drive feeds (drive_select) has not passed
+    passed = bool(cand.get("ok")) and "drive_advice" not in sel
+    return Focus("selection", candidate_label(cand), motor, gb, list(cand.get("checks", [])), passed,
                  omega, alpha, load, torque, j_l, metrics, cand)
 
 

@@ -147,19 +147,64 @@ def _motor_voltage(motors: MotorTable, m: int) -> float:
     return float(motors.voltage[m])
 
 
+_WALK = 200
+"""Passing motors tried, in ranked order, for one whose drive passes (each costs one current trace)."""
+
+
+def _candidate_drive(axis: Axis, duty: DutyCycle, sel: dict[str, Any], motors: MotorTable,
+                     k: int) -> tuple[dict[str, Any], DriveData | None]:
+    """The drive block of candidate ``k`` (its own cycle behind its own gearbox) and the drive chosen."""
+    from drivetrain.sizing.selection import candidate_cycle
+
+    cycle, inertia = candidate_cycle(axis, duty, sel, k)
+    m = int(sel["_candidates"].motor[k])
+    return pick_drive(cycle, inertia, str(motors.ids[m]), str(motors.vendor[m]), _motor_voltage(motors, m),
+                      float(motors.rated_torque[m]), float(motors.peak_torque[m]), axis.drive)
+
+
+def _drive_reason(block: dict[str, Any]) -> str:
+    """Why a candidate's drive is not an answer, in one sentence."""
+    if block["status"] == "fails":
+        bad = [ch["name"] for ch in block.get("checks", []) if not ch.get("ok", True)]
+        return f"its drive fails: the largest it may use, {block.get('id')}, fails {', '.join(bad)}"
+    return f"its drive is {block['status']}: {block.get('reason', '')}"
+
+
+def _walk(axis: Axis, duty: DutyCycle, sel: dict[str, Any], motors: MotorTable,
+          strict: bool) -> tuple[int | None, dict[str, Any], DriveData | None, list[dict[str, Any]]]:
+    """The first passing motor (best configuration, ranked order) whose drive can be ordered.
+
+    A drive is an answer when it passes its current checks (``ok``); under ``unknown: flag`` a drive
+    that cannot be checked (``unknown``, ``none``) is an answer too, marked so, but one that fails is
+    not: a motor no drive can feed cannot be ordered. Returns the candidate (None when no motor within
+    the first ``_WALK`` has one), its drive block and drive, and the motors passed over with why.
+    """
+    from drivetrain.sizing.selection import best_per_motor
+
+    c = sel["_candidates"]
+    passed: list[dict[str, Any]] = []
+    for k in best_per_motor(c, sel["_ranked"])[:_WALK]:
+        block, drive = _candidate_drive(axis, duty, sel, motors, int(k))
+        if block["status"] == "ok" or (not strict and block["status"] != "fails"):
+            return int(k), block, drive, passed
+        passed.append({"motor": str(motors.ids[int(c.motor[k])]), "drive_status": block["status"],
+                       "reason": _drive_reason(block)})
+    return None, {}, None, passed
+
+
 def attach_drives(axis: Axis, duty: DutyCycle, chosen: dict[str, Any], margins: Margins | None) -> None:
     """Add a ``drive`` block to every listed candidate and to ``selection.selected`` (in place).
 
-    The selected candidate also gets ``electrical`` (motor currents, envelope source, winding
-    temperature, with their checks) and ``regen`` (energy into the bus, braking resistor).
+    The selected candidate is the best-ranked passing motor whose drive can be ordered (``_walk``);
+    the motors passed over for their drive are listed in ``selection.drive_passed_over``. It also
+    gets ``electrical`` (motor currents, envelope source, winding temperature, with their checks)
+    and ``regen`` (energy into the bus, braking resistor).
     """
-    from drivetrain.sizing.selection import candidate_cycle
-
     sel = chosen["selection"]
     if "_candidates" not in sel:
         return
     c = sel["_candidates"]
-    motors, _ = sel["_tables"]
+    motors, gb = sel["_tables"]
     shown: list[int] = sel.get("_shown", [])
     from drivetrain import catalog
 
@@ -167,21 +212,46 @@ def attach_drives(axis: Axis, duty: DutyCycle, chosen: dict[str, Any], margins: 
     ks += [int(sel["_best"])] if "selected" in sel else []
     catalog.motor_rows([str(motors.ids[int(c.motor[k])]) for k in ks])  # one query for the motors below
     for cand, k in zip(chosen["candidates"], shown, strict=False):
-        cycle, inertia = candidate_cycle(axis, duty, sel, k)
-        m = int(c.motor[k])
-        block, _ = pick_drive(cycle, inertia, str(motors.ids[m]), str(motors.vendor[m]), _motor_voltage(motors, m),
-                              float(motors.rated_torque[m]), float(motors.peak_torque[m]), axis.drive)
-        cand["drive"] = block
+        cand["drive"], _ = _candidate_drive(axis, duty, sel, motors, k)
     if "selected" not in sel:
         return
-    best = int(sel["_best"])
-    cycle, inertia = candidate_cycle(axis, duty, sel, best)
-    m = int(c.motor[best])
-    mid = str(motors.ids[m])
-    block, drive = pick_drive(cycle, inertia, mid, str(motors.vendor[m]), _motor_voltage(motors, m),
-                              float(motors.rated_torque[m]), float(motors.peak_torque[m]), axis.drive)
+    spec = axis.spec.motor.select if axis.spec.motor is not None else None
+    strict = spec is not None and spec.unknown == "fail"
+    best, block, drive, passed = _walk(axis, duty, sel, motors, strict)
+    if passed:  # the first ones, and how many in all
+        sel["drive_passed_over"], sel["drive_passed_over_count"] = passed[:20], len(passed)
+    if best is None:  # keep the best-ranked motor, with its drive, and say why it cannot be ordered
+        best = int(sel["_best"])
+        block, drive = _candidate_drive(axis, duty, sel, motors, best)
+        rule = "passes its current checks" + (" (unknown: fail)" if strict else "")
+        sel["drive_advice"] = (f"none of the {len(passed)} passing motors tried has a drive that {rule}; "
+                               f"the best-ranked, {passed[0]['motor']}: {passed[0]['reason']}")
+    elif best != int(sel["_best"]):
+        _reselect(axis, duty, sel, motors, gb, best, passed)
+    from drivetrain.sizing.selection import candidate_cycle
+
+    cycle, _ = candidate_cycle(axis, duty, sel, best)
     sel["selected"]["drive"] = block
-    sel["selected"].update(selected_electrical(axis, cycle, motors, m, drive, margins))
+    sel["selected"].update(selected_electrical(axis, cycle, motors, int(c.motor[best]), drive, margins))
+
+
+def _reselect(axis: Axis, duty: DutyCycle, sel: dict[str, Any], motors: MotorTable, gb: Any, best: int,
+              passed: list[dict[str, Any]]) -> None:
+    """Make candidate ``best`` the selection: its row, the next smaller motor (the last one passed
+    over for its drive, which is smaller) and its optimal ratio."""
+    from drivetrain.sizing.reasons import candidate_dict
+    from drivetrain.sizing.selection import best_per_motor, optimal_ratio
+
+    c = sel["_candidates"]
+    order = [int(k) for k in best_per_motor(c, sel["_ranked"])]
+    sel["_best"] = best
+    sel["selected"] = candidate_dict(c, best, motors, gb, order.index(best) + 1)
+    last = order[order.index(best) - 1]
+    nxt = candidate_dict(c, last, motors, gb, None)
+    why = f"drive: {passed[-1]['reason']}"
+    nxt.update({"failed": why, "failures": [why]})
+    sel["next_smaller"] = nxt
+    sel["optimal_ratio"] = optimal_ratio(axis, duty, motors, int(c.motor[best]), gb)
 
 
 def selected_electrical(axis: Axis, cycle: DutyCycle, motors: MotorTable, m: int, drive: DriveData | None,

@@ -61,7 +61,8 @@ class SizingResult:
         if self.motor is not None:
             return bool(self.motor["ok"])
         if self.selection is not None:
-            return "_best" in self.selection  # the selection's best passing candidate
+            # the selection's best passing candidate, with a drive that can be ordered (drive_select._walk)
+            return "_best" in self.selection and "drive_advice" not in self.selection
         return True
 
     def to_dict(self) -> dict[str, Any]:
