@@ -44,3 +44,19 @@ def family_drive_rows() -> int:
     base = ("drives.csv", "drives_servo.csv")
     files = [f.filename for f in SHIPPED_FILES if f.table is DRIVE and f.filename not in base]
     return sum(len(list(csv.DictReader(io.StringIO(shipped_text(name))))) for name in files)
+
+
+def family_gearbox_rows(vendor_prefix: str = "") -> int:
+    """Rows of the servo gearbox family files (``gearboxes_<vendor>_<family>.csv``, schema.TRACED_GEARBOX_FAMILIES),
+    counted from the files; ``vendor_prefix`` keeps only the families whose name starts with it ("beckhoff_").
+
+    The shipped servo gearboxes are the 713 G+ and 68 Beckhoff rows plus these; tests that count them add it.
+    """
+    import csv
+    import io
+
+    from drivetrain.catalog.db import shipped_text
+    from drivetrain.catalog.schema import TRACED_GEARBOX_FAMILIES
+
+    files = [f"gearboxes_{family}.csv" for family in TRACED_GEARBOX_FAMILIES if family.startswith(vendor_prefix)]
+    return sum(len(list(csv.DictReader(io.StringIO(shipped_text(name))))) for name in files)

@@ -23,7 +23,7 @@ import pytest
 from conftest import family_drive_rows
 from drivetrain import catalog
 from drivetrain.catalog import db
-from drivetrain.catalog.schema import SHIPPED_FILES
+from drivetrain.catalog.schema import SHIPPED_FILES, TRACED_GEARBOX_FAMILIES
 
 RPM = 2 * math.pi / 60
 Row = dict[str, str]
@@ -47,8 +47,11 @@ SMALL_DC = load("motors_small_dc.csv")
 SMALL_GB = load("gearboxes_small.csv")
 REJECTS = load("rejects.csv")
 BECKHOFF = {family: load(f"gearboxes_beckhoff_{family}.csv") for family in ("ag2250", "ag2400", "ag3400")}
+# servo gearbox families shipped as gearboxes_<vendor>_<family>.csv (schema.TRACED_GEARBOX_FAMILIES)
+TRACED_GB = {family: load(f"gearboxes_{family}.csv") for family in TRACED_GEARBOX_FAMILIES}
 SERVO_GEARBOXES = {"gearboxes_planetary.csv": PLANETARY} | {
-    f"gearboxes_beckhoff_{k}.csv": v for k, v in BECKHOFF.items()}
+    f"gearboxes_beckhoff_{k}.csv": v for k, v in BECKHOFF.items()} | {
+    f"gearboxes_{k}.csv": v for k, v in TRACED_GB.items()}
 FILES = {"motors_ac_servo.csv": AC, "motors_small_dc.csv": SMALL_DC, "gearboxes_small.csv": SMALL_GB,
          **SERVO_GEARBOXES}
 
@@ -295,6 +298,7 @@ CHECKS: dict[str, tuple[list[Row], Callable[[Row], list[str]]]] = {
     "ac_servo": (AC, ac_servo_problems),
     "planetary": (PLANETARY, planetary_problems),
     **{f"beckhoff_{k}": (v, planetary_problems) for k, v in BECKHOFF.items()},
+    **{k: (v, planetary_problems) for k, v in TRACED_GB.items()},
     "small_dc": (SMALL_DC, small_dc_problems),
     "small_gearhead": (SMALL_GB, small_gearhead_problems),
 }
@@ -408,7 +412,7 @@ def test_database_holds_every_shipped_row_in_si(use_data_dir: Path) -> None:
     assert family >= 4
     assert len(m) == 297 + 298 + family
     assert len(catalog.motors(kind="ac_servo")) == 297 + family
-    assert len(catalog.gearboxes(kind="servo_gearbox")) == 713 + 68
+    assert len(catalog.gearboxes(kind="servo_gearbox")) == 713 + 68 + sum(map(len, TRACED_GB.values()))
     assert len(catalog.gearboxes(kind="small_gearhead")) == 300
     # data/drives_servo.csv (44 rows) plus the vendor-sourced drive family files (drives_<vendor>_<family>.csv)
     assert len(catalog.drives()) == 44 + family_drive_rows()
@@ -543,7 +547,7 @@ def test_database_carries_the_gearbox_ratings_and_fit_data_in_si(use_data_dir: P
     assert g["source_url"] == _AG2400 + "8995369483.html"
     assert g["model"] == "AG2400-TP010-MF"
     table = catalog.gearboxes(vendor="beckhoff")
-    assert len(table) == 68
+    assert len(table) == 68 + sum(len(v) for k, v in TRACED_GB.items() if k.startswith("beckhoff_"))
     assert bool(table.verified.all())
     gplus = catalog.gearboxes(series="GPB")
     assert not bool(gplus.verified.any())

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import family_drive_rows, family_motor_rows
+from conftest import family_drive_rows, family_gearbox_rows, family_motor_rows
 from drivetrain import catalog
 from drivetrain.catalog import cli, db
 from drivetrain.catalog.schema import MOTOR, ROW_TABLES, SHIPPED_FILES
@@ -118,7 +118,7 @@ def test_current_by_the_files_sizes_and_times_else_by_their_content(data_dir: Pa
 def test_a_damaged_shipped_database_is_rebuilt(data_dir: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     (data_dir / db.BUILTIN_NAME).write_bytes(b"not a database at all")
     monkeypatch.setattr(db, "_verified", set())
-    assert len(catalog.gearboxes()) == 1013 + 68  # 68 Beckhoff rows (data/SOURCES.md)
+    assert len(catalog.gearboxes()) == 1013 + 68 + family_gearbox_rows()  # 68 Beckhoff rows (data/SOURCES.md)
 
 
 def test_imports_never_touch_the_shipped_database(data_dir: Path, user_motors: None) -> None:
@@ -284,7 +284,7 @@ def test_cli_list_json_and_table(capsys: pytest.CaptureFixture[str]) -> None:
     assert [r["id"] for r in rows] == ["SGM7J-A5A", "SGM7J-01A", "SGM7J-C2A"]
     assert cli.main(["catalog", "list", "--kind", "gearbox", "--limit", "2"]) == 0
     out = capsys.readouterr().out
-    assert "GPB042-L1-i3" in out and "1079 more" in out
+    assert "GPB042-L1-i3" in out and f"{1079 + family_gearbox_rows()} more" in out
     assert "T2B N·m" in out and "n1max rpm" in out and "bore mm" in out
     assert cli.main(["catalog", "list", "--kind", "drive"]) == 0
     out = capsys.readouterr().out
@@ -310,7 +310,7 @@ def test_cli_import_and_export(tmp_path: Path, capsys: pytest.CaptureFixture[str
     assert cli.main(["catalog", "export", "--origin", "user", "--format", "json", "--output", str(out)]) == 0
     assert [r["id"] for r in json.loads(out.read_text())["rows"]] == ["U-400", "U-200"]
     assert cli.main(["catalog", "export", "--kind", "gearbox", "--origin", "builtin"]) == 0
-    assert len(capsys.readouterr().out.splitlines()) == 1 + 1013 + 68
+    assert len(capsys.readouterr().out.splitlines()) == 1 + 1013 + 68 + family_gearbox_rows()
 
 
 def test_cli_bad_input_exits_2_without_traceback(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -355,7 +355,7 @@ def test_a_user_catalog_of_schema_1_gains_the_new_gearbox_columns(data_dir: Path
     finally:
         conn.close()
     catalog._CACHE.clear()
-    assert len(catalog.gearboxes(vendor="beckhoff")) == 68
+    assert len(catalog.gearboxes(vendor="beckhoff")) == 68 + family_gearbox_rows("beckhoff_")
     assert "U-400" in set(catalog.motors(vendor="userco").ids)
     assert meta(user, "schema_version") == str(db.SCHEMA_VERSION)
     conn = sqlite3.connect(user)

@@ -314,7 +314,7 @@ TRACED_DRIVE_FAMILIES: tuple[str, ...] = (
 """Servo drive families shipped as ``drives_<vendor>_<family>.csv`` (the columns of drives_servo.csv),
 each read from one vendor document."""
 
-TRACED_GEARBOX_FAMILIES: tuple[str, ...] = ()
+TRACED_GEARBOX_FAMILIES: tuple[str, ...] = ("beckhoff_ag3400ma",)
 """Servo gearbox families shipped as ``gearboxes_<vendor>_<family>.csv`` (the columns of the Beckhoff
 files), each read from one vendor document; ids are model-ratio, as the other gearbox files."""
 
