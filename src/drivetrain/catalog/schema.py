@@ -308,9 +308,7 @@ TRACED_MOTOR_FAMILIES: tuple[str, ...] = (
 )
 """Servo motor families shipped as ``motors_<vendor>_<family>.csv``, each read from one vendor document."""
 
-TRACED_DRIVE_FAMILIES: tuple[str, ...] = (
-    "teco_jsdap",
-)
+TRACED_DRIVE_FAMILIES: tuple[str, ...] = ()
 """Servo drive families shipped as ``drives_<vendor>_<family>.csv`` (the columns of drives_servo.csv),
 each read from one vendor document."""
 
