@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any, Literal
 from pydantic import Field, ValidationError, model_validator
 
 from drivetrain.axis.electrical import (
+    ELECTRICAL_KEYS,
     DriveData,
     DriveSpec,
     Environment,
@@ -119,7 +120,15 @@ class MotorSpec(MotorElectricalSpec):
 
     @model_validator(mode="after")
     def _complete(self) -> MotorSpec:
-        if self.select is not None or self.id is not None:
+        if self.select is not None:
+            # each candidate has its own winding data; the supply is the machine's, the same for all
+            own = [k for k in ELECTRICAL_KEYS if k not in ("supply_voltage", "dc_bus_voltage")
+                   and getattr(self, k) is not None]
+            if own:
+                raise ValueError(f"{', '.join(own)} cannot go with select: each catalog candidate has its own "
+                                 "(only supply_voltage or dc_bus_voltage applies to every candidate)")
+            return self
+        if self.id is not None:
             return self
         missing = [k for k in ("inertia", "rated_torque", "peak_torque", "max_speed") if getattr(self, k) is None]
         if missing:

@@ -209,6 +209,9 @@ def _print_candidates(console: Any, result: Any, u: TableUnits) -> None:
         else:
             for over in sel.get("drive_passed_over", [])[:5]:
                 console.print(f"  passed over for its drive: {over['motor']}: {over['reason']}")
+            more = int(sel.get("drive_passed_over_count", 0)) - 5
+            if more > 0:
+                console.print(f"  ... and {more} more passed over for their drive (selection.drive_passed_over)")
         _print_selected_electrical(console, pick, u)
         if pick.get("unknown"):
             console.print("  not judged (the catalog lacks the data): "

@@ -327,7 +327,12 @@ def selected_electrical(axis: Axis, cycle: DutyCycle, motors: MotorTable, m: int
     mid = str(motors.ids[m])
     elec = catalog_electrical(mid)
     voltage = float(motors.voltage[m])
-    if elec.supply_voltage is None and math.isfinite(voltage):
+    spec = axis.spec.motor
+    if spec is not None and (spec.supply_voltage is not None or spec.dc_bus_voltage is not None):
+        # the machine's supply, given beside the selection, wins (docs/axis-file.md)
+        elec = replace(elec, supply_voltage=spec.supply_voltage, dc_bus_voltage=spec.dc_bus_voltage,
+                       sources=(*elec.sources, "axis file (supply)"))
+    elif elec.supply_voltage is None and math.isfinite(voltage):
         elec = replace(elec, supply_voltage=voltage)
     motor: MotorData = motor_from_catalog_row(catalog.get(mid))
     rated_drive = drive if drive is not None and math.isfinite(drive.continuous_current) else None
