@@ -1,9 +1,12 @@
 """Benchmark: catalog selection with the drive post-pass against the same selection without it.
 
 One run, the same axis and catalog (every shipped motor, direct and behind every gearbox row): the
-motor/gearbox selection alone (``selection.select``), then the selection plus the drive post-pass
-(``drive_select.attach_drives``: a drive per listed candidate, the selected motor's electrical and
-regen blocks). Reported as the ratio of the medians; the target is at most 2.
+motor/gearbox selection alone (``selection.select``), then the selection plus the drive rule and
+post-pass (``drive_select.orderable``: the selected motor must have an orderable drive, walking the
+ranking where it has not; ``drive_select.attach_drives``: a drive per listed candidate, the selected
+motor's electrical and regen blocks). Twice: ``unknown: flag`` (the default) and ``unknown: fail``
+(where the walk passes over every motor whose drive cannot be checked). Reported as the ratio of
+the medians; the target is at most 2.
 Run: ``.venv/bin/python bench/bench_select_drives.py``.
 """
 
@@ -19,7 +22,7 @@ os.environ.setdefault("DRIVETRAIN_DATA_DIR", tempfile.mkdtemp(prefix="drivetrain
 
 from drivetrain.axis.model import parse_axis
 from drivetrain.duty.cycle import duty_cycle
-from drivetrain.sizing.drive_select import attach_drives
+from drivetrain.sizing.drive_select import attach_drives, orderable
 from drivetrain.sizing.selection import select
 
 AXIS: dict[str, Any] = {
@@ -34,7 +37,12 @@ RUNS = 5
 
 
 def main() -> None:
-    axis = parse_axis(AXIS)
+    for policy in ("flag", "fail"):
+        run({**AXIS, "motor": {"select": {**AXIS["motor"]["select"], "unknown": policy}}}, policy)
+
+
+def run(data: dict[str, Any], policy: str) -> None:
+    axis = parse_axis(data)
     duty = duty_cycle(axis, POINTS)
     spec = axis.spec.motor.select if axis.spec.motor is not None else None
     assert spec is not None
@@ -47,18 +55,19 @@ def main() -> None:
         select(axis, duty, spec, margins)
         without.append(time.perf_counter() - t0)
         t0 = time.perf_counter()
-        chosen = select(axis, duty, spec, margins)
+        chosen = orderable(axis, duty, select(axis, duty, spec, margins))
         attach_drives(axis, duty, chosen, margins)
         with_drives.append(time.perf_counter() - t0)
     a, b = statistics.median(without), statistics.median(with_drives)
     sel = chosen["selection"]
-    print(f"samples per cycle: {len(duty.t)}; candidates evaluated: {sel['evaluated']}; "
-          f"listed with a drive block: {len(chosen['candidates'])}")
-    print(f"selection without drives: {a * 1e3:.1f} ms (median of {RUNS})")
-    print(f"selection with drives:    {b * 1e3:.1f} ms (median of {RUNS})")
-    print(f"ratio with / without drives: {b / a:.2f} (target <= 2)")
+    print(f"unknown: {policy}; samples per cycle: {len(duty.t)}; candidates evaluated: {sel['evaluated']}; "
+          f"listed with a drive block: {len(chosen['candidates'])}; "
+          f"passed over for the drive: {sel.get('drive_passed_over_count', 0)}")
+    print(f"  selection without drives: {a * 1e3:.1f} ms (median of {RUNS})")
+    print(f"  selection with drives:    {b * 1e3:.1f} ms (median of {RUNS})")
+    print(f"  ratio with / without drives: {b / a:.2f} (target <= 2)")
     d = sel.get("selected", {}).get("drive", {})
-    print(f"selected: {sel.get('selected', {}).get('motor')} drive: {d.get('id')} ({d.get('status')})")
+    print(f"  selected: {sel.get('selected', {}).get('motor')} drive: {d.get('id')} ({d.get('status')})")
 
 
 if __name__ == "__main__":
