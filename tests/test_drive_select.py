@@ -153,14 +153,19 @@ TD-400,Testco,1.6,4.8,3,400,10,40,780,yes,50,12,test fixture
 """
 
 
-@pytest.fixture()
-def user_catalog(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def import_catalog(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, motors: str, drives: str = USER_DRIVES) -> None:
+    """A user catalog in a fresh data folder with these motor and drive rows."""
     from drivetrain.catalog import db
 
     monkeypatch.setenv(db.ENV_DATA_DIR, str(tmp_path / "data"))
-    for name, text in (("m.csv", USER_MOTORS), ("d.csv", USER_DRIVES)):
+    for name, text in (("m.csv", motors), ("d.csv", drives)):
         (tmp_path / name).write_text(text, encoding="utf-8")
         catalog.import_file(tmp_path / name)
+
+
+@pytest.fixture()
+def user_catalog(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import_catalog(tmp_path, monkeypatch, USER_MOTORS)
 
 
 def test_selection_answers_motor_drive_resistor_and_winding_temperature(user_catalog: None) -> None:
@@ -306,12 +311,7 @@ TC-NK,Unco,U,1.27,4.46,3000,6000,0.486,400,200,,,,,,,,,,,test fixture
 
 @pytest.fixture()
 def walk_catalog(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    from drivetrain.catalog import db
-
-    monkeypatch.setenv(db.ENV_DATA_DIR, str(tmp_path / "data"))
-    for name, text in (("m.csv", WALK_MOTORS), ("d.csv", USER_DRIVES)):
-        (tmp_path / name).write_text(text, encoding="utf-8")
-        catalog.import_file(tmp_path / name)
+    import_catalog(tmp_path, monkeypatch, WALK_MOTORS)
 
 
 def test_a_motor_no_drive_can_feed_is_passed_over_for_the_next(walk_catalog: None) -> None:
