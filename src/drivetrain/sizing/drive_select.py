@@ -19,7 +19,10 @@ The rules (docs/checks.md, "Drive selection"):
   a voltage missing on either side matches, and the answer says so);
 * smallest: least continuous current, then least peak current;
 * a motor without a torque constant, or drives without current ratings, give ``status: unknown``
-  with the reason; no candidate drive at all gives ``status: none``.
+  with the reason; no candidate drive at all gives ``status: none``;
+* the selected motor is the best-ranked passing one whose drive can be ordered (``orderable``, run
+  by ``size`` whether or not the post-pass is): one whose drive fails is passed over, and under
+  ``unknown: fail`` so is one whose drive cannot be checked; the answer names them and why.
 """
 
 from __future__ import annotations
