@@ -13,10 +13,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-DATA_VERSION = "2026.11-3"
+DATA_VERSION = "2026.11-4"
 """Version of the shipped data files; the cached database is rebuilt when it changes."""
 
-SCHEMA_VERSION = 3
+SCHEMA_VERSION = 4
 """Version of the SQLite layout; older user databases listed in db._UPGRADABLE gain the new columns in
 place, any other version is refused."""
 
@@ -165,6 +165,9 @@ DRIVE_FIELDS: tuple[Field, ...] = (
     Field("builtin_braking_resistor", FLAG, "builtin_braking_resistor"),
     Field("braking_resistor_average_power", "power", "braking_resistor_average_power_W", "W"),
     Field("min_resistance", "resistance", "min_resistance_ohm", "ohm"),
+    # the motor series the drive runs (prefixes of the motors' ``series``, space- or comma-separated; empty:
+    # not stated, the drive is offered to every motor of its vendor and voltage; docs/checks.md "Drive selection")
+    _text("motor_series"),
     *_COMMON_TAIL,
     *_DOCUMENT,
     *_TRACE,

@@ -209,3 +209,4 @@ class DriveTable(_Table):
     absorbable_energy: FloatArray  # [J] regen energy the bus capacitors absorb, as the vendor prints it
     braking_resistor_average_power: FloatArray  # [W]
     min_resistance: FloatArray  # [ohm] smallest external braking resistor allowed
+    motor_series: StrArray  # the motor series the drive runs ("" where not stated; schema.DRIVE_FIELDS)

@@ -16,7 +16,8 @@ The rules (docs/checks.md, "Drive selection"):
   set point (``drivetrain.physics.drive_overload``);
 * candidates: the drives the pairing table lists for the motor; without an entry, the drives of
   the motor's vendor whose supply voltage matches the motor's (within ``catalog.VOLTAGE_TOLERANCE``;
-  a voltage missing on either side matches, and the answer says so);
+  a voltage missing on either side matches, and the answer says so) and, where a drive lists the
+  motor series it runs (``motor_series``), whose list holds the motor's series;
 * smallest: least continuous current, then least peak current;
 * a motor without a torque constant, or drives without current ratings, give ``status: unknown``
   with the reason; no candidate drive at all gives ``status: none``;
@@ -28,6 +29,7 @@ The rules (docs/checks.md, "Drive selection"):
 from __future__ import annotations
 
 import math
+import re
 import weakref
 from collections.abc import Callable
 from dataclasses import replace
@@ -79,25 +81,55 @@ def _drive_data(table: DriveTable) -> tuple[DriveData, ...]:
     return found
 
 
-def _pool(motor_id: str, vendor: str, voltage: float) -> tuple[list[DriveData], str]:
-    """The drives a motor may use and the basis: the pairing table's, else its vendor's at its voltage."""
+_SERIES: weakref.WeakKeyDictionary[DriveTable, tuple[tuple[str, ...], ...]] = weakref.WeakKeyDictionary()
+
+
+def _series_prefixes(table: DriveTable) -> tuple[tuple[str, ...], ...]:
+    """Each drive's ``motor_series`` as case-folded prefixes (space- or comma-separated; empty: not
+    stated), once per table."""
+    found = _SERIES.get(table)
+    if found is None:
+        found = _SERIES[table] = tuple(tuple(p.casefold() for p in re.split(r"[\s,]+", str(text)) if p)
+                                       for text in table.motor_series)
+    return found
+
+
+def _pool(motor_id: str, vendor: str, voltage: float) -> tuple[list[DriveData], str, str]:
+    """The drives a motor may use, the basis and, when the series rule left none, why: the pairing
+    table's, else its vendor's at its voltage whose ``motor_series`` (where a drive states one) holds
+    the motor's series as a prefix (case-insensitive)."""
     from drivetrain import catalog
 
     pairs = catalog.drive_pairs().get(motor_id)
     if pairs:
-        return list(_drive_data(catalog.drives(ids=pairs))), "vendor pairing table"
+        return list(_drive_data(catalog.drives(ids=pairs))), "vendor pairing table", ""
     try:
         table = catalog.drives(vendor=vendor) if vendor else catalog.drives()
     except InputError:  # the catalog has no drive of this vendor
-        return [], "vendor and supply voltage"
-    out = []
-    for i, drive in enumerate(_drive_data(table)):
+        return [], "vendor and supply voltage", ""
+    series = str((catalog.motor_row(motor_id) or {}).get("series") or "")
+    out, other, by_series = [], [], False
+    for i, (drive, runs) in enumerate(zip(_drive_data(table), _series_prefixes(table), strict=True)):
         v = float(table.voltage[i])
         if math.isfinite(voltage) and math.isfinite(v) and abs(v - voltage) > catalog.VOLTAGE_TOLERANCE * voltage:
             continue
+        if runs:
+            by_series = True
+            if not (series and any(series.casefold().startswith(p) for p in runs)):
+                other.append(str(table.motor_series[i]))
+                continue
         out.append(drive)
-    basis = "vendor and supply voltage" if math.isfinite(voltage) else "vendor (the motor's voltage is not known)"
-    return out, basis
+    if by_series:
+        basis = ("vendor, voltage and motor series" if math.isfinite(voltage)
+                 else "vendor and motor series (the motor's voltage is not known)")
+    else:
+        basis = "vendor and supply voltage" if math.isfinite(voltage) else "vendor (the motor's voltage is not known)"
+    why = ""
+    if other and not out:
+        why = (f"the catalog has no {vendor} drive for this motor's series ({series or 'not given'}): the {vendor} "
+               f"drives at its supply voltage run only the motor series {'; '.join(dict.fromkeys(other))} "
+               "(their motor_series)")
+    return out, basis, why
 
 
 def prospect(motor_id: str, vendor: str, voltage: float,
@@ -108,9 +140,9 @@ def prospect(motor_id: str, vendor: str, voltage: float,
     ratings (``unknown``). A block without ``status`` means the drive can be checked."""
     elec = catalog_electrical(motor_id)
     if given is not None:
-        pool, basis = [given], "given in the axis file"
+        pool, basis, why = [given], "given in the axis file", ""
     else:
-        pool, basis = _pool(motor_id, vendor, voltage)
+        pool, basis, why = _pool(motor_id, vendor, voltage)
     base: dict[str, Any] = {"basis": basis, "candidates": [d.name for d in pool]}
     first = pool[0].name if len(pool) == 1 else None
     if elec.kt is None and elec.ke is None:
@@ -119,7 +151,7 @@ def prospect(motor_id: str, vendor: str, voltage: float,
                                "cannot be checked"})
     elif not pool:
         base.update({"status": "none", "id": None, "ok": None,
-                     "reason": f"the catalog has no {vendor} drive for this motor's supply voltage"})
+                     "reason": why or f"the catalog has no {vendor} drive for this motor's supply voltage"})
     elif not any(math.isfinite(d.continuous_current) and math.isfinite(d.peak_current) for d in pool):
         base.update({"status": "unknown", "id": first, "ok": None,
                      "reason": f"no {vendor} drive in the catalog has current ratings (data/SOURCES.md, \"Drives\")"})
