@@ -126,9 +126,9 @@ def _pool(motor_id: str, vendor: str, voltage: float) -> tuple[list[DriveData], 
         basis = "vendor and supply voltage" if math.isfinite(voltage) else "vendor (the motor's voltage is not known)"
     why = ""
     if other and not out:
+        where = " at its supply voltage" if math.isfinite(voltage) else ""
         why = (f"the catalog has no {vendor} drive for this motor's series ({series or 'not given'}): the {vendor} "
-               f"drives at its supply voltage run only the motor series {'; '.join(dict.fromkeys(other))} "
-               "(their motor_series)")
+               f"drives{where} run only the motor series {'; '.join(dict.fromkeys(other))} (their motor_series)")
     return out, basis, why
 
 
