@@ -174,3 +174,16 @@ def test_a_schema_3_user_catalog_gains_the_motor_series_column(tmp_path: Path,
     finally:
         conn.close()
     assert version == str(db.SCHEMA_VERSION) == "4"
+
+
+def test_a_given_drive_runs_only_its_series_in_a_selection(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """drive: {id: TD-L} beside a selection: a motor of another series fails with that drive whatever its
+    current, so the selection passes over it for one TD-L runs."""
+    import_catalog(tmp_path, monkeypatch, MOTORS, DRIVES)
+    r = size(axis(motor={"select": {"vendor": "testco", "gearbox": "none"}}, drive={"id": "TD-L"}))
+    by_motor = blocks(r)
+    other = by_motor["TQ-04"]
+    assert other["status"] == "fails" and other["ok"] is False and other["id"] == "TD-L"
+    assert "runs only the motor series T" in other["reason"] and "not QZ" in other["reason"]
+    assert by_motor["TC-04"]["status"] == "ok"
+    assert r.selection["selected"]["motor"] == "TC-04" and r.ok

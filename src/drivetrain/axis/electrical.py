@@ -176,6 +176,7 @@ class DriveData:
     min_resistance: float | None = None
     builtin_resistance: float | None = None
     builtin_average_power: float | None = None
+    motor_series: str | None = None  # the motor series it runs (catalog column; None: not stated)
 
 
 @dataclass(frozen=True)
@@ -308,6 +309,7 @@ def drive_from_catalog_row(row: dict[str, Any]) -> DriveData:
         min_resistance=num("min_resistance_ohm"),
         builtin_resistance=None if builtin == 0 else num("braking_resistor_ohm"),
         builtin_average_power=None if builtin == 0 else num("braking_resistor_average_power_W"),
+        motor_series=str(row.get("motor_series") or "") or None,
     )
 
 

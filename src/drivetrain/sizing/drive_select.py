@@ -84,13 +84,16 @@ def _drive_data(table: DriveTable) -> tuple[DriveData, ...]:
 _SERIES: weakref.WeakKeyDictionary[DriveTable, tuple[tuple[str, ...], ...]] = weakref.WeakKeyDictionary()
 
 
+def _prefixes(text: object) -> tuple[str, ...]:
+    """A ``motor_series`` text as case-folded prefixes (space- or comma-separated; empty: not stated)."""
+    return tuple(p.casefold() for p in re.split(r"[\s,]+", str(text or "")) if p)
+
+
 def _series_prefixes(table: DriveTable) -> tuple[tuple[str, ...], ...]:
-    """Each drive's ``motor_series`` as case-folded prefixes (space- or comma-separated; empty: not
-    stated), once per table."""
+    """Each drive's ``motor_series`` prefixes, once per table."""
     found = _SERIES.get(table)
     if found is None:
-        found = _SERIES[table] = tuple(tuple(p.casefold() for p in re.split(r"[\s,]+", str(text)) if p)
-                                       for text in table.motor_series)
+        found = _SERIES[table] = tuple(_prefixes(text) for text in table.motor_series)
     return found
 
 
@@ -138,6 +141,8 @@ def prospect(motor_id: str, vendor: str, voltage: float,
     block's ``basis`` and ``candidates``, and (``status`` and ``reason`` in the block) why its drive
     cannot be checked: no torque constant (``unknown``), no drive (``none``), no drive with current
     ratings (``unknown``). A block without ``status`` means the drive can be checked."""
+    from drivetrain import catalog
+
     elec = catalog_electrical(motor_id)
     if given is not None:
         pool, basis, why = [given], "given in the axis file", ""
@@ -145,7 +150,14 @@ def prospect(motor_id: str, vendor: str, voltage: float,
         pool, basis, why = _pool(motor_id, vendor, voltage)
     base: dict[str, Any] = {"basis": basis, "candidates": [d.name for d in pool]}
     first = pool[0].name if len(pool) == 1 else None
-    if elec.kt is None and elec.ke is None:
+    runs = () if given is None else _prefixes(given.motor_series)
+    series = str((catalog.motor_row(motor_id) or {}).get("series") or "") if runs else ""
+    if runs and not (series and any(series.casefold().startswith(p) for p in runs)):
+        # the given drive cannot run this motor at all: it fails, whatever the current
+        base.update({"status": "fails", "id": given.name if given else None, "ok": False, "checks": [],
+                     "reason": f"the given drive runs only the motor series {given.motor_series if given else ''} "
+                               f"(its motor_series), not {series or 'a motor of no stated series'}"})
+    elif elec.kt is None and elec.ke is None:
         base.update({"status": "unknown", "id": first, "ok": None,
                      "reason": f"the catalog has no torque constant for {motor_id}: its current, and so the drive, "
                                "cannot be checked"})
@@ -214,6 +226,8 @@ def _candidate_drive(axis: Axis, duty: DutyCycle, sel: dict[str, Any], motors: M
 
 def _drive_reason(block: dict[str, Any]) -> str:
     """Why a candidate's drive is not an answer, in one sentence."""
+    if block["status"] == "fails" and block.get("reason"):  # a given drive that cannot run the motor
+        return f"its drive fails: {block['reason']}"
     if block["status"] == "fails":
         bad = [ch["name"] for ch in block.get("checks", []) if not ch.get("ok", True)]
         return f"its drive fails: the largest it may use, {block.get('id')}, fails {', '.join(bad)}"
