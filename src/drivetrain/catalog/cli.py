@@ -64,6 +64,7 @@ _LIST_COLUMNS: dict[str, tuple[tuple[str, str], ...]] = {
         ("I cont A", "continuous_current"),
         ("I peak A", "peak_current"),
         ("V", "voltage"),
+        ("runs motors", "motor_series"),
         ("origin", "origin"),
     ),
 }
