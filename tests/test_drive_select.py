@@ -262,35 +262,44 @@ def test_web_payload_carries_drive_electrical_and_regen(user_catalog: None) -> N
     assert given["electrical"]["drive"]["id"] == PAIRED_DRIVE
 
 
-def test_results_panel_renders_the_electrical_block() -> None:
-    """results.js: the drive, winding and regen rows appear (node, when available)."""
+RESULTS_JS = Path(__file__).resolve().parents[1] / "src/drivetrain/web/static/results.js"
+
+
+def run_results_js(body: str) -> str:
+    """Run ``body`` in node with ``@RESULTS@`` standing for the imported results.js (skip when node is absent);
+    its stdout."""
     import shutil
     import subprocess
 
     node = shutil.which("node")
     if node is None:
         pytest.skip("node is not installed")
-    js = Path(__file__).resolve().parents[1] / "src/drivetrain/web/static/results.js"
-    script = f"""
-      globalThis.Node = class {{}};
-      globalThis.document = {{ createElement: (t) => ({{ tag: t, children: [], attrs: {{}},
-        setAttribute(k, v) {{ this.attrs[k] = v; }}, append(...c) {{ this.children.push(...c); }},
-        appendChild(c) {{ this.children.push(c); return c; }}, set textContent(v) {{ this.text = v; }},
-        get textContent() {{
-          return this.text ?? this.children.map((c) => typeof c === "string" ? c : c.textContent).join(""); }},
-        replaceChildren(...c) {{ this.children = c; }}, addEventListener() {{}}, classList: {{ add() {{}} }} }}),
-        createTextNode: (t) => t }};
-      const R = await import({json.dumps(js.as_uri())});
-      const parts = R.electricalParts({{ drive: {{ id: "TD-M", status: "ok", basis: "vendor", checks: [] }},
-        electrical: {{ envelope_source: "electrical", rms_current_A: 1, peak_current_A: 2, checks: [],
-                       winding_temperature_rise_K: 12 }},
-        regen: {{ energy_per_cycle_J: 5, capacitor_absorbed_J: 1, resistor_energy_per_cycle_J: 4,
-                 resistor_peak_power_W: 100, resistor_average_power_W: 2, builtin_resistor_sufficient: true }} }});
-      console.log(JSON.stringify(parts.length), parts[0].textContent);
-    """
+    module = f"await import({json.dumps(RESULTS_JS.as_uri())})"
+    script = "globalThis.Node = class {};\n" + body.replace("@RESULTS@", module)
     out = subprocess.run([node, "--input-type=module", "-e", script], capture_output=True, text=True, timeout=60)
     assert out.returncode == 0, out.stderr
-    assert out.stdout.startswith("1") and "TD-M" in out.stdout and "braking resistor" in out.stdout
+    return out.stdout
+
+
+def test_results_panel_renders_the_electrical_block() -> None:
+    """results.js: the drive, winding and regen rows appear (node, when available)."""
+    out = run_results_js("""
+      globalThis.document = { createElement: (t) => ({ tag: t, children: [], attrs: {},
+        setAttribute(k, v) { this.attrs[k] = v; }, append(...c) { this.children.push(...c); },
+        appendChild(c) { this.children.push(c); return c; }, set textContent(v) { this.text = v; },
+        get textContent() {
+          return this.text ?? this.children.map((c) => typeof c === "string" ? c : c.textContent).join(""); },
+        replaceChildren(...c) { this.children = c; }, addEventListener() {}, classList: { add() {} } }),
+        createTextNode: (t) => t };
+      const R = @RESULTS@;
+      const parts = R.electricalParts({ drive: { id: "TD-M", status: "ok", basis: "vendor", checks: [] },
+        electrical: { envelope_source: "electrical", rms_current_A: 1, peak_current_A: 2, checks: [],
+                       winding_temperature_rise_K: 12 },
+        regen: { energy_per_cycle_J: 5, capacitor_absorbed_J: 1, resistor_energy_per_cycle_J: 4,
+                 resistor_peak_power_W: 100, resistor_average_power_W: 2, builtin_resistor_sufficient: true } });
+      console.log(JSON.stringify(parts.length), parts[0].textContent);
+    """)
+    assert out.startswith("1") and "TD-M" in out and "braking resistor" in out
 
 
 def test_a_vendor_without_drives_answers_none() -> None:
@@ -364,21 +373,11 @@ def test_no_orderable_drive_fails_the_answer_and_says_why(walk_catalog: None, tm
 
 def test_results_verdict_fails_a_selection_without_an_orderable_drive() -> None:
     """results.js: the banner's verdict follows selection.drive_advice (node, when available)."""
-    import shutil
-    import subprocess
-
-    node = shutil.which("node")
-    if node is None:
-        pytest.skip("node is not installed")
-    js = Path(__file__).resolve().parents[1] / "src/drivetrain/web/static/results.js"
-    script = f"""
-      globalThis.Node = class {{}};
-      const R = await import({json.dumps(js.as_uri())});
-      const sel = {{ selected: {{ motor: "TC-02", checks: [] }}, passing: 2, evaluated: 3 }};
-      const ok = R.verdict({{ selection: sel }});
-      const bad = R.verdict({{ selection: {{ ...sel, drive_advice: "none of the 2 ..." }} }});
+    out = run_results_js("""
+      const R = @RESULTS@;
+      const sel = { selected: { motor: "TC-02", checks: [] }, passing: 2, evaluated: 3 };
+      const ok = R.verdict({ selection: sel });
+      const bad = R.verdict({ selection: { ...sel, drive_advice: "none of the 2 ..." } });
       console.log(JSON.stringify([ok.ok, bad.ok, bad.failed]));
-    """
-    out = subprocess.run([node, "--input-type=module", "-e", script], capture_output=True, text=True, timeout=60)
-    assert out.returncode == 0, out.stderr
-    assert json.loads(out.stdout) == [True, False, "not orderable: none of the 2 ..."]
+    """)
+    assert json.loads(out) == [True, False, "not orderable: none of the 2 ..."]
