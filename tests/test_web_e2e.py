@@ -572,6 +572,9 @@ def test_history_restores_and_delete_asks_twice(page: Any) -> None:
     page.fill("#project-name", "to be deleted")
     page.click("#save-project")
     wait_until(page, "() => document.querySelector('#save-state').innerText.includes('saved, version 1')")
+    # the project list is fetched again after the save: on a loaded machine it can lag the save state
+    wait_until(page, "() => [...document.querySelectorAll('.project-list button')]"
+                     ".some(b => b.innerText.includes('to be deleted'))")
     listed = page.locator(".project-list button", has_text="to be deleted")
     assert listed.count() == 1
     set_field(page, "axis", "second version")  # a second version, then back to the first
