@@ -335,12 +335,15 @@ def attach_drives(axis: Axis, duty: DutyCycle, chosen: dict[str, Any], margins: 
     ks = [k for _, k in zip(chosen["candidates"], shown, strict=False)]
     ks += [int(sel["_best"])] if "selected" in sel else []
     catalog.motor_rows([str(motors.ids[int(c.motor[k])]) for k in ks])  # one query for the motors below
+    done: dict[int, tuple[dict[str, Any], DriveData | None]] = {}
     for cand, k in zip(chosen["candidates"], shown, strict=False):
-        cand["drive"], _ = _candidate_drive(axis, duty, sel, motors, k)
+        done[k] = _candidate_drive(axis, duty, sel, motors, k)
+        cand["drive"] = done[k][0]
     if "selected" not in sel:
         return
     best = int(sel["_best"])
-    block, drive = _candidate_drive(axis, duty, sel, motors, best)
+    block, drive = done[best] if best in done else _candidate_drive(axis, duty, sel, motors, best)
+    block = dict(block)  # the selected candidate's own copy (the listed one keeps its block)
     from drivetrain.sizing.selection import candidate_cycle
 
     cycle, _ = candidate_cycle(axis, duty, sel, best)
