@@ -31,11 +31,17 @@ EXAMPLES = Path(__file__).parents[1] / "examples"
 BASE = yaml.safe_load((EXAMPLES / "ball_screw.yaml").read_text(encoding="utf-8"))
 
 
-def _variant(mass: float, lead: float, time: float, **motor: Any) -> dict[str, Any]:
+def ball_screw_variant(mass: float, lead: float, time: float) -> dict[str, Any]:
+    """examples/ball_screw.yaml with another load mass, screw lead and first move time (a fresh copy)."""
     v = copy.deepcopy(BASE)
     v["mechanism"]["load"]["mass"] = mass
     v["mechanism"]["lead"] = lead
     v["profile"][0]["time"] = time
+    return v
+
+
+def _variant(mass: float, lead: float, time: float, **motor: Any) -> dict[str, Any]:
+    v = ball_screw_variant(mass, lead, time)
     for k, val in motor.items():
         if k in ("objective", "gearbox", "max_inertia_ratio", "unknown"):
             v["motor"]["select"][k] = val

@@ -9,14 +9,12 @@ axis alone, and ``Engine.size_many`` must give each axis the answer of ``Engine.
 
 from __future__ import annotations
 
-import copy
 import itertools
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
-import yaml
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
@@ -27,16 +25,13 @@ from drivetrain.errors import InputError
 from drivetrain.physics import rolling_life
 from drivetrain.sizing.mechanism_checks import mechanism_checks, prepare_many
 from drivetrain.study.batch import Engine, full_result
+from test_study_batch import ball_screw_variant
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
-BASE = yaml.safe_load((EXAMPLES / "ball_screw.yaml").read_text(encoding="utf-8"))
 
 
 def _variant(mass: float, lead: float, time: float, **changes: Any) -> dict[str, Any]:
-    v = copy.deepcopy(BASE)
-    v["mechanism"]["load"]["mass"] = mass
-    v["mechanism"]["lead"] = lead
-    v["profile"][0]["time"] = time
+    v = ball_screw_variant(mass, lead, time)
     for path, value in changes.items():
         node = v
         *head, last = path.split("__")
