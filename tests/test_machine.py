@@ -115,12 +115,12 @@ def test_separate_buses_share_nothing() -> None:
 
 
 def test_resistors_in_parallel_share_by_conductance() -> None:
-    bus = {"name": "bus", "axes": ["Z", "X"], "regen_on_voltage": "390 V", "min_resistance": "20 ohm",
+    bus = {"name": "bus", "axes": ["Z", "X"], "regen_on_voltage": "760 V", "min_resistance": "20 ohm",
            "resistors": [{"id": "R1", "resistance": "100 ohm", "continuous_power": "100 W"},
                          {"id": "R2", "resistance": "100 ohm", "continuous_power": "20 W"}]}
     b = size_machine(machine(buses=[bus])).to_dict()["buses"][0]
     assert b["resistor_equivalent_ohm"] == pytest.approx(50.0)
-    assert b["resistor_max_ohm"] == pytest.approx(390.0**2 / b["resistor_peak_power_W"])
+    assert b["resistor_max_ohm"] == pytest.approx(760.0**2 / b["resistor_peak_power_W"])
     assert [r["share"] for r in b["resistors"]] == [0.5, 0.5]
     assert b["resistors"][0]["ok"] and not b["resistors"][1]["ok"]  # 26.5 W average each
     assert b["resistors_ok"] is False and b["ok"] is False

@@ -251,6 +251,40 @@ def drive_data(spec: DriveSpec) -> DriveData:
     return DriveData(**merged)
 
 
+def nominal_bus_voltage(*sources: Any) -> float | None:
+    """The nominal DC bus [V] of the first source that states one: its ``dc_bus_voltage``, else
+    sqrt(2) x its ``supply_voltage`` (line-to-line rms). Sources are DriveData, MotorElectrical or a
+    motor spec, in order of precedence (the drive's keys first); None where none states either."""
+    from drivetrain.physics.motor_electrical import dc_bus_voltage
+
+    for src in sources:
+        if src is None:
+            continue
+        if getattr(src, "dc_bus_voltage", None) is not None:
+            return float(src.dc_bus_voltage)
+        if getattr(src, "supply_voltage", None) is not None:
+            return float(dc_bus_voltage(src.supply_voltage))
+    return None
+
+
+def check_bus_limits(nominal_bus: float | None, bus_max_voltage: float | None, regen_on_voltage: float | None,
+                     where: str) -> None:
+    """Refuse a capacitor maximum or a chopper switch-on voltage below the nominal DC bus [V].
+
+    The capacitors take C/2 (U_max^2 - U_nom^2) only for U_max above the bus they idle at, and the
+    braking chopper switches on above that bus (U_nom <= U_on); data below it is a typing slip or a
+    drive of another voltage class, and would make the capacitors "absorb" negative energy and hand
+    the resistor more than the cycle returns. Source: physics.regen.capacitor_energy; Yaskawa
+    Sigma-7S SERVOPACK manual §12.8.6 (regeneration starts above the main-circuit bus voltage).
+    """
+    if nominal_bus is None:
+        return
+    for key, value in (("bus_max_voltage", bus_max_voltage), ("regen_on_voltage", regen_on_voltage)):
+        if value is not None and value < nominal_bus:
+            raise InputError(f"{where}.{key}", f"must be at least the nominal DC bus voltage "
+                             f"({nominal_bus:.4g} V, from the supply or dc_bus_voltage)", f"{value:.4g} V")
+
+
 def _nan_none(value: Any) -> float | None:
     if value is None:
         return None

@@ -22,9 +22,11 @@ from drivetrain.axis.electrical import (
     EnvironmentSpec,
     MotorElectrical,
     MotorElectricalSpec,
+    check_bus_limits,
     drive_data,
     environment,
     motor_electrical,
+    nominal_bus_voltage,
 )
 from drivetrain.axis.resolve import resolve_transmission
 from drivetrain.errors import InputError
@@ -274,10 +276,13 @@ def parse_axis(data: Any, *, text_checked: bool = False) -> Axis:
             electrical = motor_electrical(spec.motor, spec.motor.id)
         except InputError as exc:
             raise exc.at("") from None
+    drive = None if spec.drive is None else drive_data(spec.drive)
+    if drive is not None:
+        check_bus_limits(nominal_bus_voltage(drive, electrical, spec.motor), drive.bus_max_voltage,
+                         drive.regen_on_voltage, "drive")
     return Axis(name=spec.axis, gravity=spec.gravity, efficiency_model=spec.efficiency_model,
                 mechanism=mechanism, transmission=stages, spec=spec, motor=motor, raw=data,
-                electrical=electrical, drive=None if spec.drive is None else drive_data(spec.drive),
-                environment=environment(spec.environment))
+                electrical=electrical, drive=drive, environment=environment(spec.environment))
 
 
 def _motor_data(m: MotorSpec) -> MotorData | None:

@@ -14,8 +14,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from drivetrain.axis.electrical import check_bus_limits, nominal_bus_voltage
 from drivetrain.axis.model import Axis, parse_axis, read_yaml
 from drivetrain.errors import InputError
+from drivetrain.physics.motor_electrical import dc_bus_voltage
 from drivetrain.units import parse
 
 MACHINE_KEYS = {"version", "machine", "cycle_time", "supply", "axes", "buses"}
@@ -192,7 +194,24 @@ def parse_machine(data: Any, base: str | Path | None = None, path: str | None = 
                              data["cycle_time"])
     _check_after_cycles(axes)
     buses = _buses(data.get("buses"), names)
+    _check_bus_voltages(axes, buses, supply)
     return Machine(name=name, cycle_time=cycle_time, supply=supply, axes=tuple(axes), buses=buses, path=path, raw=data)
+
+
+def _check_bus_voltages(axes: list[MachineAxis], buses: tuple[BusGroup, ...], supply: Supply) -> None:
+    """Capacitor maxima and chopper switch-on voltages at least the nominal bus: each axis's drive
+    against its own stated supply (else the machine's), each bus group against the machine's."""
+    mains_bus = float(dc_bus_voltage(supply.voltage))
+    for k, a in enumerate(axes):
+        d = a.axis.drive
+        if d is None:
+            continue
+        where = f"axes[{k}].axis.drive" if a.source == "inline" else f"axes[{k}].include({a.source}).drive"
+        own = nominal_bus_voltage(d, a.axis.electrical, a.axis.spec.motor)
+        check_bus_limits(mains_bus if own is None else own, d.bus_max_voltage, d.regen_on_voltage, where)
+    for g, grp in enumerate(buses):
+        if grp.declared:
+            check_bus_limits(mains_bus, grp.bus_max_voltage, grp.regen_on_voltage, f"buses[{g}]")
 
 
 def _supply(raw: Any) -> Supply:

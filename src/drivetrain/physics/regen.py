@@ -325,19 +325,27 @@ def builtin_resistor_sufficient(
     builtin_average_power: ArrayLike,
     builtin_resistance: ArrayLike,
     u_on: ArrayLike,
+    drive_min_resistance: ArrayLike = np.nan,
 ) -> NDArray[np.bool_]:
-    r"""Whether the drive's built-in resistor takes the cycle: average and peak power.
+    r"""Whether the drive's built-in resistor takes the cycle: average and peak power, and the
+    drive's minimum resistance.
 
-    .. math:: P_{avg} \le P_{avg,builtin} \quad\text{and}\quad R_{builtin} \le U_{on}^2 / P_{peak}
+    .. math:: P_{avg} \le P_{avg,builtin} \quad\text{and}\quad
+              R_{min,drive} \le R_{builtin} \le U_{on}^2 / P_{peak}
 
     ``builtin_average_power`` is the vendor's "processable" average regenerative power of the
     built-in resistor [W] (Delta ASDA-A: 50 % of its rating; TECO JSDG2S: 20 %). NaN data
-    (no built-in resistor, or unknown) gives False.
+    (no built-in resistor, or unknown) gives False; a NaN ``drive_min_resistance`` (not stated)
+    sets no lower bound. A resistor below the drive's minimum overloads its brake transistor
+    whatever the cycle, the same window as ``resistance_window``.
 
     Source: Delta ASDA-A §6-6-3 ("when the regenerative power exceeds the processing capacity
     of the servo drive, install an external regenerative resistor"); TECO JSDG2S §5-6-7.
     """
     avg = np.asarray(average_power, dtype=float)
     ok_avg = avg <= np.asarray(builtin_average_power, dtype=float)
-    ok_peak = np.asarray(builtin_resistance, dtype=float) <= resistor_max_resistance(u_on, peak_power)
-    return np.asarray(ok_avg & ok_peak)
+    r_builtin = np.asarray(builtin_resistance, dtype=float)
+    ok_peak = r_builtin <= resistor_max_resistance(u_on, peak_power)
+    r_min = np.asarray(drive_min_resistance, dtype=float)
+    ok_min = np.isnan(r_min) | (r_builtin >= r_min)
+    return np.asarray(ok_avg & ok_peak & ok_min)

@@ -230,7 +230,8 @@ def _regen_block(duty: DutyCycle, t_m: Array, current: Array, elec: MotorElectri
             and drive.regen_on_voltage is not None):
         builtin = bool(regen.builtin_resistor_sufficient(r.resistor_average_power, r.resistor_peak_power,
                                                          drive.builtin_average_power, drive.builtin_resistance,
-                                                         drive.regen_on_voltage))
+                                                         drive.regen_on_voltage,
+                                                         math.nan if r_min is None else r_min))
     return {
         "shaft_energy_per_cycle_J": r.shaft_energy,
         "copper_loss_in_events_J": float(r.events.copper_energy.sum()),
