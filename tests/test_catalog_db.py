@@ -172,7 +172,9 @@ def test_kind_voltage_and_flange_filters(user_motors: None) -> None:
     assert len(catalog.motors(kind="small_dc")) == 298
     v400 = catalog.motors(voltage="400 V", kind="ac_servo")
     assert set(v400.voltage) == {400.0} and "U-400" in v400.ids
-    assert len(v400) == 3 + 1  # three shipped 400 V motors; LS and Siemens have no voltage class
+    # three shipped 400 V Omron motors and the 31 Siemens 1FT7 (400 V class by the series rule,
+    # catalog.voltage_class); LS Mecapion has no voltage class
+    assert len(v400) == 3 + 31 + 1
     v200 = catalog.motors(voltage=200, kind="ac_servo")
     assert set(v200.voltage) == {200.0} and len(v200) == 157 + 17 + 6 + 1  # 200 V rows: sigma2 17, sgm7d 6
     flange = catalog.motors(flange="80 mm")

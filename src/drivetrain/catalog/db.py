@@ -29,7 +29,7 @@ from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from drivetrain.catalog.freshness import files_signature, remember_files
+from drivetrain.catalog.freshness import RULE_MODULES, files_signature, remember_files
 from drivetrain.catalog.schema import (
     CURVE,
     DATA_VERSION,
@@ -106,6 +106,9 @@ def build_stamp() -> str:
                                                          MOTOR_DOCUMENTS_FILE]:
         digest.update(name.encode())
         digest.update(shipped_text(name).encode())
+    for module in RULE_MODULES:  # the derived values and voltage classes are computed at the build
+        digest.update(module.encode())
+        digest.update(resources.files("drivetrain.catalog").joinpath(module).read_bytes())
     return f"{DATA_VERSION}/schema-{SCHEMA_VERSION}/{digest.hexdigest()[:16]}"
 
 
@@ -224,12 +227,25 @@ def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
                 row.values["model"] = m.group(1)
             if shipped.table is MOTOR and shipped.kind == "ac_servo":
                 _merge_electrical(row.values)
+            complete_row(shipped.table, row.values)
             if shipped.table is GEARBOX and shipped.kind == "servo_gearbox":
                 # right-angle series end in R (GPBR, GPDR, GPVR, GPER; data/SOURCES.md)
                 row.values["right_angle"] = int(str(row.values.get("series", "")).endswith("R"))
         yield shipped, parsed.rows
     if documents:
         raise RuntimeError(f"{MOTOR_DOCUMENTS_FILE} names motors that are not shipped: {', '.join(documents)}")
+
+
+def complete_row(spec: TableSpec, values: dict[str, Any]) -> None:
+    """The values a row implies (catalog.derive) and its voltage class by its vendor's model-code rule
+    (catalog.voltage_class), each flagged derived with its formula: once, when the table is built or a
+    row imported, never per sizing."""
+    from drivetrain.catalog import derive, voltage_class
+
+    if spec is MOTOR:
+        derive.derive_motor(values)
+    if spec.name in ("motor", "drive"):
+        voltage_class.apply(values, spec.name)
 
 
 def motor_documents() -> dict[str, dict[str, Any]]:
@@ -265,6 +281,8 @@ _ELECTRICAL_COLUMNS: dict[str, tuple[str, float]] = {
     "rated_current_A": ("rated_current", 1.0),
     "peak_current_A": ("peak_current", 1.0),
     "stall_current_A": ("stall_current", 1.0),
+    # the stall torque printed beside the stall current (Siemens 1FT7 M_0 at 100 K, Table 4-8)
+    "stall_torque_Nm": ("stall_torque", 1.0),
     "torque_constant_Nm_per_A": ("torque_constant", 1.0),
     "back_emf_V_per_krpm": ("back_emf", 60.0 / (2.0 * math.pi * 1000.0)),
     "winding_resistance_ohm": ("winding_resistance", 1.0),
@@ -416,11 +434,12 @@ def _ensure_user_schema(conn: sqlite3.Connection) -> None:
     _check_user_version(conn, "main")
 
 
-_UPGRADABLE = ("1", "2", "3")
+_UPGRADABLE = ("1", "2", "3", "4")
 """User database versions brought up to SCHEMA_VERSION in place: they lack only columns and tables added
 since (version 2 added the gearbox fields source document, bore range, flange, pilot, verified; version 3
 the drives' regen fields, the motors' electrical columns, the motor and drive documents, the unverified
-reasons, the motor field-group sources and the history; version 4 the drives' motor series)."""
+reasons, the motor field-group sources and the history; version 4 the drives' motor series; version 5 the
+motors' derivation and the drives' derived and derivation)."""
 
 
 def _upgrade_user(conn: sqlite3.Connection, schema: str) -> None:
