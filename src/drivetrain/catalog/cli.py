@@ -316,6 +316,7 @@ def _show(args: argparse.Namespace) -> int:
         "notes",
         "rated_torque_basis",
         "derived",
+        "derivation",
         "verified",
         "unverified_reason",
         "ratings_source",
@@ -326,9 +327,15 @@ def _show(args: argparse.Namespace) -> int:
         if fld.name in provenance or fld.name == "id":
             continue
         value = record.get(fld.column)
+        derived_mark = " (derived)" if fld.name in (record.get("derivation") or {}) else ""
+        if fld.name == "voltage" and value is None and (record["table"] == "drive" or record.get("kind") == "ac_servo"):
+            from drivetrain.catalog.voltage_class import explain
+
+            out.add_row("voltage", "class " + explain(record["table"], str(record.get("vendor") or ""), record["id"]))
+            continue
         if value is None or value == "":
             continue
-        out.add_row(fld.name, _with_unit(spec, fld.name, record))
+        out.add_row(fld.name, _with_unit(spec, fld.name, record) + derived_mark)
     out.add_row("origin", "shipped catalog" if record["origin"] == "builtin" else "your import")
     out.add_row("source", str(record.get("source") or "-"))
     for group, where in record.get("sources", {}).items():
@@ -341,11 +348,15 @@ def _show(args: argparse.Namespace) -> int:
     )
     if record.get("notes"):
         out.add_row("notes", str(record["notes"]))
+    if record["table"] == "motor" and record.get("rated_torque_basis"):
+        out.add_row("rated_torque_basis", str(record["rated_torque_basis"]))
+    if record["table"] in ("motor", "drive"):
+        derivation = record.get("derivation") or {}
+        out.add_row("derived", ", ".join(derivation) + " (computed, not read from a datasheet)" if derivation
+                    else "none")
+        for name, formula in derivation.items():
+            out.add_row(f"derived: {name}", formula)
     if record["table"] == "motor":
-        if record.get("rated_torque_basis"):
-            out.add_row("rated_torque_basis", str(record["rated_torque_basis"]))
-        derived = record.get("derived") or []
-        out.add_row("derived", ", ".join(derived) + " (not read from a datasheet)" if derived else "none")
         out.add_row(
             "speed-torque curve",
             f"{len(record['curve']['speed_rad_s'])} points"

@@ -27,7 +27,7 @@ Each computed field is added to the row's ``derived`` list and its formula to ``
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any
 
 from drivetrain.catalog.voltage_class import add_derived
@@ -102,3 +102,31 @@ def derive_motor(values: dict[str, Any]) -> list[str]:
         if old is None and values.get(name) is not None and math.isfinite(float(values[name])):
             filled.append(name)
     return filled
+
+
+def formulas(row: Mapping[str, Any]) -> dict[str, str]:
+    """Each derived field of a row (a database row keyed by column, or a ``catalog.get`` record) with how it
+    was computed: the formula stored when the table was built, else what the row's data file says
+    (``rated_torque_basis``; a k_T derived in the electrical table, data/SOURCES.md)."""
+    from drivetrain.catalog.voltage_class import SEPARATOR
+
+    derived = row.get("derived") or []
+    names = [n for n in (derived.split(",") if isinstance(derived, str) else derived) if n]
+    stored: dict[str, str] = {}
+    for text in str(row.get("derivation") or "").split(SEPARATOR):
+        name, sep, _ = text.partition(" = ")
+        if sep:
+            stored[name] = text
+    out: dict[str, str] = {}
+    for name in names:
+        if name in stored:
+            out[name] = stored[name]
+        elif name in ("rated_torque", "rated_speed") and row.get("rated_torque_basis") not in (None, "", "source"):
+            out[name] = f"{name}: {row['rated_torque_basis']}"
+        elif name == "torque_constant":
+            from drivetrain.catalog.db import DERIVED_KT
+
+            out[name] = f"torque_constant: {DERIVED_KT}"
+        else:
+            out[name] = f"{name}: derived by the row's source, not read from a datasheet"
+    return out
