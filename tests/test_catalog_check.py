@@ -205,3 +205,17 @@ def test_pairing_currents() -> None:
     assert check.pairing_findings({"M": ["D"]}, motors, drives) == []
     found = check.pairing_findings({"N": ["D"], "X": ["D"]}, motors, drives)
     assert [(m, r) for m, r, _, _ in found] == [("N", "pairing_continuous_current"), ("X", "pairing_ids")]
+
+
+def test_an_edit_computes_the_derived_values_again_and_keeps_the_rules(tmp_path: Path) -> None:
+    text = HEAD + "U-E,Userco,U,1.0,3.0,3000,5000,1.0,80,200,0.5,2.1,2.4,,,sheet\n"
+    catalog.import_file(write(tmp_path, "e.csv", text))
+    assert catalog.get("U-E")["stall_torque_Nm"] == pytest.approx(1.2)
+    row = catalog.update("U-E", {"torque_constant": 0.55})
+    assert row["stall_torque_Nm"] == pytest.approx(0.55 * 2.4) and row["derived"] == ["stall_torque"]
+    row = catalog.update("U-E", {"stall_torque": 1.3})  # given now: no longer derived
+    assert row["stall_torque_Nm"] == 1.3 and row["derived"] == []
+    from drivetrain.errors import InputError
+
+    with pytest.raises(InputError, match="shaft_pilot_flange"):
+        catalog.update("U-E", {"shaft_diameter [mm]": 19, "pilot_diameter [mm]": 14})
