@@ -8,8 +8,8 @@ Where a vendor table gives one of a pair and not the other, the other follows fr
   (the vendor's own operating points, so the currents sizing computes as T / K_t are the vendor's);
 * else torque constant from the back-EMF constant of a sinusoidal PMSM,
   :math:`K_t\,[\mathrm{N\,m/A_{rms}}] = \sqrt3\,K_{e,LL,rms}\,[\mathrm{V\,s/rad}]`, on the basis the row
-  states (``back_emf_basis``: line-to-line or phase, rms or peak; converted by
-  ``physics.motor_electrical.ke_si``). Source: power balance :math:`T\omega = 3 E_{ph,rms} I` with
+  states (``back_emf_basis``: line-to-line or phase, rms or peak; :data:`KE_TO_LL_RMS`).
+  Source: power balance :math:`T\omega = 3 E_{ph,rms} I` with
   :math:`E_{ph,rms} = K_{e,LL,rms}\,\omega/\sqrt3`; Novanta, "What Motor Torque Constant to Use for
   Drive Type - Theory and Application" (sinusoidal torque constant); MathWorks Motor Control Blockset
   ``mcb.getPMSMParameters`` (BLY171D: Ke = 3.8 V_pk,LL/krpm, psi = 0.0052 Wb, p = 4). Checked on
@@ -38,11 +38,19 @@ def _num(values: dict[str, Any], name: str) -> float | None:
     return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) and v > 0 else None
 
 
-def kt_from_back_emf(ke: float, basis: str) -> float:
-    """Torque constant [N m/A rms] of a sinusoidal PMSM from k_E [V s/rad] on ``basis`` (module docstring)."""
-    from drivetrain.physics.motor_electrical import ke_si, kt_from_ke
+KE_TO_LL_RMS = {"ll_rms": 1.0, "ll_peak": 1.0 / math.sqrt(2.0), "phase_rms": math.sqrt(3.0),
+                "phase_peak": math.sqrt(3.0) / math.sqrt(2.0)}
+"""Factor from k_E on each basis to the line-to-line rms value: line-to-line = sqrt(3) x phase,
+rms = peak / sqrt(2) for sinusoidal quantities (the same conversion as ``physics.motor_electrical.ke_si``,
+which the catalog layer does not import)."""
 
-    return float(kt_from_ke(ke_si(ke, basis, per_krpm=False)))
+
+def kt_from_back_emf(ke: float, basis: str) -> float:
+    """Torque constant [N m/A rms] of a sinusoidal PMSM from k_E [V s/rad] on ``basis``:
+    k_T = sqrt(3) k_E,LL,rms (module docstring for the source). ValueError for an unknown basis."""
+    if basis not in KE_TO_LL_RMS:
+        raise ValueError(f"back_emf_basis must be one of {', '.join(KE_TO_LL_RMS)}, got {basis!r}")
+    return math.sqrt(3.0) * ke * KE_TO_LL_RMS[basis]
 
 
 def _fmt(x: float, unit: str) -> str:
@@ -85,6 +93,18 @@ _STEPS: tuple[Callable[[dict[str, Any]], bool], ...] = (
     lambda v: _torque_from_kt(v, "stall_torque", "stall_current", "stall point"),
     lambda v: _torque_from_kt(v, "rated_torque", "rated_current", "rated point"),
 )
+
+
+def complete_row(table: str, values: dict[str, Any]) -> None:
+    """The values a row implies and its voltage class by its vendor's model-code rule
+    (``voltage_class.apply``), each flagged derived with its formula: once, when the shipped table is
+    built (``db.shipped_rows``) or a row imported or edited, never per sizing. ``table``: the table's name."""
+    from drivetrain.catalog import voltage_class
+
+    if table == "motor":
+        derive_motor(values)
+    if table in ("motor", "drive"):
+        voltage_class.apply(values, table)
 
 
 def derive_motor(values: dict[str, Any]) -> list[str]:

@@ -17,7 +17,7 @@ from drivetrain.catalog.schema import (
 )
 
 RULE_MODULES = ("derive.py", "voltage_class.py")
-"""Modules whose rules compute values of the shipped rows when the database is built (db.complete_row)."""
+"""Modules whose rules compute values of the shipped rows when the database is built (derive.complete_row)."""
 
 
 def files_signature(versions: str) -> str | None:

@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from drivetrain.catalog import db
+from drivetrain.catalog.derive import complete_row
 from drivetrain.catalog.records import (
     HEADER_LINE,
     Parsed,
@@ -104,7 +105,7 @@ def import_file(
     parsed = parse_rows(raw, spec)
     _default_source(parsed.rows, source or f"imported from {Path(filename).name}")
     for row in parsed.rows:
-        db.complete_row(spec, row.values)  # the values a row implies and its voltage class, flagged derived
+        complete_row(spec.name, row.values)  # the values a row implies and its voltage class, flagged derived
     consistency_errors, flags = _consistency(parsed, filename)
     with db.reader(directory) as rd:
         existing = rd.ids()

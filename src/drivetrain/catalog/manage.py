@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from drivetrain.catalog import db
+from drivetrain.catalog.derive import complete_row
 from drivetrain.catalog.schema import CURVE, HISTORY_COLUMNS, MOTOR, TABLES, TableSpec
 from drivetrain.errors import InputError, InputErrors
 
@@ -220,7 +221,7 @@ def _rederive(spec: TableSpec, values: dict[str, Any], changed: set[str]) -> Non
                 if f and f.partition(" = ")[0] not in recompute]
     values["derived"] = ",".join(kept) or None
     values["derivation"] = SEPARATOR.join(formulas) or None
-    db.complete_row(spec, values)
+    complete_row(spec.name, values)
 
 
 def history(rid: str | None = None, *, directory: Path | None = None) -> list[dict[str, Any]]:
