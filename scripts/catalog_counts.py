@@ -3,6 +3,9 @@ catalog section: ``python scripts/catalog_counts.py``.
 
 Only the shipped data is counted (a temporary data folder, so no user catalog is read); a row is
 "traced" when it names its vendor document and is not flagged unverified (drivetrain.catalog.schema.trace).
+The last table counts the AC servo motors and drives with a voltage class (read, or by the vendor's
+model-code rule: drivetrain.catalog.voltage_class) and the rows with values computed from others
+(drivetrain.catalog.derive).
 """
 
 from __future__ import annotations
@@ -45,6 +48,16 @@ def main() -> int:
         print(f"| {vendor} | {c['motor']} | {c['gearbox']} | {c['drive']} |")
     print(f"| **{len(by_vendor)} vendors** | {sum(c['motor'] for c in by_vendor.values())} | "
           f"{sum(c['gearbox'] for c in by_vendor.values())} | {sum(c['drive'] for c in by_vendor.values())} |")
+    print()
+    print("| table | kind | rows | with voltage class | of them by model-code rule | voltage class unknown "
+          "| rows with derived values |")
+    print("|---|---|---:|---:|---:|---:|---:|")
+    for name, kind in (("motor", "ac_servo"), ("drive", "servo_drive")):
+        rows = [r for r in tables[name] if r["kind"] == kind]
+        given = [r for r in rows if r["voltage_V"] is not None]
+        by_rule = sum("voltage" in str(r.get("derived") or "").split(",") for r in given)
+        derived = sum(bool(r.get("derived")) for r in rows)
+        print(f"| {name} | {kind} | {len(rows)} | {len(given)} | {by_rule} | {len(rows) - len(given)} | {derived} |")
     return 0
 
 

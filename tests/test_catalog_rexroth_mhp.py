@@ -109,6 +109,9 @@ def test_database_holds_the_rows_traced_and_in_si(data_dir: Path, monkeypatch: p
     assert row["rotor_inertia_kgm2"] == pytest.approx(110e-4) and row["mass_kg"] == 23.0
     assert row["peak_current_A"] == 41.4 and row["pole_count"] == 8
     assert row["thermal_time_constant_s"] == pytest.approx(90 * 60.0)
-    assert row["torque_constant_Nm_per_A"] is None and row["winding_resistance_ohm"] is None
+    # k_T not stored as printed (20 degC, basis not stated): derived from the printed stall pair, T_0 / I_0
+    assert row["torque_constant_Nm_per_A"] == pytest.approx(15.0 / 9.2) and row["winding_resistance_ohm"] is None
+    assert row["derived"] == ["torque_constant"]
+    assert "stall_torque / stall_current" in row["derivation"]["torque_constant"]
     assert "123dok.org" in row["source_url"]
     assert set(catalog.motors(vendor="rexroth").ids) == {"MHP093A-024", "MHP112A-024"}

@@ -173,7 +173,7 @@ def test_a_schema_3_user_catalog_gains_the_motor_series_column(tmp_path: Path,
         version = conn.execute("SELECT value FROM meta WHERE key = 'schema_version'").fetchone()[0]
     finally:
         conn.close()
-    assert version == str(db.SCHEMA_VERSION) == "4"
+    assert version == str(db.SCHEMA_VERSION) == "5"
 
 
 def test_a_given_drive_runs_only_its_series_in_a_selection(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

@@ -107,4 +107,18 @@ def test_without_the_supply_the_envelope_is_the_derived_one(tmp_path: Path) -> N
     path = tmp_path / "z.yaml"
     path.write_text(text, encoding="utf-8")
     e = size(path).selection["selected"]["electrical"]
-    assert e["supply_voltage_V"] is None and e["envelope_source"] == "derived"  # 1FT7 rows print no voltage class
+    # the 1FT7 rows print no voltage class; the catalog gives them the SINAMICS S120 400 V class (the series
+    # rule of catalog.voltage_class), so without a supply the motor's class sets the bus and the envelope
+    assert e["supply_voltage_V"] == 400.0 and e["envelope_source"] == "electrical"
+
+
+def test_rms_torque_is_judged_on_the_motors_own_continuous_curve(result) -> None:  # type: ignore[no-untyped-def]
+    # 1FT7044-5AK7: the printed stall torque M_0 = 5 N m (Table 4-8, 100 K) now reaches the envelope; before,
+    # the row had none and the 2 N m rated torque at 6000 rpm stood for the continuous torque at every speed
+    sel = result.selection["selected"]
+    rms = next(c for c in sel["checks"] if c["name"] == "rms_torque")
+    mean_rpm = result.to_dict()["mean_speed_rpm"]
+    t0, tn, nn = 5.0, 2.0, 6000.0  # continuous envelope: T_0 falling linearly to T_N at n_N (sizing.envelope)
+    assert rms["available"] == pytest.approx(t0 - (t0 - tn) * mean_rpm / nn)
+    assert rms["available"] == pytest.approx(4.25) and rms["ok"]
+    assert "voltage" in sel["derived"] and "stall_torque" not in sel["derived"]

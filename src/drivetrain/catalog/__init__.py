@@ -223,7 +223,8 @@ def drive_pairs() -> dict[str, list[str]]:
 def get(id: str) -> dict[str, Any]:
     """One motor, gearbox or drive by id, as a dict: SI values keyed with their unit, plus
     ``table``, ``origin`` ("builtin" or "user"), ``source``, ``notes``, ``derived`` (fields not
-    read from a datasheet) and, for motors, ``curve`` (None: envelope derived, approximate).
+    read from a datasheet), ``derivation`` (each derived field with its formula) and, for motors,
+    ``curve`` (None: envelope derived, approximate).
 
     Raises InputError('id', ...) naming close matches, or why the shipped data left it out.
     """
@@ -289,8 +290,12 @@ def _record(
     record: dict[str, Any] = {"table": spec.name, **row}
     record["unverified"], record["unverified_reason"] = trace(row)
     record["sources"] = sources(spec, row, points, curve_sources)
-    if spec is MOTOR:
+    if spec in (MOTOR, DRIVE):
+        from drivetrain.catalog.derive import formulas
+
+        record["derivation"] = formulas(row)  # derived field -> how it was computed
         record["derived"] = [d for d in (row.get("derived") or "").split(",") if d]
+    if spec is MOTOR:
         from drivetrain.catalog.curves import Curve
 
         record["curve"] = None if not points else Curve.from_points(points).to_dict()

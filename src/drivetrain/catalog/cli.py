@@ -116,6 +116,18 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         help="update rows of your catalog that have the same id (in the same transaction)",
     )
 
+    p = sub.add_parser(
+        "check",
+        help="check every row (shipped and yours) against the consistency rules; exit 1 if a row fails",
+        description="Every motor, gearbox, drive and curve point against the consistency rules of docs/catalog.md "
+        "('Consistency check'); shipped rows that break a rule on purpose carry a documented exception. Exit "
+        "status 0 when every row passes, 1 when a row fails, 2 on bad input.",
+    )
+    p.add_argument("--catalog", dest="check_catalog", metavar="FILE.sqlite",
+                   help="check this catalog file beside the shipped data (default: as for every catalog command)")
+    p.add_argument("--json", action="store_true", help="print JSON: failures, excused findings, row counts")
+    p.add_argument("--all", action="store_true", help="list the excused findings too (with their reason)")
+
     p = sub.add_parser("remove", help="remove rows of your catalog by id (all or none)")
     p.add_argument("ids", metavar="ID", nargs="+")
 
@@ -147,8 +159,17 @@ def run(args: argparse.Namespace) -> int:
         "export": _export,
         "remove": _remove,
         "history": _history,
+        "check": _check,
     }
-    use_catalog(getattr(args, "catalog", None))
+    checked = getattr(args, "check_catalog", None)
+    if checked is not None:
+        import os
+
+        from drivetrain.errors import InputError
+
+        if not os.path.isfile(os.path.expanduser(checked)):
+            raise InputError("--catalog", "no such catalog file", checked)
+    use_catalog(checked or getattr(args, "catalog", None))
     return handlers[args.catalog_command](args)
 
 
@@ -295,6 +316,7 @@ def _show(args: argparse.Namespace) -> int:
         "notes",
         "rated_torque_basis",
         "derived",
+        "derivation",
         "verified",
         "unverified_reason",
         "ratings_source",
@@ -305,9 +327,15 @@ def _show(args: argparse.Namespace) -> int:
         if fld.name in provenance or fld.name == "id":
             continue
         value = record.get(fld.column)
+        derived_mark = " (derived)" if fld.name in (record.get("derivation") or {}) else ""
+        if fld.name == "voltage" and value is None and (record["table"] == "drive" or record.get("kind") == "ac_servo"):
+            from drivetrain.catalog.voltage_class import explain
+
+            out.add_row("voltage", "class " + explain(record["table"], str(record.get("vendor") or ""), record["id"]))
+            continue
         if value is None or value == "":
             continue
-        out.add_row(fld.name, _with_unit(spec, fld.name, record))
+        out.add_row(fld.name, _with_unit(spec, fld.name, record) + derived_mark)
     out.add_row("origin", "shipped catalog" if record["origin"] == "builtin" else "your import")
     out.add_row("source", str(record.get("source") or "-"))
     for group, where in record.get("sources", {}).items():
@@ -320,11 +348,15 @@ def _show(args: argparse.Namespace) -> int:
     )
     if record.get("notes"):
         out.add_row("notes", str(record["notes"]))
+    if record["table"] == "motor" and record.get("rated_torque_basis"):
+        out.add_row("rated_torque_basis", str(record["rated_torque_basis"]))
+    if record["table"] in ("motor", "drive"):
+        derivation = record.get("derivation") or {}
+        out.add_row("derived", ", ".join(derivation) + " (computed, not read from a datasheet)" if derivation
+                    else "none")
+        for name, formula in derivation.items():
+            out.add_row(f"derived: {name}", formula)
     if record["table"] == "motor":
-        if record.get("rated_torque_basis"):
-            out.add_row("rated_torque_basis", str(record["rated_torque_basis"]))
-        derived = record.get("derived") or []
-        out.add_row("derived", ", ".join(derived) + " (not read from a datasheet)" if derived else "none")
         out.add_row(
             "speed-torque curve",
             f"{len(record['curve']['speed_rad_s'])} points"
@@ -347,6 +379,34 @@ def _import(args: argparse.Namespace) -> int:
     report = catalog.import_file(args.file, kind=args.kind, replace=args.replace)
     _console().print(str(report))
     return 0
+
+
+def _check(args: argparse.Namespace) -> int:
+    from drivetrain.catalog import check
+
+    report = check.run()
+    if args.json:
+        print(json.dumps(report.to_dict(), indent=1, ensure_ascii=False))
+        return 0 if report.ok else 1
+    console = _console()
+    shown = report.findings if args.all else report.failures
+    if shown:
+        from rich.table import Table
+
+        out = Table(title="catalog check: " + ("excused and failing findings" if args.all else "failing rows"),
+                    title_justify="left")
+        for title in ("table", "id", "origin", "field", "rule", "what is wrong", "exception"):
+            out.add_column(title, no_wrap=title in ("table", "id", "origin", "rule"))
+        for f in shown:
+            out.add_row(f.table, f.id, f.origin, f.field, f.rule, f.message, f.excused or "-")
+        console.print(out)
+    counts = ", ".join(f"{n} {_PLURAL.get(t, t + ' points')}" for t, n in report.rows.items())
+    excused = len(report.findings) - len(report.failures)
+    console.print(f"checked {counts}: {len(report.failures)} finding(s) fail, {excused} excused by a documented "
+                  "exception (data/check_exceptions.csv; --all lists them)")
+    for e in report.unused_exceptions:
+        console.print(f"exception no longer needed: {e['table']} {e['id']} {e['rule']}")
+    return 0 if report.ok else 1
 
 
 def _remove(args: argparse.Namespace) -> int:

@@ -29,7 +29,8 @@ from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from drivetrain.catalog.freshness import files_signature, remember_files
+from drivetrain.catalog.derive import complete_row
+from drivetrain.catalog.freshness import RULE_MODULES, files_signature, remember_files
 from drivetrain.catalog.schema import (
     CURVE,
     DATA_VERSION,
@@ -106,6 +107,8 @@ def build_stamp() -> str:
                                                          MOTOR_DOCUMENTS_FILE]:
         digest.update(name.encode())
         digest.update(shipped_text(name).encode())
+    for module in RULE_MODULES:  # the derived values and voltage classes are computed at the build
+        digest.update(module.encode() + resources.files("drivetrain.catalog").joinpath(module).read_bytes())
     return f"{DATA_VERSION}/schema-{SCHEMA_VERSION}/{digest.hexdigest()[:16]}"
 
 
@@ -224,6 +227,7 @@ def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
                 row.values["model"] = m.group(1)
             if shipped.table is MOTOR and shipped.kind == "ac_servo":
                 _merge_electrical(row.values)
+            complete_row(shipped.table.name, row.values)  # implied values and voltage class (catalog.derive)
             if shipped.table is GEARBOX and shipped.kind == "servo_gearbox":
                 # right-angle series end in R (GPBR, GPDR, GPVR, GPER; data/SOURCES.md)
                 row.values["right_angle"] = int(str(row.values.get("series", "")).endswith("R"))
@@ -260,11 +264,11 @@ def _reason_of(values: dict[str, Any], default: str) -> str:
 DERIVED_KT = "derived = rated torque / rated current of the same vendor table (not printed)"
 """How a derived torque constant is named in the answer (data/SOURCES.md, "Derived torque constants")."""
 
-# electrical table column -> (motor field, factor to SI); back-EMF V/1000 rpm -> V s/rad (its basis kept as text)
+# electrical table column -> (motor field, factor to SI); back-EMF V/1000 rpm -> V s/rad (its basis kept as text);
+# the stall torque is the one printed beside the stall current (Siemens 1FT7 M_0 at 100 K, Table 4-8)
 _ELECTRICAL_COLUMNS: dict[str, tuple[str, float]] = {
-    "rated_current_A": ("rated_current", 1.0),
-    "peak_current_A": ("peak_current", 1.0),
-    "stall_current_A": ("stall_current", 1.0),
+    "rated_current_A": ("rated_current", 1.0), "peak_current_A": ("peak_current", 1.0),
+    "stall_current_A": ("stall_current", 1.0), "stall_torque_Nm": ("stall_torque", 1.0),
     "torque_constant_Nm_per_A": ("torque_constant", 1.0),
     "back_emf_V_per_krpm": ("back_emf", 60.0 / (2.0 * math.pi * 1000.0)),
     "winding_resistance_ohm": ("winding_resistance", 1.0),
@@ -416,11 +420,11 @@ def _ensure_user_schema(conn: sqlite3.Connection) -> None:
     _check_user_version(conn, "main")
 
 
-_UPGRADABLE = ("1", "2", "3")
+_UPGRADABLE = ("1", "2", "3", "4")
 """User database versions brought up to SCHEMA_VERSION in place: they lack only columns and tables added
 since (version 2 added the gearbox fields source document, bore range, flange, pilot, verified; version 3
 the drives' regen fields, the motors' electrical columns, the motor and drive documents, the unverified
-reasons, the motor field-group sources and the history; version 4 the drives' motor series)."""
+reasons, the motor field-group sources and the history; version 4 the drives' motor series; 5 derivations)."""
 
 
 def _upgrade_user(conn: sqlite3.Connection, schema: str) -> None:

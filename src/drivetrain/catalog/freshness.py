@@ -16,6 +16,9 @@ from drivetrain.catalog.schema import (
     SHIPPED_FILES,
 )
 
+RULE_MODULES = ("derive.py", "voltage_class.py")
+"""Modules whose rules compute values of the shipped rows when the database is built (derive.complete_row)."""
+
 
 def files_signature(versions: str) -> str | None:
     """Shipped files' names, sizes and times after ``versions`` (the data and schema versions), None if
@@ -27,6 +30,12 @@ def files_signature(versions: str) -> str | None:
     for name in [f.filename for f in SHIPPED_FILES] + [REJECTS_FILE, ELECTRICAL_FILE, PAIRING_FILE,
                                                          MOTOR_DOCUMENTS_FILE]:
         entry = folder / name
+        if not entry.is_file():
+            return None
+        st = entry.stat()
+        parts.append(f"{name}:{st.st_size}:{st.st_mtime_ns}")
+    for name in RULE_MODULES:
+        entry = folder.parent / name
         if not entry.is_file():
             return None
         st = entry.stat()

@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from drivetrain.catalog import db
+from drivetrain.catalog.derive import complete_row
 from drivetrain.catalog.records import (
     HEADER_LINE,
     Parsed,
@@ -61,12 +62,14 @@ class ImportReport:
     curve_points: int
     ids: tuple[str, ...]
     database: str
+    flags: tuple[str, ...] = ()  # what `catalog check` would flag without refusing: a missing voltage class
 
     def __str__(self) -> str:
         if self.table == "curve":
             return f"imported {self.curve_points} curve point(s) from {self.path} into {self.database}"
         points = f" and {self.curve_points} curve point(s)" if self.curve_points else ""
-        return f"imported {self.rows} {self.table} row(s){points} from {self.path} into {self.database}"
+        text = f"imported {self.rows} {self.table} row(s){points} from {self.path} into {self.database}"
+        return "\n".join([text, *(f"flagged: {f}" for f in self.flags)])
 
 
 # ---------------------------------------------------------------------------------- import
@@ -101,6 +104,9 @@ def import_file(
     spec = _table(kind, raw.table, raw.headers, filename)
     parsed = parse_rows(raw, spec)
     _default_source(parsed.rows, source or f"imported from {Path(filename).name}")
+    for row in parsed.rows:
+        complete_row(spec.name, row.values)  # the values a row implies and its voltage class, flagged derived
+    consistency_errors, flags = _consistency(parsed, filename)
     with db.reader(directory) as rd:
         existing = rd.ids()
         motor_curves = rd.curves() if spec in (MOTOR, CURVE) else {}
@@ -115,7 +121,7 @@ def import_file(
         raise InputError(filename, f"would bring your catalog to {user_rows + adding} rows and curve points; "
                          f"it holds at most {MAX_USER_ROWS} (remove rows you no longer need: catalog remove)",
                          has_value=False)
-    errors = parsed.errors + _cross_row_errors(parsed, filename, existing, motor_curves, replace)
+    errors = parsed.errors + consistency_errors + _cross_row_errors(parsed, filename, existing, motor_curves, replace)
     if errors:
         raise InputErrors(sorted(errors, key=_error_order))
     import sqlite3
@@ -132,7 +138,35 @@ def import_file(
         ) from None
     points = sum(len(r.curve) for r in parsed.rows) + (len(parsed.rows) if spec is CURVE else 0)
     ids = tuple(r.id or "" for r in parsed.rows) if spec is not CURVE else ()
-    return ImportReport(filename, spec.name, len(parsed.rows) if spec is not CURVE else 0, points, ids, database)
+    return ImportReport(filename, spec.name, len(parsed.rows) if spec is not CURVE else 0, points, ids, database,
+                        tuple(flags))
+
+
+IMPORT_CONSISTENCY = frozenset({"kt_ke", "mass_for_flange", "inertia_for_flange", "shaft_pilot_flange", "voltage_rule"})
+"""The ``catalog check`` rules an import refuses a row for, beyond the plausibility rules every row is read
+with (catalog.rules.RULES, which hold the others: rated <= peak, n1N <= n1max, ...)."""
+IMPORT_FLAGS = frozenset({"kt_rated_current", "kt_stall_current", "kt_peak_current", "voltage_class"})
+"""The ``catalog check`` rules an import only flags (the import report names the field and the rule): a vendor
+table may print a K_t x I / T outside the band (Yaskawa SGM7D-02K: 1.42), and many datasheets print no
+voltage class."""
+
+
+def _consistency(parsed: Parsed, filename: str) -> tuple[list[InputError], list[str]]:
+    """The consistency rules of ``catalog check`` on each imported row: a rule of IMPORT_CONSISTENCY refuses
+    the row (naming the field and the rule), one of IMPORT_FLAGS is listed in the import report."""
+    from drivetrain.catalog.check import row_findings
+
+    errors: list[InputError] = []
+    flags: list[str] = []
+    if parsed.spec is CURVE:
+        return errors, flags
+    for row in parsed.rows:
+        for rule, name, message in row_findings(parsed.spec, row.values):
+            if rule in IMPORT_CONSISTENCY and name not in row.bad:
+                errors.append(row.error(filename, name, f"breaks the rule {rule} (docs/catalog.md): {message}"))
+            elif rule in IMPORT_FLAGS:
+                flags.append(f"{row.id}: {name}: rule {rule}: {message}")
+    return errors, flags
 
 
 def _default_source(rows: Sequence[Row], source: str) -> None:

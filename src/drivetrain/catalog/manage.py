@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from drivetrain.catalog import db
+from drivetrain.catalog.derive import complete_row
 from drivetrain.catalog.schema import CURVE, HISTORY_COLUMNS, MOTOR, TABLES, TableSpec
 from drivetrain.errors import InputError, InputErrors
 
@@ -186,6 +187,14 @@ def update(
     if parsed.errors:
         raise parsed.errors[0] if len(parsed.errors) == 1 else InputErrors(parsed.errors)
     row = parsed.rows[0]
+    _rederive(spec, row.values, {f.name for k in changes if (f := field_of_header(spec, str(k))) is not None})
+    from drivetrain.catalog.check import row_findings
+    from drivetrain.catalog.importer import IMPORT_CONSISTENCY
+
+    broken = [row.error(label, name, f"breaks the rule {rule} (docs/catalog.md): {message}")
+              for rule, name, message in row_findings(spec, row.values) if rule in IMPORT_CONSISTENCY]
+    if broken:
+        raise broken[0] if len(broken) == 1 else InputErrors(broken)
     with db.user_writer(directory) as conn:
         old = _fetch(conn, spec, rid)
         if old is None:
@@ -194,6 +203,25 @@ def update(
         db.insert_rows(conn, "main", spec, [row])
         _log(conn, "edit", spec.name, rid, source, old, _si(spec, row))
     return catalog.get(rid)
+
+
+def _rederive(spec: TableSpec, values: dict[str, Any], changed: set[str]) -> None:
+    """An edited row's derived values computed again from its current values (catalog.derive, voltage_class):
+    a derived field the edit sets becomes a given one; the others are cleared and recomputed, so none is
+    left stale by a change of what it was computed from."""
+    from drivetrain.catalog.voltage_class import SEPARATOR
+
+    names = [n for n in str(values.get("derived") or "").split(",") if n]
+    recompute = {"torque_constant", "stall_torque", "rated_torque", "voltage"}
+    kept = [n for n in names if n not in recompute]
+    for name in names:
+        if name in recompute and name not in changed:
+            values.pop(name, None)
+    formulas = [f for f in str(values.get("derivation") or "").split(SEPARATOR)
+                if f and f.partition(" = ")[0] not in recompute]
+    values["derived"] = ",".join(kept) or None
+    values["derivation"] = SEPARATOR.join(formulas) or None
+    complete_row(spec.name, values)
 
 
 def history(rid: str | None = None, *, directory: Path | None = None) -> list[dict[str, Any]]:

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 DATA_VERSION = "2026.11-4"
 """Version of the shipped data files; the cached database is rebuilt when it changes."""
 
-SCHEMA_VERSION = 4
+SCHEMA_VERSION = 5
 """Version of the SQLite layout; older user databases listed in db._UPGRADABLE gain the new columns in
 place, any other version is refused."""
 
@@ -109,6 +109,8 @@ MOTOR_FIELDS: tuple[Field, ...] = (
     Field("rated_winding_rise", "temperature_difference", "rated_winding_rise_K", "K"),
     _text("rated_torque_basis"),
     _text("derived"),
+    # the formula of each derived field ("field = formula", joined by voltage_class.SEPARATOR)
+    _text("derivation"),
     *_COMMON_TAIL,
     *_DOCUMENT,
     *_TRACE,
@@ -168,6 +170,9 @@ DRIVE_FIELDS: tuple[Field, ...] = (
     # the motor series the drive runs (prefixes of the motors' ``series``, space- or comma-separated; empty:
     # not stated, the drive is offered to every motor of its vendor and voltage; docs/checks.md "Drive selection")
     _text("motor_series"),
+    # fields computed rather than read (the voltage class from the vendor's model-code rule) and how
+    _text("derived"),
+    _text("derivation"),
     *_COMMON_TAIL,
     *_DOCUMENT,
     *_TRACE,

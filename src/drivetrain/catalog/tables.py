@@ -142,6 +142,7 @@ class MotorTable(_Table):
     no_load_speed: FloatArray  # [rad/s]
     rated_torque_basis: StrArray
     derived: StrArray
+    derivation: StrArray  # the formula of each derived field (catalog.derive.formulas reads it)
     approx_rated: BoolArray
     has_curve: BoolArray
     curves: tuple[Curve | None, ...]

@@ -258,6 +258,7 @@ def motor_table(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> 
         [Cell("Speed-torque envelope"), Cell("derived from the ratings (approximate)"
                                              + ("; the catalog also has curve points" if not
                                                 motor.approximate_envelope else ""), "warn")],
+        *_derived_rows(motor.name),
     ]
     gb = focus.gearbox
     if gb is not None:
@@ -271,6 +272,16 @@ def motor_table(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> 
         ]
     return Table("motor_data", "Motor data" + (" and gearbox data" if gb is not None else ""), ["", ""], rows, "ll",
                  "", [0.3, 0.7])
+
+
+def _derived_rows(motor_id: str) -> list[list[Cell]]:
+    """The catalog values of the motor computed rather than read, each with its formula (catalog.derive)."""
+    from drivetrain import catalog
+    from drivetrain.catalog.derive import formulas
+
+    row = catalog.motor_row(motor_id)
+    derived = formulas(row) if row is not None else {}
+    return [[Cell(f"Derived: {name}"), Cell(text, "warn")] for name, text in derived.items()]
 
 
 def _margin_cell(checks: dict[str, dict[str, Any]], name: str) -> Cell:

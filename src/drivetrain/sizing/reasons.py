@@ -146,8 +146,19 @@ def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable |
         "ok": ok, "status": "fails" if not ok else ("unknown" if unknown else "ok"), "unknown": unknown,
         "failed": failures[0] if failures else "", "failures": failures,
         "approximate_envelope": bool(~motors.has_curve[m]), "rated_torque_derived": bool(motors.approx_rated[m]),
-        **_trace(motors, m, gb if geared else None, g), "checks": list(checks.values()),
+        **_derived(motors, m), **_trace(motors, m, gb if geared else None, g), "checks": list(checks.values()),
     }
+
+
+def _derived(motors: MotorTable, m: int) -> dict[str, Any]:
+    """``derived``: the motor's catalog values computed rather than read, each with its formula
+    (catalog.derive.formulas); left out for a motor whose every value was read."""
+    if not motors.derived[m]:
+        return {}
+    from drivetrain.catalog.derive import formulas
+
+    return {"derived": formulas({"derived": str(motors.derived[m]), "derivation": str(motors.derivation[m]),
+                                 "rated_torque_basis": str(motors.rated_torque_basis[m])})}
 
 
 def _trace(motors: MotorTable, m: int, gb: GearboxTable | None, g: int) -> dict[str, Any]:
