@@ -416,11 +416,12 @@ def _ensure_user_schema(conn: sqlite3.Connection) -> None:
     _check_user_version(conn, "main")
 
 
-_UPGRADABLE = ("1", "2", "3")
+_UPGRADABLE = ("1", "2", "3", "4")
 """User database versions brought up to SCHEMA_VERSION in place: they lack only columns and tables added
 since (version 2 added the gearbox fields source document, bore range, flange, pilot, verified; version 3
 the drives' regen fields, the motors' electrical columns, the motor and drive documents, the unverified
-reasons, the motor field-group sources and the history; version 4 the drives' motor series)."""
+reasons, the motor field-group sources and the history; version 4 the drives' motor series; version 5 the
+motors' brake-variant fields and the drives' ratings source)."""
 
 
 def _upgrade_user(conn: sqlite3.Connection, schema: str) -> None:

@@ -13,10 +13,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-DATA_VERSION = "2026.11-4"
+DATA_VERSION = "2026.11-5"
 """Version of the shipped data files; the cached database is rebuilt when it changes."""
 
-SCHEMA_VERSION = 4
+SCHEMA_VERSION = 5
 """Version of the SQLite layout; older user databases listed in db._UPGRADABLE gain the new columns in
 place, any other version is refused."""
 
@@ -107,6 +107,11 @@ MOTOR_FIELDS: tuple[Field, ...] = (
     Field("pole_count", INTEGER, "pole_count"),
     Field("thermal_time_constant", "time", "thermal_time_constant_s", "s"),
     Field("rated_winding_rise", "temperature_difference", "rated_winding_rise_K", "K"),
+    # the holding-brake variant (data/SOURCES.md "Brake variants"): the brake's holding (static friction) torque,
+    # the brake variant's order code and where both were read; its inertia is rotor_inertia_brake (with-brake total)
+    Field("brake_holding_torque", "torque", "brake_holding_torque_Nm", "N*m"),
+    _text("brake_code"),
+    _text("brake_source"),
     _text("rated_torque_basis"),
     _text("derived"),
     *_COMMON_TAIL,
@@ -168,6 +173,8 @@ DRIVE_FIELDS: tuple[Field, ...] = (
     # the motor series the drive runs (prefixes of the motors' ``series``, space- or comma-separated; empty:
     # not stated, the drive is offered to every motor of its vendor and voltage; docs/checks.md "Drive selection")
     _text("motor_series"),
+    # where the output currents were read when not in the row's document (data/SOURCES.md "Drives")
+    _text("ratings_source"),
     *_COMMON_TAIL,
     *_DOCUMENT,
     *_TRACE,
@@ -399,6 +406,7 @@ FIELD_GROUPS: dict[str, tuple[str, ...]] = {
         "no_load_current", "rth_winding_housing", "rth_housing_ambient", "dc_bus_capacitance",
         "braking_resistor", "braking_resistor_power",
     ),
+    "brake": ("brake_holding_torque", "brake_code"),
 }
 """The field groups ``catalog show`` gives a source for (the curve is a fourth, sourced per point)."""
 
