@@ -23,6 +23,7 @@ import pytest
 
 from drivetrain import catalog, cli
 from drivetrain.catalog.db import DERIVED_KT
+from drivetrain.catalog.schema import TRACED_DRIVE_FAMILIES
 
 Row = dict[str, str]
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -40,6 +41,8 @@ def num(s: str | None) -> float | None:
 
 
 DRIVES = load("drives_servo.csv")
+for _family in TRACED_DRIVE_FAMILIES:  # the drives_<vendor>_<family>.csv files share its columns and invariants
+    DRIVES |= load(f"drives_{_family}.csv")
 ELEC = load("motors_ac_servo_electrical.csv")
 MOTORS = load("motors_ac_servo.csv")
 

@@ -318,7 +318,7 @@ TRACED_MOTOR_FAMILIES: tuple[str, ...] = (
 )
 """Servo motor families shipped as ``motors_<vendor>_<family>.csv``, each read from one vendor document."""
 
-TRACED_DRIVE_FAMILIES: tuple[str, ...] = ()
+TRACED_DRIVE_FAMILIES: tuple[str, ...] = ("beckhoff_ax5000",)
 """Servo drive families shipped as ``drives_<vendor>_<family>.csv`` (the columns of drives_servo.csv),
 each read from one vendor document."""
 
