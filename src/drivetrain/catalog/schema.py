@@ -379,6 +379,10 @@ ELECTRICAL_FILE = "motors_ac_servo_electrical.csv"
 """Motor electrical data by motor id, merged into the motors rows when the shipped database is built."""
 PAIRING_FILE = "drives_pairing.csv"
 """The vendors' motor-drive pairing tables: motor_id, drive_id, source, source_url."""
+BRAKES_FILE = "motor_brakes.csv"
+"""Holding-brake variants of shipped motors, by id: with-brake inertia (kg*m^2, the with-brake total), holding torque
+(N*m), the brake variant's order code and the source; merged into the motor rows when the shipped database is built
+(data/SOURCES.md, "Brake variants")."""
 REJECTS_FILE = "rejects.csv"
 MOTOR_DOCUMENTS_FILE = "motor_documents.csv"
 """Vendor documents of shipped motors, by id: the document, section, page, URL, ``verified`` and the
@@ -396,7 +400,7 @@ FIELD_GROUPS: dict[str, tuple[str, ...]] = {
         "max_axial_load", "max_tilting_moment", "continuous_current", "peak_current",
     ),
     "mechanical": (
-        "rotor_inertia", "rotor_inertia_brake", "brake", "mass", "flange", "shaft_diameter", "pilot_diameter",
+        "rotor_inertia", "brake", "mass", "flange", "shaft_diameter", "pilot_diameter",
         "bolt_circle", "ratio", "stages", "inertia_input", "backlash", "torsional_stiffness", "noise",
         "input_bore_max", "input_bore_min", "input_flange", "input_pilot", "input_adapters", "direction",
         "right_angle",
@@ -406,7 +410,7 @@ FIELD_GROUPS: dict[str, tuple[str, ...]] = {
         "no_load_current", "rth_winding_housing", "rth_housing_ambient", "dc_bus_capacitance",
         "braking_resistor", "braking_resistor_power",
     ),
-    "brake": ("brake_holding_torque", "brake_code"),
+    "brake": ("rotor_inertia_brake", "brake_holding_torque", "brake_code"),
 }
 """The field groups ``catalog show`` gives a source for (the curve is a fourth, sourced per point)."""
 
