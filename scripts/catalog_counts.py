@@ -45,7 +45,27 @@ def main() -> int:
         print(f"| {vendor} | {c['motor']} | {c['gearbox']} | {c['drive']} |")
     print(f"| **{len(by_vendor)} vendors** | {sum(c['motor'] for c in by_vendor.values())} | "
           f"{sum(c['gearbox'] for c in by_vendor.values())} | {sum(c['drive'] for c in by_vendor.values())} |")
+    print()
+    _drive_currents(tables["drive"])
     return 0
+
+
+def _drive_currents(drives: list[dict[str, object]]) -> None:
+    """Drives with output current ratings by vendor: both continuous and peak (the selection checks them), only the
+    continuous one (its peak check is unknown), and how many of those are flagged unverified (a transcription)."""
+    print("| drive vendor | drives | continuous and peak current | continuous only | of these unverified |")
+    print("|---|---:|---:|---:|---:|")
+    by_vendor: dict[str, list[dict[str, object]]] = {}
+    for r in drives:
+        by_vendor.setdefault(str(r["vendor"]), []).append(r)
+    from drivetrain.catalog.schema import trace
+
+    for vendor in sorted(by_vendor, key=str.lower):
+        rows = by_vendor[vendor]
+        both = [r for r in rows if r["continuous_current_A"] is not None and r["peak_current_A"] is not None]
+        cont = [r for r in rows if r["continuous_current_A"] is not None and r["peak_current_A"] is None]
+        flagged = sum(trace(r)[0] for r in both + cont)
+        print(f"| {vendor} | {len(rows)} | {len(both)} | {len(cont)} | {flagged} |")
 
 
 if __name__ == "__main__":
