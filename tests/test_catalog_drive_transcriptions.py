@@ -197,3 +197,10 @@ def test_ball_screw_example_gets_an_mr_j4_with_its_rated_current_checked(capsys:
     assert checks["drive_peak_current"]["available"] == 4.6
     assert d["unverified"] is True
     assert sel["regen"]["capacitor_energy_per_event_J"] == 9.0  # MR-J4-_B manual p. 11-13, the traced value
+
+
+def test_the_cli_table_flags_the_transcribed_drive(capsys: pytest.CaptureFixture[str]) -> None:
+    assert cli.main(["size", str(EXAMPLES / "hoist.yaml")]) == 0
+    text = " ".join(capsys.readouterr().out.split())  # the table wraps long lines
+    assert "drive SGD7S-7R6A: OK" in text and "drive SGD7S-7R6A †: output currents and motor pairings from a " \
+        "third-party transcription" in text
