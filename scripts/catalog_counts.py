@@ -58,7 +58,26 @@ def main() -> int:
         by_rule = sum("voltage" in str(r.get("derived") or "").split(",") for r in given)
         derived = sum(bool(r.get("derived")) for r in rows)
         print(f"| {name} | {kind} | {len(rows)} | {len(given)} | {by_rule} | {len(rows) - len(given)} | {derived} |")
+    _drive_currents(tables["drive"])
     return 0
+
+
+def _drive_currents(drives: list[dict[str, object]]) -> None:
+    """Drives with output current ratings by vendor: both continuous and peak (the selection checks them), only the
+    continuous one (its peak check is unknown), and how many of those are flagged unverified (a transcription)."""
+    print("| drive vendor | drives | continuous and peak current | continuous only | of these unverified |")
+    print("|---|---:|---:|---:|---:|")
+    by_vendor: dict[str, list[dict[str, object]]] = {}
+    for r in drives:
+        by_vendor.setdefault(str(r["vendor"]), []).append(r)
+    from drivetrain.catalog.schema import trace
+
+    for vendor in sorted(by_vendor, key=str.lower):
+        rows = by_vendor[vendor]
+        both = [r for r in rows if r["continuous_current_A"] is not None and r["peak_current_A"] is not None]
+        cont = [r for r in rows if r["continuous_current_A"] is not None and r["peak_current_A"] is None]
+        flagged = sum(trace(r)[0] for r in both + cont)
+        print(f"| {vendor} | {len(rows)} | {len(both)} | {len(cont)} | {flagged} |")
 
 
 if __name__ == "__main__":

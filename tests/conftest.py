@@ -33,7 +33,7 @@ def family_motor_rows() -> int:
 def family_drive_rows() -> int:
     """Rows of the vendor-sourced drive family files (``drives_<vendor>_<family>.csv``), counted from the files.
 
-    The shipped drives are the 44 rows of drives_servo.csv plus these; tests that count shipped drives add it.
+    The shipped drives are the 65 rows of drives_servo.csv plus these; tests that count shipped drives add it.
     """
     import csv
     import io

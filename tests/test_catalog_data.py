@@ -414,8 +414,8 @@ def test_database_holds_every_shipped_row_in_si(use_data_dir: Path) -> None:
     assert len(catalog.motors(kind="ac_servo")) == 297 + family
     assert len(catalog.gearboxes(kind="servo_gearbox")) == 713 + 68 + sum(map(len, TRACED_GB.values()))
     assert len(catalog.gearboxes(kind="small_gearhead")) == 300
-    # data/drives_servo.csv (44 rows) plus the vendor-sourced drive family files (drives_<vendor>_<family>.csv)
-    assert len(catalog.drives()) == 44 + family_drive_rows()
+    # data/drives_servo.csv (65 rows) plus the vendor-sourced drive family files (drives_<vendor>_<family>.csv)
+    assert len(catalog.drives()) == 65 + family_drive_rows()
     row = catalog.get("HG-KR43")
     assert row["rated_speed_rad_s"] == pytest.approx(3000 * RPM)
     assert row["max_speed_rad_s"] == pytest.approx(6000 * RPM)

@@ -224,13 +224,15 @@ def test_fanuc_rated_torques_are_flagged_derived() -> None:
 
 def test_shipped_drives_are_queryable_with_unknown_currents_as_nan() -> None:
     d = catalog.drives()
-    n = 44 + family_drive_rows()  # drives_servo.csv plus the drives_<vendor>_<family>.csv files
+    n = 65 + family_drive_rows()  # drives_servo.csv plus the drives_<vendor>_<family>.csv files
     assert len(d) == n and d.continuous_current.shape == (n,)
     # MR-J4-_B manual 11 (b) p. 11-13: MR-J4-40B capacitor charging 11 J; 400 V class from the suffix 4
     mj4 = catalog.drives(ids=["MR-J4-40B", "MR-J4-60B4"])
     assert mj4.absorbable_energy.tolist() == [11.0, 12.0] and mj4.voltage.tolist() == [200.0, 400.0]
-    yaskawa = catalog.drives(vendor="yaskawa", voltage="200 V")
-    assert len(yaskawa) == 4 and np.isnan(yaskawa.continuous_current).all()
+    yaskawa = catalog.drives(vendor="yaskawa", voltage="200 V")  # R70A...780A, currents from the transcription
+    assert len(yaskawa) == 15 and not np.isnan(yaskawa.continuous_current).any()
+    teco = catalog.drives(vendor="teco")  # regen data only: unknown currents are NaN
+    assert len(teco) == 10 and np.isnan(teco.continuous_current).all() and np.isnan(teco.peak_current).all()
     # Yaskawa Sigma-7S manual 12.8.6 p. 12-37: SGD7S-2R8A absorbs 31.7 J
     assert yaskawa.absorbable_energy[list(yaskawa.ids).index("SGD7S-2R8A")] == pytest.approx(31.7)
     assert catalog.drive_pairs()["1FT7044-5AK7"] == ["6SL312x-xTE21-0AAx"]
@@ -291,7 +293,7 @@ def test_cli_list_json_and_table(capsys: pytest.CaptureFixture[str]) -> None:
     assert "T2B N·m" in out and "n1max rpm" in out and "bore mm" in out
     assert cli.main(["catalog", "list", "--kind", "drive"]) == 0
     out = capsys.readouterr().out
-    n = 44 + family_drive_rows()  # the listing shows 50 rows unless --limit says otherwise
+    n = 65 + family_drive_rows()  # the listing shows 50 rows unless --limit says otherwise
     assert f"drives ({min(n, 50)} of {n})" in out and "SGD7S-R70A" in out
 
 

@@ -93,11 +93,12 @@ def test_shipped_sigma_ii_and_sigma_motors_are_not_offered_the_sigma_7_servopack
     motor_series SGM7, so the older Yaskawa motors of the same voltage no longer list them."""
     assert set(catalog.drives(vendor="yaskawa").motor_series) == {"SGM7"}
     motors = catalog.motors(vendor="yaskawa")
+    pairs = catalog.drive_pairs()  # the SGM7J/A/P/G rows are paired by drives_pairing.csv (SOURCES.md "Drives")
     seen = set()
     for i in range(len(motors)):
         mid, series = str(motors.ids[i]), str(motors.series[i])
         _, block, _ = drive_select.prospect(mid, "Yaskawa", float(motors.voltage[i]))
-        assert block["basis"] == SERIES_RULE, mid
+        assert block["basis"] == ("vendor pairing table" if mid in pairs else SERIES_RULE), mid
         if series.startswith("SGM7"):
             assert block["candidates"] and all(d.startswith("SGD7S-") for d in block["candidates"]), mid
         else:
@@ -120,11 +121,14 @@ def test_shipped_100_v_yaskawa_selection_answers_none_naming_the_series_rule() -
 
 
 def test_other_shipped_drives_keep_the_vendor_and_voltage_rule() -> None:
-    """Only the SGD7S rows state the motor series: the MR-J4 list read is printed for the MR-J4-_A models, not
-    the shipped _B rows; the JSDG2S and S120 documents recorded name no motor series (SOURCES.md, "Drives")."""
+    """Only the SGD7S rows state the motor series: the MR-J4 list read is printed for the MR-J4-_A models (and the
+    transcription's motors are stored as pairings, not as a series); the JSDG2S and S120 documents recorded name no
+    motor series (SOURCES.md, "Drives")."""
     for vendor in ("mitsubishi electric", "teco", "siemens"):
         assert set(catalog.drives(vendor=vendor).motor_series) == {""}, vendor
-    _, block, _ = drive_select.prospect("HG-KR43", "Mitsubishi Electric", 200.0)
+    # HG-JR53 has no pairing row (the MR-J4 transcription pairs HG-KR, HG-MR and HG-SR only)
+    assert "HG-JR53" not in catalog.drive_pairs()
+    _, block, _ = drive_select.prospect("HG-JR53", "Mitsubishi Electric", 200.0)
     assert block["basis"] == "vendor and supply voltage" and "MR-J4-10B" in block["candidates"]
 
 

@@ -83,19 +83,34 @@ def test_motor_without_torque_constant_leaves_the_drive_unknown_and_says_why(sie
 
 
 def test_drives_without_current_ratings_answer_unknown() -> None:
-    r = size(axis(motor={"select": {"vendor": "yaskawa", "gearbox": "none"}}))
-    with_kt = [c for c in r.candidates if catalog.get(c["motor"])["torque_constant_Nm_per_A"] is not None]
-    assert with_kt, "the shipped electrical table covers these series"
-    sigma7 = [c for c in with_kt if catalog.get(c["motor"])["series"].startswith("SGM7")]
-    assert sigma7, "the Sigma-7 motors with currents are among the candidates"
-    for cand in sigma7:  # the SGD7S rows run SGM7 (motor_series): the others are answered in test_drive_compat.py
+    """TECO JSMA-P motors have their currents and k_T; the JSDG2S drives of the catalog only their regen data."""
+    r = size(axis(motor={"select": {"vendor": "teco", "gearbox": "none"}}))
+    assert r.candidates, "the TECO JSMA-P motors are candidates"
+    for cand in r.candidates:
+        assert catalog.get(cand["motor"])["torque_constant_Nm_per_A"] is not None
         d = cand["drive"]
         assert d["status"] == "unknown" and "current ratings" in d["reason"]
         assert d["motor_rms_current_A"] > 0 and d["candidates"]
-        # the pool is the vendor's drives at the motor's supply voltage: SGD7S-xxxA for the 200 V motors, the
-        # 100 V F models for 100 V ones, never a mix
-        suffix = {200.0: "A", 100.0: "F"}[catalog.get(cand["motor"])["voltage_V"]]
-        assert all(x.endswith(suffix) for x in d["candidates"]), (cand["motor"], d["candidates"])
+        assert all(x.startswith("JSDG2S-") for x in d["candidates"])
+
+
+def test_sigma_7_motors_get_their_paired_servopack_with_its_currents_checked() -> None:
+    """Every Sigma-7 candidate with currents is offered the SGD7S its pairing row names (drives_pairing.csv, the
+    hdauto-chatbot transcription) and gets the drive's current checks, flagged as third-party."""
+    r = size(axis(motor={"select": {"vendor": "yaskawa", "gearbox": "none"}}))
+    pairs = catalog.drive_pairs()
+    sigma7 = [c for c in r.candidates if catalog.get(c["motor"])["series"].startswith("SGM7")
+              and catalog.get(c["motor"])["torque_constant_Nm_per_A"] is not None]
+    assert sigma7, "the Sigma-7 motors with currents are among the candidates"
+    for cand in sigma7:
+        d = cand["drive"]
+        assert d["basis"] == "vendor pairing table" and d["candidates"] == pairs[cand["motor"]]
+        assert d["status"] in ("ok", "fails") and d["id"] in pairs[cand["motor"]]
+        assert {c["name"] for c in d["checks"]} >= {"drive_rms_current", "drive_peak_current"}
+        assert d["unverified"] is True and "hdauto-chatbot" in d["unverified_reason"]
+        if d["status"] == "ok":
+            assert d["motor_rms_current_A"] <= d["continuous_current_A"]
+            assert d["motor_peak_current_A"] <= d["peak_current_A"]
 
 
 def test_shipped_electrical_merge_matches_the_table_reader() -> None:
@@ -118,15 +133,15 @@ def test_a_catalog_drive_by_id_is_checked_like_a_given_motor() -> None:
 def test_a_catalog_drive_without_currents_is_an_input_error_naming_the_field(tmp_path: Path,
                                                                            capsys: pytest.CaptureFixture[str]) -> None:
     with pytest.raises(InputError) as exc:
-        drive_data(DriveSpec(id="SGD7S-R70A"))
+        drive_data(DriveSpec(id="MR-J4-60B4"))
     assert exc.value.field == "drive.continuous_current"
     path = tmp_path / "z.yaml"
-    path.write_text(yaml.safe_dump(axis(motor={"id": PAIRED_MOTOR}, drive={"id": "SGD7S-R70A"})), encoding="utf-8")
+    path.write_text(yaml.safe_dump(axis(motor={"id": PAIRED_MOTOR}, drive={"id": "MR-J4-60B4"})), encoding="utf-8")
     assert cli.main(["size", str(path)]) == 2
     assert "drive.continuous_current" in capsys.readouterr().err
-    # values given beside the id complete it (Yaskawa 12.8.6 p. 12-37: 24.2 J absorbable)
-    d = drive_data(DriveSpec(id="SGD7S-R70A", continuous_current="0.66 A", peak_current="2.1 A"))
-    assert d.absorbable_energy == pytest.approx(24.2) and d.supply_voltage == 200.0
+    # values given beside the id complete it (MR-J4-_B manual 11 (b) p. 11-13: 12 J capacitor charging; 400 V class)
+    d = drive_data(DriveSpec(id="MR-J4-60B4", continuous_current="1.5 A", peak_current="4.5 A"))
+    assert d.absorbable_energy == pytest.approx(12.0) and d.supply_voltage == 400.0
 
 
 def test_unknown_drive_id_without_currents_is_an_input_error() -> None:

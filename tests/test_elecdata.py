@@ -13,6 +13,7 @@ import csv
 import io
 import json
 import math
+import re
 from collections.abc import Callable
 from importlib import resources
 from pathlib import Path
@@ -22,6 +23,7 @@ import pytest
 
 from drivetrain import catalog, cli
 from drivetrain.catalog.db import DERIVED_KT
+from drivetrain.catalog.schema import TRACED_DRIVE_FAMILIES
 
 Row = dict[str, str]
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -39,6 +41,8 @@ def num(s: str | None) -> float | None:
 
 
 DRIVES = load("drives_servo.csv")
+for _family in TRACED_DRIVE_FAMILIES:  # the drives_<vendor>_<family>.csv files share its columns and invariants
+    DRIVES |= load(f"drives_{_family}.csv")
 ELEC = load("motors_ac_servo_electrical.csv")
 MOTORS = load("motors_ac_servo.csv")
 
@@ -181,8 +185,23 @@ def test_a_derived_torque_constant_is_flagged_in_the_catalog_and_in_the_answer()
 DriveCheck = Callable[[Row], list[str]]
 
 
+_COMMIT = re.compile(r"[\w.-]+/[\w.-]+@[0-9a-f]{40}")  # owner/repository@full commit
+
+
 def _provenance(r: Row) -> list[str]:
-    out = [f"{k} is empty" for k in ("source_document", "source_section", "source_page", "source_url") if not r[k]]
+    """A row is traced to its vendor document, or flagged unverified with the transcription (repository and full
+    commit) its ratings come from; a merged row has both (SOURCES.md, "Drives")."""
+    out = []
+    if r["verified"] not in ("yes", "no"):
+        out.append("verified must be yes or no")
+    if r["verified"] == "no":
+        out += [f"{k} is empty" for k in ("unverified_reason", "ratings_source") if not r[k]]
+        if not _COMMIT.search(r["ratings_source"]) or not _COMMIT.search(r["source"]):
+            out.append("no repository@commit in ratings_source and source")
+    traced = r["verified"] == "yes" or r["source_document"]
+    if traced:
+        out += [f"{k} is empty" for k in ("source_document", "source_section", "source_page", "source_url")
+                if not r[k]]
     if r["source_url"] and not r["source_url"].startswith(("http://", "https://")):
         out.append("source_url is not a web address")
     return out
@@ -190,8 +209,11 @@ def _provenance(r: Row) -> list[str]:
 
 def _currents(r: Row) -> list[str]:
     cont, peak = num(r["continuous_current_A"]), num(r["peak_current_A"])
-    if (cont is None) != (peak is None):
-        return ["only one of continuous and peak current"]
+    if peak is not None and cont is None:
+        return ["a peak current without a continuous current"]
+    if cont is not None and peak is None and "no amplifier peak current" not in r["notes"]:
+        # only the MR-J4 transcription gives a rated current without a peak, and its rows say so
+        return ["a continuous current without a peak current, and the notes do not say why"]
     if cont is not None and peak is not None and not 0 < cont <= peak:
         return [f"continuous {cont} A, peak {peak} A: need 0 < continuous <= peak"]
     return []
@@ -234,6 +256,11 @@ def test_every_shipped_drive_holds_its_invariants(name: str) -> None:
 
 @pytest.mark.parametrize(("name", "rid", "change"), [
     ("provenance", "MR-J4-20B", {"source_page": ""}),
+    ("provenance", "SGD7S-330A", {"ratings_source": "laststudy2020/hdauto-chatbot, register_yaskawa_servo.py"}),
+    ("provenance", "MR-J4-60A", {"unverified_reason": ""}),
+    ("provenance", "SGD7S-330A", {"verified": "yes"}),  # traced needs its vendor document
+    ("currents", "MR-J4-60A", {"notes": "rated output current only"}),
+    ("currents", "SGD7S-330A", {"continuous_current_A": ""}),
     ("currents", "6SL312x-xTE21-0AAx", {"peak_current_A": "4"}),
     ("currents", "6SL312x-xTE21-0AAx", {"peak_current_A": ""}),
     ("regen", "JSDG2S-10A-(E)", {"braking_resistor_ohm": ""}),
@@ -344,6 +371,8 @@ def test_a_derived_torque_constant_gives_the_selected_motor_its_currents(
     assert checks["motor_peak_current"]["available"] == float(ELEC[sel["motor"]]["peak_current_A"])
     assert e["rms_current_A"] >= sel["rms_torque_Nm"] / kt * (1 - 1e-9)
     d = sel["drive"]
-    # the Sigma-7S drives of the catalog carry only their regen data: the drive stays unknown, and says why
-    assert d["status"] == "unknown" and "current ratings" in d["reason"]
+    # the SERVOPACK its pairing row names (drives_pairing.csv, the third-party transcription), its currents checked
+    assert d["basis"] == "vendor pairing table" and d["id"] in catalog.drive_pairs()[sel["motor"]]
+    assert d["status"] == "ok" and d["unverified"] is True
+    assert d["motor_rms_current_A"] <= d["continuous_current_A"] and d["motor_peak_current_A"] <= d["peak_current_A"]
     assert math.isclose(d["motor_rms_current_A"], e["rms_current_A"], rel_tol=1e-9)

@@ -1,10 +1,13 @@
 """examples/z_axis.yaml: a vertical axis whose catalog selection answers motor + drive (issue #13's
 done-when) from the shipped data, end to end: the CLI table, the JSON, the report and the web payload.
 
-The only shipped motor-drive chain whose every check the catalog can judge is the Siemens
-1FT7044-5AK7 (Kt, currents, R, L, Ke, thermal data from the S120 1FT7 configuration manual 01/2009,
-Table 4-8, p. 90) with the S120 Motor Module that table recommends (9 A / 18 A). ``unknown: fail``
-makes the selection pass over the smaller motors whose drive cannot be checked, and say so.
+``unknown: fail`` makes the selection pass over the smaller motors whose drive cannot be checked, and say so.
+As shipped, the answer is the Yaskawa SGM7J-04A with SGD7S-2R8A (the drive's currents from a third-party
+transcription, flagged unverified; data/SOURCES.md "Drives"). The one chain whose every electrical check the
+catalog can judge from vendor pages is the Siemens 1FT7044-5AK7 (Kt, currents, R, L, Ke, thermal data from the
+S120 1FT7 configuration manual 01/2009, Table 4-8, p. 90) with the S120 Motor Module that table recommends
+(9 A / 18 A): the same axis restricted to Siemens (``SIEMENS``) answers it, and the tests of the full electrical
+answer use that variant.
 """
 
 from __future__ import annotations
@@ -19,11 +22,34 @@ from drivetrain import cli
 from drivetrain.sizing.result import size
 
 EXAMPLE = Path(__file__).parents[1] / "examples" / "z_axis.yaml"
+SIEMENS_TEXT = EXAMPLE.read_text(encoding="utf-8").replace(
+    "select: {unknown: fail, gearbox: none}", "select: {unknown: fail, gearbox: none, vendor: siemens}")
+assert "vendor: siemens" in SIEMENS_TEXT
 
 
 @pytest.fixture(scope="module")
-def result():  # type: ignore[no-untyped-def]
-    return size(EXAMPLE)
+def siemens(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    path = tmp_path_factory.mktemp("z") / "z_siemens.yaml"
+    path.write_text(SIEMENS_TEXT, encoding="utf-8")
+    return path
+
+
+@pytest.fixture(scope="module")
+def result(siemens: Path):  # type: ignore[no-untyped-def]
+    return size(siemens)
+
+
+def test_the_shipped_example_answers_a_yaskawa_chain_flagged_unverified() -> None:
+    r = size(EXAMPLE)
+    assert r.ok
+    sel = r.selection["selected"]
+    assert sel["motor"] == "SGM7J-04A"
+    d = sel["drive"]
+    assert d["status"] == "ok" and d["id"] == "SGD7S-2R8A" and d["basis"] == "vendor pairing table"
+    assert (d["continuous_current_A"], d["peak_current_A"]) == (2.8, 9.3)  # the transcription's SGD7S-2R8A
+    assert d["unverified"] is True and "hdauto-chatbot" in d["unverified_reason"]
+    assert d["motor_rms_current_A"] <= 2.8 and d["motor_peak_current_A"] <= 9.3
+    assert r.selection["drive_passed_over_count"] > 0  # smaller motors whose drive cannot be checked
 
 
 def test_the_answer_is_a_motor_and_its_drive_with_every_electrical_check(result) -> None:  # type: ignore[no-untyped-def]
@@ -58,13 +84,13 @@ def test_the_motors_passed_over_are_named_with_the_reason(result) -> None:  # ty
     assert sel["next_smaller"]["failed"].startswith("drive: ")
 
 
-def test_table_json_and_exit_code(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    assert cli.main(["size", str(EXAMPLE)]) == 0
+def test_table_json_and_exit_code(siemens: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert cli.main(["size", str(siemens)]) == 0
     text = capsys.readouterr().out
     for words in ("selected: 1FT7044-5AK7", "passed over for its drive", "supply 400 V", "envelope: electrical",
                   "drive 6SL312x-xTE21-0AAx: OK", "braking resistor", "winding temperature rise"):
         assert words in text
-    assert cli.main(["size", str(EXAMPLE), "--json"]) == 0
+    assert cli.main(["size", str(siemens), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["selection"]["selected"]["drive"]["status"] == "ok"
 
@@ -87,7 +113,7 @@ def test_web_payload_carries_the_drive() -> None:
 
     from drivetrain.web.payload import size_payload
 
-    p = size_payload(yaml.safe_load(EXAMPLE.read_text(encoding="utf-8")))
+    p = size_payload(yaml.safe_load(SIEMENS_TEXT))
     assert p["electrical"]["drive"]["id"] == "6SL312x-xTE21-0AAx"
     assert p["electrical"]["electrical"]["envelope_source"] == "electrical"
 
@@ -103,7 +129,7 @@ def test_a_motors_own_electrical_data_with_select_is_refused(tmp_path: Path,
 
 
 def test_without_the_supply_the_envelope_is_the_derived_one(tmp_path: Path) -> None:
-    text = EXAMPLE.read_text(encoding="utf-8").replace("  supply_voltage: 400 V\n", "")
+    text = SIEMENS_TEXT.replace("  supply_voltage: 400 V\n", "")
     path = tmp_path / "z.yaml"
     path.write_text(text, encoding="utf-8")
     e = size(path).selection["selected"]["electrical"]

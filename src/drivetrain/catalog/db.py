@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any
 from drivetrain.catalog.derive import complete_row
 from drivetrain.catalog.freshness import RULE_MODULES, files_signature, remember_files
 from drivetrain.catalog.schema import (
+    BRAKES_FILE,
     CURVE,
     DATA_VERSION,
     DOCUMENT_FIELDS,
@@ -104,7 +105,7 @@ def build_stamp() -> str:
     """Identifies the shipped data: DATA_VERSION, schema version and a hash of the files."""
     digest = hashlib.sha256()
     for name in [f.filename for f in SHIPPED_FILES] + [REJECTS_FILE, ELECTRICAL_FILE, PAIRING_FILE,
-                                                         MOTOR_DOCUMENTS_FILE]:
+                                                         MOTOR_DOCUMENTS_FILE, BRAKES_FILE]:
         digest.update(name.encode())
         digest.update(shipped_text(name).encode())
     for module in RULE_MODULES:  # the derived values and voltage classes are computed at the build
@@ -208,6 +209,7 @@ def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
     from drivetrain.catalog.records import parse_rows, read_csv
 
     documents = motor_documents()
+    brakes = motor_brakes()
     for shipped in SHIPPED_FILES:
         raw = read_csv(shipped_text(shipped.filename), shipped.filename)
         parsed = parse_rows(
@@ -227,6 +229,8 @@ def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
                 row.values["model"] = m.group(1)
             if shipped.table is MOTOR and shipped.kind == "ac_servo":
                 _merge_electrical(row.values)
+            if shipped.table is MOTOR and row.id in brakes:
+                _merge_brake(row.values, brakes.pop(row.id))
             complete_row(shipped.table.name, row.values)  # implied values and voltage class (catalog.derive)
             if shipped.table is GEARBOX and shipped.kind == "servo_gearbox":
                 # right-angle series end in R (GPBR, GPDR, GPVR, GPER; data/SOURCES.md)
@@ -234,6 +238,41 @@ def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
         yield shipped, parsed.rows
     if documents:
         raise RuntimeError(f"{MOTOR_DOCUMENTS_FILE} names motors that are not shipped: {', '.join(documents)}")
+    if brakes:
+        raise RuntimeError(f"{BRAKES_FILE} names motors that are not shipped: {', '.join(brakes)}")
+
+
+_BRAKE_COLUMNS = {"rotor_inertia_brake_kgm2": "rotor_inertia_brake", "brake_holding_torque_Nm": "brake_holding_torque",
+                  "brake_code": "brake_code", "brake_source": "brake_source"}
+
+
+def motor_brakes() -> dict[str, dict[str, str]]:
+    """The holding-brake variants of shipped motors by id (BRAKES_FILE; data/SOURCES.md, "Brake variants")."""
+    import csv
+    import io
+
+    reader = csv.DictReader(io.StringIO(shipped_text(BRAKES_FILE)))
+    if reader.fieldnames is None or set(reader.fieldnames) != {"id", *_BRAKE_COLUMNS}:
+        raise RuntimeError(f"{BRAKES_FILE}: columns must be id and {', '.join(_BRAKE_COLUMNS)}")
+    out: dict[str, dict[str, str]] = {}
+    for r in reader:
+        if r["id"] in out or not r["brake_source"].strip():
+            raise RuntimeError(f"{BRAKES_FILE}: {r['id']}: listed twice or without brake_source")
+        out[r["id"]] = {k: v.strip() for k, v in r.items() if k != "id" and v and v.strip()}
+    return out
+
+
+def _merge_brake(values: dict[str, Any], brake: dict[str, str]) -> None:
+    """Add a motor's brake variant (BRAKES_FILE, SI columns) to its row; a value its own file already has must agree."""
+    for column, name in _BRAKE_COLUMNS.items():
+        if column not in brake:
+            continue
+        value: Any = brake[column] if name in ("brake_code", "brake_source") else float(brake[column])
+        have = values.get(name)
+        if have is not None and (have != value if isinstance(value, str) else not math.isclose(have, value,
+                                                                                               rel_tol=1e-9)):
+            raise RuntimeError(f"{BRAKES_FILE}: {values.get('id')}: {name} {value} differs from its file's {have}")
+        values[name] = value
 
 
 def motor_documents() -> dict[str, dict[str, Any]]:
@@ -424,7 +463,8 @@ _UPGRADABLE = ("1", "2", "3", "4")
 """User database versions brought up to SCHEMA_VERSION in place: they lack only columns and tables added
 since (version 2 added the gearbox fields source document, bore range, flange, pilot, verified; version 3
 the drives' regen fields, the motors' electrical columns, the motor and drive documents, the unverified
-reasons, the motor field-group sources and the history; version 4 the drives' motor series; 5 derivations)."""
+reasons, the motor field-group sources and the history; version 4 the drives' motor series; version 5 the
+motors' brake-variant fields, the drives' ratings source and the derivations of computed values)."""
 
 
 def _upgrade_user(conn: sqlite3.Connection, schema: str) -> None:

@@ -9,6 +9,7 @@ import contextlib
 from pathlib import Path
 
 from drivetrain.catalog.schema import (
+    BRAKES_FILE,
     ELECTRICAL_FILE,
     MOTOR_DOCUMENTS_FILE,
     PAIRING_FILE,
@@ -28,7 +29,7 @@ def files_signature(versions: str) -> str | None:
     folder = Path(__file__).parent / "data"  # the package's own folder (as importlib.resources finds it
     # for a package installed as files; a zipped one has no folder: None, as resources' non-Path entry)
     for name in [f.filename for f in SHIPPED_FILES] + [REJECTS_FILE, ELECTRICAL_FILE, PAIRING_FILE,
-                                                         MOTOR_DOCUMENTS_FILE]:
+                                                         MOTOR_DOCUMENTS_FILE, BRAKES_FILE]:
         entry = folder / name
         if not entry.is_file():
             return None

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-DATA_VERSION = "2026.11-4"
+DATA_VERSION = "2026.11-5"
 """Version of the shipped data files; the cached database is rebuilt when it changes."""
 
 SCHEMA_VERSION = 5
@@ -107,6 +107,11 @@ MOTOR_FIELDS: tuple[Field, ...] = (
     Field("pole_count", INTEGER, "pole_count"),
     Field("thermal_time_constant", "time", "thermal_time_constant_s", "s"),
     Field("rated_winding_rise", "temperature_difference", "rated_winding_rise_K", "K"),
+    # the holding-brake variant (data/SOURCES.md "Brake variants"): the brake's holding (static friction) torque,
+    # the brake variant's order code and where both were read; its inertia is rotor_inertia_brake (with-brake total)
+    Field("brake_holding_torque", "torque", "brake_holding_torque_Nm", "N*m"),
+    _text("brake_code"),
+    _text("brake_source"),
     _text("rated_torque_basis"),
     _text("derived"),
     # the formula of each derived field ("field = formula", joined by voltage_class.SEPARATOR)
@@ -173,6 +178,8 @@ DRIVE_FIELDS: tuple[Field, ...] = (
     # fields computed rather than read (the voltage class from the vendor's model-code rule) and how
     _text("derived"),
     _text("derivation"),
+    # where the output currents were read when not in the row's document (data/SOURCES.md "Drives")
+    _text("ratings_source"),
     *_COMMON_TAIL,
     *_DOCUMENT,
     *_TRACE,
@@ -316,7 +323,7 @@ TRACED_MOTOR_FAMILIES: tuple[str, ...] = (
 )
 """Servo motor families shipped as ``motors_<vendor>_<family>.csv``, each read from one vendor document."""
 
-TRACED_DRIVE_FAMILIES: tuple[str, ...] = ()
+TRACED_DRIVE_FAMILIES: tuple[str, ...] = ("beckhoff_ax5000",)
 """Servo drive families shipped as ``drives_<vendor>_<family>.csv`` (the columns of drives_servo.csv),
 each read from one vendor document."""
 
@@ -377,6 +384,10 @@ ELECTRICAL_FILE = "motors_ac_servo_electrical.csv"
 """Motor electrical data by motor id, merged into the motors rows when the shipped database is built."""
 PAIRING_FILE = "drives_pairing.csv"
 """The vendors' motor-drive pairing tables: motor_id, drive_id, source, source_url."""
+BRAKES_FILE = "motor_brakes.csv"
+"""Holding-brake variants of shipped motors, by id: with-brake inertia (kg*m^2, the with-brake total), holding torque
+(N*m), the brake variant's order code and the source; merged into the motor rows when the shipped database is built
+(data/SOURCES.md, "Brake variants")."""
 REJECTS_FILE = "rejects.csv"
 MOTOR_DOCUMENTS_FILE = "motor_documents.csv"
 """Vendor documents of shipped motors, by id: the document, section, page, URL, ``verified`` and the
@@ -394,7 +405,7 @@ FIELD_GROUPS: dict[str, tuple[str, ...]] = {
         "max_axial_load", "max_tilting_moment", "continuous_current", "peak_current",
     ),
     "mechanical": (
-        "rotor_inertia", "rotor_inertia_brake", "brake", "mass", "flange", "shaft_diameter", "pilot_diameter",
+        "rotor_inertia", "brake", "mass", "flange", "shaft_diameter", "pilot_diameter",
         "bolt_circle", "ratio", "stages", "inertia_input", "backlash", "torsional_stiffness", "noise",
         "input_bore_max", "input_bore_min", "input_flange", "input_pilot", "input_adapters", "direction",
         "right_angle",
@@ -404,6 +415,7 @@ FIELD_GROUPS: dict[str, tuple[str, ...]] = {
         "no_load_current", "rth_winding_housing", "rth_housing_ambient", "dc_bus_capacitance",
         "braking_resistor", "braking_resistor_power",
     ),
+    "brake": ("rotor_inertia_brake", "brake_holding_torque", "brake_code"),
 }
 """The field groups ``catalog show`` gives a source for (the curve is a fourth, sourced per point)."""
 

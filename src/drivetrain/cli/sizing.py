@@ -127,7 +127,7 @@ def _print_electrical_blocks(console: Any, m: dict[str, Any], drive: dict[str, A
         if rg is not None:
             _print_regen(console, rg)
         if drive is not None:
-            _print_checks(console, f"drive {drive['id']}", drive, u)
+            _print_drive(console, drive, u)
         return
     bus = m.get("dc_bus_voltage_V")
     supply = m.get("supply_voltage_V")
@@ -141,9 +141,16 @@ def _print_electrical_blocks(console: Any, m: dict[str, Any], drive: dict[str, A
         console.print(f"winding temperature rise {rise:.4g} K (allowed {m['winding_allowed_rise_K']:.4g} K at "
                       f"{m['ambient_degC']:g} degC, {m['altitude_m']:g} m)")
     if drive is not None:
-        _print_checks(console, f"drive {drive['id']}", drive, u)
+        _print_drive(console, drive, u)
     if rg is not None:
         _print_regen(console, rg)
+
+
+def _print_drive(console: Any, drive: dict[str, Any], u: TableUnits) -> None:
+    """The drive's checks, and why its ratings are not traced where the catalog flags it (data/SOURCES.md)."""
+    _print_checks(console, f"drive {drive['id']}", drive, u)
+    if drive.get("unverified"):
+        console.print(f"drive {drive['id']} †: {drive.get('unverified_reason')}")
 
 
 def _print_regen(console: Any, rg: dict[str, Any]) -> None:

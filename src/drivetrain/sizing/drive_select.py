@@ -72,12 +72,20 @@ def _currents(cycle: DutyCycle, inertia: float, elec: MotorElectrical, rated: fl
 _DRIVES: weakref.WeakKeyDictionary[DriveTable, tuple[DriveData, ...]] = weakref.WeakKeyDictionary()
 
 
+_UNVERIFIED: dict[str, str] = {}
+"""Catalog drives not traced to a vendor document (id -> why; schema.trace), filled as tables are read."""
+
+
 def _drive_data(table: DriveTable) -> tuple[DriveData, ...]:
     """Every row of a drive table as DriveData, once per table (the catalog's tables are immutable and
     remembered per query, so the candidates of one selection share them)."""
     found = _DRIVES.get(table)
     if found is None:
         found = _DRIVES[table] = tuple(drive_from_catalog_row(table.row(i)) for i in range(len(table)))
+        for i in np.flatnonzero(table.unverified):
+            _UNVERIFIED[str(table.ids[i])] = str(table.unverified_reason[i])
+        for i in np.flatnonzero(~table.unverified):
+            _UNVERIFIED.pop(str(table.ids[i]), None)
     return found
 
 
@@ -201,8 +209,11 @@ def pick_drive(cycle: DutyCycle, inertia: float, motor_id: str, vendor: str, vol
     else:
         block = _drive_block(chosen, cycle, current, i_rms, i_peak)
     status = "ok" if block["ok"] else "fails"
+    # a catalog drive whose ratings are a third-party transcription says so (data/SOURCES.md, "Drives")
+    flag = ({"unverified": True, "unverified_reason": _UNVERIFIED[chosen.name]}
+            if given is None and chosen.name in _UNVERIFIED else {})
     return {**base, **block, "status": status, "vendor": chosen.vendor, "supply_voltage_V": chosen.supply_voltage,
-            "peak_time_s": chosen.peak_time}, chosen
+            "peak_time_s": chosen.peak_time, **flag}, chosen
 
 
 def _motor_voltage(motors: MotorTable, m: int) -> float:
