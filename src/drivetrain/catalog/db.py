@@ -202,7 +202,8 @@ def _remove_stale_temps(directory: Path) -> None:
 
 def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
     """Every shipped file converted and validated; a problem is a packaging bug, so it raises."""
-    from drivetrain.catalog.records import parse_rows, read_csv
+    from drivetrain.catalog.reading import read_csv
+    from drivetrain.catalog.records import parse_rows
 
     documents = motor_documents()
     for shipped in SHIPPED_FILES:

@@ -26,16 +26,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from drivetrain.catalog import db
-from drivetrain.catalog.records import (
-    HEADER_LINE,
-    Parsed,
-    Row,
-    escape_cell,
-    infer_table,
-    parse_quantity,
-    parse_rows,
-    read_text,
-)
+from drivetrain.catalog.columns import HEADER_LINE, infer_table, parse_quantity
+from drivetrain.catalog.reading import escape_cell, read_text
+from drivetrain.catalog.records import Parsed, Row, parse_rows
 from drivetrain.catalog.schema import CURVE, DATA_VERSION, FLAG, MOTOR, TABLES, TEXT, Field, TableSpec
 from drivetrain.errors import InputError, InputErrors
 

@@ -155,8 +155,10 @@ def update(
     clears the field. The edited row is validated exactly as an import is; the id cannot change.
     """
     from drivetrain import catalog
+    from drivetrain.catalog.columns import field_of_header
     from drivetrain.catalog.importer import display, header
-    from drivetrain.catalog.records import RawFile, RawRow, field_of_header, parse_rows
+    from drivetrain.catalog.reading import RawFile, RawRow
+    from drivetrain.catalog.records import parse_rows
 
     if not isinstance(changes, Mapping) or not changes:
         raise InputError("changes", "must name at least one field and its new value", has_value=False)

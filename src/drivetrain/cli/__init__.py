@@ -18,11 +18,10 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from drivetrain.cli import commands
-from drivetrain.cli.commands import EXIT_FAILS, EXIT_INPUT, EXIT_OK
-from drivetrain.cli.commands import jsonable as _jsonable
+from drivetrain.cli.commands import EXIT_INPUT
 from drivetrain.units import UNIT_CHOICES
 
-__all__ = ["EXIT_FAILS", "EXIT_INPUT", "EXIT_OK", "_jsonable", "build_parser", "main"]
+__all__ = ["build_parser", "main"]
 
 
 UNITS_HELP = ("units of the tables (and of the report): si (N*m, kg*cm^2, mm), imperial (lbf*in, lb*in^2, in, "

@@ -27,7 +27,7 @@ from drivetrain.units import to_rpm
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Axis
-    from drivetrain.motion.profiles import Cycle, Samples
+    from drivetrain.motion.cycle import Cycle, Samples
     from drivetrain.physics.efficiency import EfficiencyModel
 
 Array = NDArray[np.float64]

@@ -38,7 +38,7 @@ if TYPE_CHECKING:
     from drivetrain.axis.model import Axis
     from drivetrain.dynamics.chain import Chain
     from drivetrain.dynamics.control import ServoLoop
-    from drivetrain.dynamics.simulation import SimulationResult
+    from drivetrain.dynamics.simulation_result import SimulationResult
     from drivetrain.sizing.result import SizingResult
 
 _KEYS = {"chain", "motor_inertia", "loop", "friction", "load_torque", "cycles", "step", "excitation_orders"}
@@ -300,14 +300,9 @@ def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None =
     The mechanism's spring follows the load's position (``with_mechanism_spring``) where the
     axis file gives its stiffness data; the loop is tuned on the chain at the start position.
     """
-    from drivetrain.dynamics.simulation import (
-        MAX_SIMULATION_BYTES,
-        Reference,
-        default_step,
-        estimate_bytes,
-        max_steps,
-        simulate,
-    )
+    from drivetrain.dynamics.kernel_io import MAX_SIMULATION_BYTES, default_step, estimate_bytes, max_steps
+    from drivetrain.dynamics.reference import Reference
+    from drivetrain.dynamics.simulation import simulate
 
     block = _block(axis)
     dyn = model(axis)

@@ -51,12 +51,6 @@ def _spring_table(table: Any, springs: int, path: str) -> tuple[FloatArray, Floa
     return angle, k
 
 
-def _arr(x: Any, n: int, default: float) -> FloatArray:
-    if x is None:
-        return np.full(n, default, dtype=float)
-    return np.array(x, dtype=float).reshape(-1)
-
-
 @dataclass(frozen=True)
 class Chain:
     """An N-mass torsional chain reflected to the motor shaft (SI).

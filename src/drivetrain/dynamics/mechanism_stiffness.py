@@ -138,15 +138,6 @@ def screw_drive_stiffness(root_diameter: float, nut_position: ArrayLike, bearing
     return parts
 
 
-def belt_specific_stiffness(per_width: float, width: float) -> float:
-    """Specific stiffness c_spec of a belt of ``width`` [m] from a per-width catalog value [N/m] -> [N].
-
-    Belt vendors give c_spec per unit width (e.g. N per mm of width); the belt's c_spec is that
-    times the width.
-    """
-    return _positive(per_width, "belt.specific_stiffness_per_width", "N/m") * _positive(width, "belt.width", "m")
-
-
 BELT_STRAIN_AT_ALLOWABLE = 0.004
 """Strain of a steel-cord polyurethane belt at its allowable tensile load (0.4 %): the ELATECH
 tables give C_spez = F_Tzul / 0.004 for every width (AT5, ATL5, AT20, pp. 14-20), and the

@@ -267,8 +267,3 @@ def reflect_stiffness(stiffness: float, ratio: float) -> float:
 def reflect_damping(damping: float, ratio: float) -> float:
     r"""Viscous damping behind a ratio i seen at its input [N m s/rad]: B / i^2 (power equivalence)."""
     return damping / ratio**2
-
-
-def reflect_angle(angle: float, ratio: float) -> float:
-    """An angle (backlash) at a stage's output seen at its input [rad]: phi * i."""
-    return angle * ratio

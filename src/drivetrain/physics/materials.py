@@ -92,11 +92,3 @@ def shear_modulus(material: str, field: str = "material") -> float:
         raise InputError(field, f"no shear modulus for this material; valid: {', '.join(sorted(SHEAR_MODULUS))}",
                          material)
     return SHEAR_MODULUS[key]
-
-
-def friction_pair(name: str, field: str = "friction") -> FrictionPair:
-    """Static and sliding friction coefficients of a named pair, e.g. ``steel_steel``."""
-    key = name.strip().lower().replace(" ", "_").replace("-", "_").replace("/", "_")
-    if key not in FRICTION:
-        raise InputError(field, f"unknown friction pair; valid: {', '.join(sorted(FRICTION))}", name)
-    return FRICTION[key]

@@ -38,7 +38,7 @@ REPORT_SUFFIXES: dict[str, str] = {".html": "html", ".htm": "html", ".pdf": "pdf
 
 
 def _check_units(units: str) -> str:
-    from drivetrain.report.display import UNIT_CHOICES
+    from drivetrain.units import UNIT_CHOICES
 
     if units not in UNIT_CHOICES:
         raise InputError("--units", f"must be one of {', '.join(UNIT_CHOICES)}", units)

@@ -80,7 +80,7 @@ _ALL: tuple[Formula, ...] = (
       ("a_{max} = v / (t_r (1 − f/2)),   t_j = f t_r / 2",),
       "t_r ramp time, f jerk fraction of the ramp, t_j duration of each jerk piece",
       "L. Biagiotti, C. Melchiorri, Trajectory Planning for Automatic Machines and Robots, Springer 2008, "
-      "sec. 3.4 (double S)", "drivetrain.motion.profiles.s_curve_peak_accel", "Biagiotti"),
+      "sec. 3.4 (double S)", "drivetrain.motion.moves.s_curve_peak_accel", "Biagiotti"),
     F("profile_cam", "Cam laws (cycloidal, modified sine, modified trapezoid, 3-4-5 polynomial)",
       ("x(τ) = x_f · s(τ / T),   s from the law's normalised acceleration",),
       "T move time, s(u) normalised displacement of the law", "R. L. Norton, Cam Design and Manufacturing "

@@ -15,9 +15,10 @@ from importlib import resources
 from string import Template
 from typing import TYPE_CHECKING
 
+from drivetrain.report.blocks import KeyFigure, Table, Verdict
 from drivetrain.report.diagram import to_svg
 from drivetrain.report.formulas import Formula, markup_html
-from drivetrain.report.model import KeyFigure, ReportModel, Table, Verdict, build_report
+from drivetrain.report.model import ReportModel, build_report
 from drivetrain.report.plots import PlotSpec
 
 if TYPE_CHECKING:

@@ -19,8 +19,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from drivetrain.errors import InputError
+from drivetrain.report.blocks import Cell, KeyFigure, Table, Verdict
 from drivetrain.report.display import fmt_number
-from drivetrain.report.model import Cell, KeyFigure, ReportModel, Table, Verdict, build_report, report_date
+from drivetrain.report.model import ReportModel, build_report, report_date
 from drivetrain.report.plots import Panel, PlotSpec, Trace
 
 if TYPE_CHECKING:

@@ -16,8 +16,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from drivetrain.report import tables
-from drivetrain.report.blocks import Cell, KeyFigure, Status, Table, Verdict
-from drivetrain.report.checks import CHECK_NAMES, check_value, checks_table, failure_sentence, verdict
+from drivetrain.report.blocks import KeyFigure, Table, Verdict
+from drivetrain.report.checks import checks_table, verdict
 from drivetrain.report.diagram import Diagram, build_diagram
 from drivetrain.report.display import DisplayUnits, display_units
 from drivetrain.report.focus import focus_of
@@ -27,8 +27,7 @@ from drivetrain.report.plots import PlotSpec, all_plots
 if TYPE_CHECKING:
     from drivetrain.sizing.result import SizingResult
 
-__all__ = ["CHECK_NAMES", "Cell", "KeyFigure", "ReportModel", "Status", "Table", "Verdict", "build_report",
-           "catalog_version", "check_value", "failure_sentence", "report_date"]
+__all__ = ["ReportModel", "build_report", "catalog_version", "report_date"]
 
 
 @dataclass

@@ -45,14 +45,6 @@ def margin_of(required: Array | float, available: Array | float) -> Array:
     return np.asarray(out, dtype=float)
 
 
-def to_checks(name: str, unit: str, required: Array, available: Array, margin: Array, approximate: bool = False,
-              note: str = "") -> list[Check]:
-    """Per-candidate Check objects from arrays."""
-    return [Check(name, float(r), float(a), unit, bool(m >= 0.0), float(m), approximate, note)
-            for r, a, m in zip(np.atleast_1d(required), np.atleast_1d(available), np.atleast_1d(margin),
-                               strict=True)]
-
-
 def combine_margins(*margins: Array) -> Array:
     """One margin from several sub-margins: the smallest known shortfall if any is negative, else NaN
     where any is unknown, else the smallest [-]."""

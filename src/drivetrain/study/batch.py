@@ -82,7 +82,7 @@ if TYPE_CHECKING:
     from drivetrain.axis.model import Margins, SelectSpec
     from drivetrain.catalog import GearboxTable, MotorTable
     from drivetrain.duty.cycle import DutyCycle
-    from drivetrain.motion.profiles import Cycle, Samples
+    from drivetrain.motion.cycle import Cycle, Samples
     from drivetrain.sizing.candidates import Candidates
     from drivetrain.sizing.motor_fit import Demand
     from drivetrain.sizing.result import SizingResult

@@ -53,21 +53,16 @@ from drivetrain.web.common import (
     Context,
     ResultCache,
     SafeJSONResponse,
-    dump_yaml,
     error_body,
     json_error,
-    parse_axis_text,
-    safe_filename,
 )
 from drivetrain.web.models import ERRORS, MAX_TEXT_BYTES
-from drivetrain.web.payload import WEB_POINTS_PER_PHASE, candidate_axis, candidate_payload, encode, plain, size_payload
+from drivetrain.web.payload import size_payload
 from drivetrain.web.routes_catalog import MAX_UPLOAD_BYTES
 from drivetrain.web.store import ENV_DATA_DIR, StoreError, default_data_dir
 from drivetrain.web.workers import WorkerPool
 
-__all__ = ["LOOPBACK_HOSTS", "MAX_BODY_BYTES", "MAX_TEXT_BYTES", "MAX_UPLOAD_BYTES", "WEB_POINTS_PER_PHASE",
-           "ApiError", "Guard", "ResultCache", "allowed_methods", "candidate_axis", "candidate_payload",
-           "create_app", "dump_yaml", "encode", "parse_axis_text", "plain", "safe_filename", "size_payload"]
+__all__ = ["LOOPBACK_HOSTS", "MAX_BODY_BYTES", "Guard", "allowed_methods", "create_app"]
 
 log = logging.getLogger("drivetrain.web")
 

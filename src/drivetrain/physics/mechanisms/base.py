@@ -39,7 +39,6 @@ from drivetrain.fields import (
 from drivetrain.physics.loads import (
     ThrustMode,
     coulomb_friction,
-    gravity_force,
     linear_load_force,
     process_thrust,
     spring,
@@ -222,14 +221,12 @@ class RotaryLoadSpec(Spec):
 
 __all__ = [
     "Array",
-    "ForceNonNeg",
     "LinearLoad",
     "LinearLoadSpec",
     "Mechanism",
     "Motion",
     "RotaryLoad",
     "RotaryLoadSpec",
-    "gravity_force",
 ]
 
 
