@@ -530,7 +530,7 @@ def test_no_directory_for_the_temporary(
 
 
 def test_stale_temporaries_of_a_killed_writer_are_removed(tmp_path: Path) -> None:
-    from drivetrain.report import STALE_TEMP_AGE_S, write_atomic
+    from drivetrain.files import STALE_TEMP_AGE_S, write_atomic
 
     target = tmp_path / "r.pdf"
     dead = tmp_path / ".r.pdf.999999999.abc123_x.tmp"  # no such process id
@@ -547,7 +547,7 @@ def test_stale_temporaries_of_a_killed_writer_are_removed(tmp_path: Path) -> Non
 
 
 def test_temporary_names_are_unique(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    from drivetrain.report import write_atomic
+    from drivetrain.files import write_atomic
 
     seen: list[str] = []
     write_atomic(tmp_path / "a.csv", lambda tmp: seen.append(tmp.name) or tmp.write_text("1"), "--csv")

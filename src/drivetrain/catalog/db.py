@@ -50,6 +50,7 @@ from drivetrain.catalog.schema import (
     sql_type,
 )
 from drivetrain.errors import InputError, InputErrors
+from drivetrain.files import atomic_target
 
 if TYPE_CHECKING:
     import sqlite3
@@ -158,14 +159,10 @@ def _meta_of(path: Path, key: str) -> str | None:
 def _build(path: Path, stamp: str, files: str | None = None) -> None:
     """Write the shipped database to a temporary file, then move it into place atomically."""
     import sqlite3
-    import tempfile  # here: its imports would cost every start 3-5 ms
 
     path.parent.mkdir(parents=True, exist_ok=True)
     _remove_stale_temps(path.parent)
-    fd, tmp_name = tempfile.mkstemp(prefix=".catalog-", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    tmp = Path(tmp_name)
-    try:
+    with atomic_target(path, durable=False, prefix=".catalog-", suffix=".tmp") as tmp:
         conn = sqlite3.connect(tmp, isolation_level=None)
         try:
             conn.execute("BEGIN")
@@ -188,9 +185,6 @@ def _build(path: Path, stamp: str, files: str | None = None) -> None:
             conn.execute("COMMIT")
         finally:
             conn.close()
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
 
 
 def _remove_stale_temps(directory: Path) -> None:

@@ -12,14 +12,12 @@ and moved into place, so an existing file is never left half-written.
 
 from __future__ import annotations
 
-import contextlib
 import csv
 import functools
 import io
 import json
 import math
 import os
-import tempfile
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -31,6 +29,7 @@ from drivetrain.catalog.reading import escape_cell, read_text
 from drivetrain.catalog.records import Parsed, Row, parse_rows
 from drivetrain.catalog.schema import CURVE, DATA_VERSION, FLAG, MOTOR, TABLES, TEXT, Field, TableSpec
 from drivetrain.errors import InputError, InputErrors
+from drivetrain.files import write_atomic
 
 if TYPE_CHECKING:
     import sqlite3
@@ -289,7 +288,7 @@ def export(
     with ``kind="curve"``. The file re-imports as it is (with ids not already in the catalog).
     """
     text, count = export_text(kind, format, origin=origin, ids=ids, directory=directory)
-    _write_atomic(Path(path), text)
+    _write_text(Path(path), text)
     return count
 
 
@@ -373,18 +372,11 @@ def _csv_text(headers: list[str], records: list[list[Any]]) -> str:
     return buffer.getvalue()
 
 
-def _write_atomic(path: Path, text: str) -> None:
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}-", suffix=".tmp", dir=path.parent)
-    except OSError as exc:
-        raise InputError("output", f"cannot be written ({exc.strerror})", str(path)) from None
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as f:
+def _write_text(path: Path, text: str) -> None:
+    """Write ``text`` whole or not at all (``drivetrain.files``); file-system errors name ``output``."""
+
+    def write(tmp: Path) -> None:
+        with open(tmp, "w", encoding="utf-8", newline="") as f:
             f.write(text)
-        os.replace(tmp_name, path)
-    except OSError as exc:  # full disk, file-size limit, a directory in the way
-        raise InputError("output", f"cannot be written ({exc.strerror or exc})", str(path)) from None
-    finally:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp_name)
+
+    write_atomic(path, write, "output")

@@ -20,14 +20,11 @@ EXIT_INPUT = 2
 """Bad input: one line naming the field, no traceback."""
 
 
-def _write_atomic(path: str, text: str, field: str = "--csv") -> None:
-    """Write a file through a unique temporary sibling and rename, so a reader never sees half of it."""
-    from drivetrain.report import write_atomic
+def _write_text(path: str, text: str, field: str = "--csv") -> None:
+    """Write a text file whole or not at all (``drivetrain.files``); errors name ``field``."""
+    from drivetrain.files import write_atomic
 
-    def write(tmp: Path) -> None:
-        tmp.write_text(text, encoding="utf-8")
-
-    write_atomic(path, write, field)
+    write_atomic(path, lambda tmp: tmp.write_text(text, encoding="utf-8"), field)
 
 
 PLOT_SUFFIXES = (".png", ".svg", ".pdf")
@@ -38,7 +35,8 @@ def _check_outputs(args: argparse.Namespace) -> None:
     """Refuse an output path that cannot be written before the work that fills it."""
     if not any(getattr(args, name, None) for name in ("csv", "report", "plot")):
         return
-    from drivetrain.report import REPORT_SUFFIXES, check_target
+    from drivetrain.files import check_target
+    from drivetrain.report import REPORT_SUFFIXES
 
     for name in ("csv", "report", "plot"):
         path = getattr(args, name, None)
@@ -80,7 +78,7 @@ def size(args: argparse.Namespace) -> int:
     if args.aas:
         from drivetrain.machine.aas import axis_aas
 
-        _write_atomic(args.aas, json.dumps(axis_aas(jsonable(result.to_dict())), indent=2))
+        _write_text(args.aas, json.dumps(axis_aas(jsonable(result.to_dict())), indent=2), "--aas")
     if args.json:
         out = result.to_dict()
         if modes is not None:
@@ -132,7 +130,7 @@ def machine_size(args: argparse.Namespace) -> int:
     if args.aas:
         from drivetrain.machine.aas import machine_aas
 
-        _write_atomic(args.aas, json.dumps(machine_aas(out), indent=2))
+        _write_text(args.aas, json.dumps(machine_aas(out), indent=2), "--aas")
     if args.report:
         from drivetrain.report.machine import write_machine_report
 
@@ -197,9 +195,9 @@ def simulate(args: argparse.Namespace) -> int:
 
         buf = io.StringIO()
         res.to_pandas().to_csv(buf)
-        _write_atomic(args.csv, buf.getvalue(), "--csv")
+        _write_text(args.csv, buf.getvalue(), "--csv")
     if args.plot:
-        from drivetrain.report import write_atomic
+        from drivetrain.files import write_atomic
 
         fig = res.plot()
         fmt = Path(args.plot).suffix.lower().lstrip(".")
@@ -242,7 +240,7 @@ def _write_csv(path: str, cols: dict[str, Any]) -> None:
     data = np.column_stack([np.asarray(cols[n], dtype=float) for n in names])
     buf = io.StringIO()
     np.savetxt(buf, data, delimiter=",", header=",".join(names), comments="", fmt="%.9g")
-    _write_atomic(path, buf.getvalue())
+    _write_text(path, buf.getvalue())
 
 
 def jsonable(obj: Any) -> Any:

@@ -262,17 +262,17 @@ def render_machine_pdf(result: MachineResult, path: Path) -> None:
 
 def write_machine_report(result: MachineResult, path: str | os.PathLike[str]) -> Path:
     """Write the machine report as HTML (``.html``) or PDF (``.pdf``); the file is replaced only when complete."""
-    from drivetrain.report import _write_atomic
+    from drivetrain.files import write_atomic
 
     target = Path(path)
     suffix = target.suffix.lower()
     if suffix not in (".html", ".htm", ".pdf"):
         raise InputError("--report", "must end in .html or .pdf", str(path))
     if suffix == ".pdf":
-        return _write_atomic(target, lambda tmp: render_machine_pdf(result, tmp))
+        return write_atomic(target, lambda tmp: render_machine_pdf(result, tmp), "--report")
     data = render_machine_html(result).encode("utf-8")
 
     def write(tmp: Path) -> None:
         tmp.write_bytes(data)
 
-    return _write_atomic(target, write)
+    return write_atomic(target, write, "--report")
