@@ -13,7 +13,6 @@ and moved into place, so an existing file is never left half-written.
 from __future__ import annotations
 
 import csv
-import functools
 import io
 import json
 import math
@@ -24,15 +23,15 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from drivetrain.catalog import db
-from drivetrain.catalog.columns import HEADER_LINE, infer_table, parse_quantity
+from drivetrain.catalog.columns import HEADER_LINE, display, header, infer_table
 from drivetrain.catalog.reading import escape_cell, read_text
 from drivetrain.catalog.records import Parsed, Row, parse_rows
-from drivetrain.catalog.schema import CURVE, DATA_VERSION, FLAG, MOTOR, TABLES, TEXT, Field, TableSpec
+from drivetrain.catalog.schema import CURVE, DATA_VERSION, MOTOR, TABLES, TableSpec
 from drivetrain.errors import InputError, InputErrors
 from drivetrain.files import write_atomic
 
 if TYPE_CHECKING:
-    import sqlite3
+    pass
 
 FORMATS = ("csv", "json")
 MAX_IMPORT_ROWS = 5_000
@@ -133,11 +132,6 @@ def _default_source(rows: Sequence[Row], source: str) -> None:
         row.values.setdefault("source", source)
         for point in row.curve:
             point.values.setdefault("source", row.values["source"])
-
-
-def write_rows(conn: sqlite3.Connection, spec: TableSpec, rows: Sequence[Row]) -> int:
-    """Insert ``rows`` inside the caller's transaction (manage.write_import logs and replaces)."""
-    return db.insert_rows(conn, "main", spec, rows)
 
 
 def _read(filename: str) -> str:
@@ -330,25 +324,6 @@ def export_text(
         out_rows.append(obj)
     doc = {"table": spec.name, "data_version": DATA_VERSION, "rows": out_rows}
     return json.dumps(doc, indent=1, ensure_ascii=False) + "\n", len(rows)
-
-
-def header(fld: Field) -> str:
-    """Export header of a field: ``name [unit]``, or the bare name for text and pure numbers."""
-    return f"{fld.name} [{fld.unit}]" if fld.unit else fld.name
-
-
-def display(fld: Field, value: Any) -> Any:
-    """A stored SI value in the field's export unit, rounded to 12 significant digits."""
-    if fld.quantity == FLAG and value is not None:
-        return "yes" if value else "no"
-    if value is None or fld.quantity == TEXT or not fld.unit or fld.unit == "dB":
-        return value
-    return float(f"{value / _unit_si(fld.unit, fld.quantity):.12g}")
-
-
-@functools.cache
-def _unit_si(unit: str, quantity: str) -> float:
-    return parse_quantity(f"1 {unit}", quantity, unit)
 
 
 def _curve_point(point: tuple[float, float | None, float | None], source: str = "") -> dict[str, float | str]:

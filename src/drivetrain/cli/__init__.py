@@ -183,7 +183,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser(optional=_command(words) not in CORE_COMMANDS)
     args = parser.parse_args(words)
     if args.version:
-        from drivetrain import __version__
+        from drivetrain.version import __version__
 
         print(__version__)
         return 0

@@ -264,7 +264,7 @@ def with_mechanism_spring(axis: Axis, dyn: AxisDynamics, start: float = 0.0) -> 
     """``dyn`` with the mechanism's own spring, following the load along the stroke.
 
     Where the axis file gives the mechanism's stiffness data (``mechanism.screw``/``nut``,
-    ``belt``, ``rack``; ``mechanism_modes.mechanism_stiffness_of``), the mechanism stage gets its
+    ``belt``, ``rack``; ``axis_stiffness.mechanism_stiffness_of``), the mechanism stage gets its
     torsional stiffness k_x(x) r^2 at the load position ``start`` [m], and the chain's
     ``spring_table`` carries the stiffness at the motor shaft, k_x(x) r^2 / i^2 (i the ratio of
     the stages before the mechanism), against the load's angle at the motor shaft, x times the
@@ -273,8 +273,8 @@ def with_mechanism_spring(axis: Axis, dyn: AxisDynamics, start: float = 0.0) -> 
     """
     from dataclasses import replace
 
+    from drivetrain.dynamics.axis_stiffness import mechanism_stiffness_of
     from drivetrain.dynamics.chain import model_from_stages
-    from drivetrain.dynamics.mechanism_modes import mechanism_stiffness_of
 
     if "chain" in _block(axis) or not dyn.stages:
         return dyn

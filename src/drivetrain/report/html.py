@@ -160,7 +160,7 @@ def _plot_script(figures: list[tuple[str, str]]) -> str:
 
 def render_html(result: SizingResult, units: str = "si") -> str:
     """The whole report as one HTML document: offline, plotly.js embedded, every user string escaped."""
-    from drivetrain import __version__
+    from drivetrain.version import __version__
 
     model = build_report(result, units)
     figures: list[tuple[str, str]] = []

@@ -163,9 +163,9 @@ def _axis_models(result: MachineResult) -> list[tuple[str, ReportModel]]:
 
 def render_machine_html(result: MachineResult) -> str:
     """The machine report as one offline HTML document."""
-    from drivetrain import __version__
     from drivetrain.report.html import _kpis, _plot_script, _plotly_div, _resource, _table, render_body
     from drivetrain.report.html import _verdict as verdict_html
+    from drivetrain.version import __version__
 
     d = result.to_dict()
     figures: list[tuple[str, str]] = []
@@ -213,8 +213,8 @@ def render_machine_pdf(result: MachineResult, path: Path) -> None:
     """The machine report on A4 pages: the machine's sections, then a page set per axis."""
     import matplotlib
 
-    from drivetrain import __version__
     from drivetrain.report.pdf import INK, _Doc
+    from drivetrain.version import __version__
 
     d = result.to_dict()
     m = d["machine"]

@@ -91,14 +91,15 @@ def catalog_version(result: SizingResult) -> str:
 
 def build_report(result: SizingResult, units: str = "si") -> ReportModel:
     """The report's content for ``result`` in the chosen units (si, imperial, as-given)."""
-    from drivetrain import __version__
-    from drivetrain.report.electrical import electrical_table, regen_plot
+    from drivetrain.report.electrical import electrical_table, regen_plot, supply_curve_traces
     from drivetrain.report.mechanism import mechanism_checks_table, mechanism_modes, modes_plot, modes_table
+    from drivetrain.version import __version__
 
     du = display_units(units, result.axis.raw)
     focus = focus_of(result)
     modes = mechanism_modes(result)
-    plots = {p.key: p for p in all_plots(result, du, focus)}
+    supply = supply_curve_traces(result, du) if focus is not None else []
+    plots = {p.key: p for p in all_plots(result, du, focus, supply)}
     notes = []
     if focus is not None:
         notes.append("The motor's speed-torque envelope is derived from its ratings (rated, stall and peak torque, "

@@ -14,7 +14,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from drivetrain import __version__
 from drivetrain.axis.model import Axis, MotorData, load_axis, parse_axis
 from drivetrain.duty.cycle import (
     DutyCycle,
@@ -27,6 +26,7 @@ from drivetrain.duty.cycle import (
 )
 from drivetrain.sizing.checks import Check, running_torque
 from drivetrain.sizing.motor_fit import MotorArrays, demand, fit_motors
+from drivetrain.version import __version__
 
 if TYPE_CHECKING:
     import pandas as pd

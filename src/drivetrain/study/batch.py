@@ -84,7 +84,7 @@ if TYPE_CHECKING:
     from drivetrain.duty.cycle import DutyCycle
     from drivetrain.motion.cycle import Cycle, Samples
     from drivetrain.sizing.candidates import Candidates
-    from drivetrain.sizing.motor_fit import Demand
+    from drivetrain.sizing.demand import Demand
     from drivetrain.sizing.result import SizingResult
 
 Array = NDArray[np.float64]

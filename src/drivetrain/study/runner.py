@@ -177,8 +177,8 @@ def make_plan(study: Study) -> Plan:
 
 def metadata(study: Study) -> dict[str, Any]:
     """What the result files record about their making."""
-    from drivetrain import __version__
     from drivetrain.catalog.schema import DATA_VERSION
+    from drivetrain.version import __version__
 
     return {"study_file": study.text, "study_source": study.source, "base_axis_file": study.base_text,
             "drivetrain_version": __version__, "catalog_data_version": DATA_VERSION,
