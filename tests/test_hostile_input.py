@@ -288,7 +288,7 @@ def test_profile_length_is_capped() -> None:
 
 def _phase_table_by_masks(duty: Any, torque: np.ndarray) -> list[dict[str, Any]]:
     """The definition: one mask per phase (quadratic, the reference for the linear pass)."""
-    from drivetrain.duty.cycle import signed_extreme
+    from drivetrain.physics.averages import signed_extreme
     from drivetrain.units import to_rpm
 
     idx = np.asarray(duty.samples.phase)

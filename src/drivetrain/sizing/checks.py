@@ -135,7 +135,7 @@ def gearbox_ratings(out_peak: Array | float, out_cubic: Array | float, in_peak_s
     cycles/h without the impact factor); Beckhoff AG2400 TP+ data (T2B "maximum 1000 cycles per
     hour", T2Em.stop "possible 1000 times during the service life", n1N nominal and n1Max maximum
     input speed; https://infosys.beckhoff.com/content/1033/ag2400_ba/8995369483.html); cubic mean:
-    drivetrain.duty.cycle.cubic_mean.
+    drivetrain.physics.averages.cubic_mean.
     """
     def rated(required: Array | float, available: Array | float) -> tuple[Array, Array, Array]:
         req, av = np.broadcast_arrays(np.asarray(required, dtype=float), np.asarray(available, dtype=float))

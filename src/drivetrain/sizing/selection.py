@@ -27,8 +27,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from drivetrain.duty.cycle import cubic_mean
 from drivetrain.errors import InputError
+from drivetrain.physics.averages import cubic_mean
 from drivetrain.physics.stage import Stage
 from drivetrain.sizing.candidates import CHECK_UNITS, FIT_BIT, MOTOR_CHECKS, Candidates, Details, closest, column
 from drivetrain.sizing.checks import running_torque, shock_factor
