@@ -56,9 +56,12 @@ def build_parser(optional: bool = True) -> argparse.ArgumentParser:
     p.set_defaults(handler=commands.size)
 
     p = sub.add_parser("select", help="same as size, with a catalog selection even if the axis names a motor")
-    p.add_argument("axis")
-    p.add_argument("--json", action="store_true")
-    p.add_argument("--top", type=int, default=10)
+    p.add_argument("axis", help="axis file (YAML); a motor it names gives way to a catalog selection (its margins "
+                                "and supply voltage kept)")
+    p.add_argument("--json", action="store_true", help="print only the JSON result on standard output")
+    p.add_argument("--top", type=int, default=None, metavar="N",
+                   help="motors listed, each in its best configuration, 1 to 1000 (default: the axis file's "
+                        "motor.select.top, else 10)")
     p.add_argument("--units", choices=UNIT_CHOICES, default="si", help=UNITS_HELP)
     p.set_defaults(handler=commands.select)
 
