@@ -117,7 +117,7 @@ def test_yaskawa_feed_timing() -> None:
 
 
 def test_design_example_profile() -> None:
-    """The profile of design.md's axis file."""
+    """Two moves (trapezoid, s-curve) and two dwells (motor and brake holding), as in docs/axis-file.md."""
     cycle = parse_profile(
         [
             {"move": "200 mm", "time": "0.5 s", "accel": "0.1 s"},

@@ -1,6 +1,6 @@
 """The duty cycle: speed, torque and power at the motor shaft over the whole repeating cycle.
 
-Data flow (design.md): profile samples of the load -> mechanism external load -> each stage
+Data flow (docs/conventions.md): profile samples of the load -> mechanism external load -> each stage
 from the load side to the motor side with the four-quadrant rule -> motor-shaft torque (rotor
 excluded) -> metrics. With a motor, its rotor adds J_M alpha.
 

@@ -22,7 +22,7 @@ Sources:
   20 N/(mm um)), k = c_gamma b.
 - Torsional stiffness at the input shaft: k_theta = k_x r^2 with r the lever arm [m/rad]
   (lead / 2 pi for a screw, the pitch radius of a pulley or pinion): a twist d(phi) moves the
-  carriage r d(phi) against k_x (energy equivalence; design.md, linear mechanisms).
+  carriage r d(phi) against k_x (energy equivalence; docs/conventions.md, Linear mechanisms).
 """
 
 from __future__ import annotations

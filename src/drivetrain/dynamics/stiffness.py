@@ -242,7 +242,7 @@ def torsional_from_axial_lead(axial_stiffness: float, lead: float) -> float:
     .. math:: K = k_{ax} \left(\frac{h}{2\pi}\right)^2
 
     axial stiffness [N/m], lead h [m/rev]: the screw turns 2 pi rad per lead of travel, so its
-    lever arm is h / (2 pi) (design.md, "Linear mechanisms").
+    lever arm is h / (2 pi) (docs/conventions.md, "Linear mechanisms").
 
     >>> round(torsional_from_axial_lead(1e9, 0.01), 1)
     2533.0

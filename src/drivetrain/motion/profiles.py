@@ -1,7 +1,7 @@
 """Motion profiles: moves and dwells in a repeating cycle, their exact segments and sampling.
 
 A profile is a list of steps, run in order; the cycle repeats. A step is a move or a dwell
-(the axis file's ``profile:`` key, as in design.md)::
+(the axis file's ``profile:`` key, docs/axis-file.md)::
 
     {move: 200 mm, time: 0.5 s, accel: 0.1 s[, decel: 0.1 s]}       trapezoid, given ramp times
     {move: 200 mm, time: 0.5 s, shape: trapezoid | triangle | s_curve
@@ -34,7 +34,7 @@ Guarantees (tested on seeded random moves in ``tests/test_profiles_random.py``):
 The module parses; the exact form and its sampling are in ``cycle.py`` and the closed forms of one
 move (peaks, time-optimal) in ``moves.py``.
 
-Sources: the lecture notes in ``seed/`` (trapezoid ``v_max = x_f / t_2``, ``a_max = x_f /
+Sources: the lecture (trapezoidal profile: trapezoid ``v_max = x_f / t_2``, ``a_max = x_f /
 (t_1 t_2)``; movement amount ``L_s = V (2 t_s - t_a - t_d) / 2``); cam laws in ``cams.py``
 (Norton); jerk-limited time-optimal rest-to-rest moves: L. Biagiotti, C. Melchiorri,
 *Trajectory Planning for Automatic Machines and Robots*, Springer (2008), sec. 3.4 (double S).

@@ -79,8 +79,8 @@ def ke_si(value: ArrayLike, basis: str, per_krpm: bool = True) -> FloatArray:
         per_krpm: True when ``value`` is per 1000 rpm.
 
     Source: sinusoidal three-phase quantities: line-to-line amplitude = sqrt(3) x phase
-    amplitude, rms = amplitude / sqrt(2). Check: MathWorks BLY171D, Ke = 3.8 V_pk,LL/krpm,
-    p = 4 gives psi = 0.0052 Wb as the blockset prints (FluxPM).
+    amplitude, rms = amplitude / sqrt(2). Check: MathWorks Motor Control Blockset, BLY171D record,
+    Ke = 3.8 V_pk,LL/krpm, p = 4 gives psi = 0.0052 Wb as the blockset prints (FluxPM).
 
     >>> round(float(ke_si(3.8, "ll_peak")) / 4, 5)
     0.00524
@@ -120,7 +120,7 @@ def phase_value(value: ArrayLike, basis: str) -> FloatArray:
     phase value in star, so R_ph = R_LL / 2; the same holds for the synchronous inductance of
     a balanced machine measured between two terminals).
 
-    Source: series connection of two star phases between two terminals.
+    Derivation: series connection of two star phases between two terminals.
     """
     if basis == "phase":
         return np.asarray(value, dtype=float)
@@ -421,7 +421,7 @@ def base_speed(
 def no_load_speed(ke: ArrayLike, dc_bus: ArrayLike, modulation: float = 1.0) -> FloatArray:
     r"""Speed [rad/s] where the back-EMF amplitude reaches the voltage limit: :math:`\hat v_{max}/k_e`.
 
-    Source: v_q = omega_e psi at zero current (the dq equations above).
+    Source: v_q = omega_e psi at zero current (the dq equations of :func:`voltage_limited_current`).
     """
     return np.asarray(max_phase_voltage(dc_bus, modulation) / np.asarray(ke, dtype=float), dtype=float)
 

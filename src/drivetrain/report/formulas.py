@@ -74,7 +74,7 @@ _ALL: tuple[Formula, ...] = (
     F("profile_trapezoid", "Trapezoidal move and movement amount",
       ("v_{max} = x_f / t_2,   a_{max} = x_f / (t_1 t_2)", "L = V (2 t_s − t_a − t_d) / 2"),
       "x_f distance, t_1 ramp time, t_2 time to the start of the decel ramp; V speed, t_s step time, "
-      "t_a, t_d ramp times", "lecture notes (seed/), trapezoid profile and movement amount",
+      "t_a, t_d ramp times", "lecture, trapezoidal profile and \"Movement Amount\"",
       "drivetrain.motion.profiles", "movement amount"),
     F("profile_s_curve", "Jerk-limited (s-curve and time-optimal) moves",
       ("a_{max} = v / (t_r (1 − f/2)),   t_j = f t_r / 2",),
@@ -168,7 +168,7 @@ _ALL: tuple[Formula, ...] = (
       ("T_{in} = J_{in} α + (J_{inside} α + T_{out} / i) / η   when power flows to the load",
        "T_{in} = J_{in} α + (J_{inside} α + T_{out} / i) · η_{back}   when the load drives back"),
       "J_{in} inertia outside the element's losses, J_{inside} inside them; a dwell holds as if motoring "
-      "unless the element self-locks (η_{back} ≤ 0)", "lecture, ServoSoft four-quadrant pages; design.md",
+      "unless the element self-locks (η_{back} ≤ 0)", "lecture, ServoSoft four-quadrant pages; docs/conventions.md",
       "drivetrain.physics.stage.torque_in", "ServoSoft quadrant pages"),
     F("load_torque_only", "Losses on the load torque only (vendor selection guides)",
       ("T_{in} = T_{ext} / (i η) + (J_{inside} α + T_{inertial} / i) + J_{in} α",),
@@ -184,7 +184,7 @@ _ALL: tuple[Formula, ...] = (
     F("power_energy", "Peak power and regenerated energy",
       ("P_{peak} = max |T ω|,   E_{regen} = ∫ max(0, −T ω) dt over one cycle",),
       "mechanical, at the motor shaft, before motor and drive losses; integrals with Simpson weights per phase",
-      "design.md, JSON result meanings", "drivetrain.duty.cycle", "quadrature weights"),
+      "docs/conventions.md, The JSON result", "drivetrain.duty.cycle", "quadrature weights"),
     F("accel_times", "Shortest acceleration and deceleration times",
       ("t_{am} = 2π N_M (J_M + J_L) / (60 (T_{PM} − T_L))",
        "t_{dm} = 2π N_M (J_M + J_L) / (60 (T_{PM} + T_L))"),

@@ -32,7 +32,7 @@ class Check:
     note: str = ""
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON form (design.md: name, required, available, margin, ok)."""
+        """JSON form (docs/conventions.md, The JSON result: name, required, available, margin, ok)."""
         return asdict(self)
 
 

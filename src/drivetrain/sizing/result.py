@@ -1,7 +1,7 @@
 """Sizing: the duty cycle of an axis, checked against a given motor or a catalog selection.
 
 ``size(axis)`` is the orchestrator behind ``drivetrain size``: profile -> duty cycle ->
-metrics -> motor checks -> ``SizingResult`` (JSON of design.md, tables, plots).
+metrics -> motor checks -> ``SizingResult`` (JSON of docs/axis-file.md, tables, plots).
 """
 
 from __future__ import annotations
@@ -59,7 +59,7 @@ class SizingResult:
         return True
 
     def to_dict(self) -> dict[str, Any]:
-        """The JSON result of design.md (keys carry their unit)."""
+        """The JSON result of docs/axis-file.md (keys carry their unit)."""
         from drivetrain.catalog import DATA_VERSION
 
         out: dict[str, Any] = {"axis": self.axis.name, "drivetrain_version": __version__,
