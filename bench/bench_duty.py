@@ -19,8 +19,9 @@ from typing import Any
 import numpy as np
 
 from drivetrain.axis.model import parse_axis
-from drivetrain.duty.cycle import duty_cycle, rms
+from drivetrain.duty.cycle import duty_cycle
 from drivetrain.motion import cycle as cycle_module
+from drivetrain.physics.averages import rms
 
 LEAD, MASS, MU, ETA, G = 0.010, 25.0, 0.05, 0.9, 9.80665
 AXIS: dict[str, Any] = {

@@ -16,7 +16,7 @@ from collections.abc import Callable
 import numpy as np
 from ruckig import InputParameter, Ruckig, Trajectory
 
-from drivetrain.motion.profiles import time_optimal_duration
+from drivetrain.motion.moves import time_optimal_duration
 
 D, V, A, J = 0.3, 1.0, 5.0, 50.0
 

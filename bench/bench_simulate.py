@@ -36,7 +36,7 @@ import numpy as np
 from drivetrain.dynamics import Friction, move_reference, simulate, sweep, tune, two_mass_chain
 from drivetrain.dynamics.chain import Chain
 from drivetrain.dynamics.control import ServoLoop
-from drivetrain.dynamics.simulation import Reference
+from drivetrain.dynamics.reference import Reference
 
 H = 1e-4
 T_END = 10.0
@@ -162,9 +162,9 @@ def main() -> None:
     loop_cmp = comparison_loop(smooth)
     simulate(stick, loop_drive, ref, step=H, duration=T_END)  # compile / load
     simulate(smooth, loop_cmp, ref, step=H, duration=T_END)
-    import drivetrain.dynamics.simulation as simmod
+    from drivetrain.dynamics.kernel_io import kernel_module
 
-    kern = simmod._kernel_module()
+    kern = kernel_module()
     orig = kern.run_two  # the kernel simulate() uses for a two-mass chain
     kt: list[float] = []
 

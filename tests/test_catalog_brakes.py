@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from drivetrain import catalog
-from drivetrain.catalog import db
+from drivetrain.catalog import db, side_tables
 from test_drive_select import USER_MOTORS, import_catalog
 
 Row = dict[str, str]
@@ -99,9 +99,9 @@ def test_every_brake_row_names_a_shipped_motor_and_its_source() -> None:
 
 def test_a_brake_value_that_contradicts_the_family_file_is_refused() -> None:
     with pytest.raises(RuntimeError, match="rotor_inertia_brake"):
-        db._merge_brake({"id": "X", "rotor_inertia_brake": 1e-4}, {"rotor_inertia_brake_kgm2": "2e-4"})
+        side_tables.merge_brake({"id": "X", "rotor_inertia_brake": 1e-4}, {"rotor_inertia_brake_kgm2": "2e-4"})
     values = {"id": "X", "rotor_inertia_brake": 1e-4}
-    db._merge_brake(values, {"rotor_inertia_brake_kgm2": "1e-4", "brake_code": "XB", "brake_source": "s"})
+    side_tables.merge_brake(values, {"rotor_inertia_brake_kgm2": "1e-4", "brake_code": "XB", "brake_source": "s"})
     assert values == {"id": "X", "rotor_inertia_brake": 1e-4, "brake_code": "XB", "brake_source": "s"}
 
 

@@ -21,7 +21,8 @@ import pytest
 
 from drivetrain import catalog
 from drivetrain.catalog import db, schema
-from drivetrain.catalog.records import parse_rows, read_csv
+from drivetrain.catalog.reading import read_csv
+from drivetrain.catalog.records import parse_rows
 
 RPM = 2 * math.pi / 60
 Row = dict[str, str]

@@ -148,6 +148,7 @@ def test_one_unit_table() -> None:
     from drivetrain import units
     from drivetrain.report import display
 
-    assert display.IMPERIAL_UNITS is units.IMPERIAL_UNITS and display.SI_UNITS is units.SI_UNITS
+    assert display.display_units("si").units == units.SI_UNITS
+    assert display.display_units("imperial").units == units.IMPERIAL_UNITS
     assert display.display_units("imperial").to(1.0, "torque") == pytest.approx(1 / LBF_IN, rel=1e-12)
     assert display.display_units("imperial").to(1.0, "length") == pytest.approx(1 / IN, rel=1e-12)

@@ -8,7 +8,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from drivetrain.axis.model import parse_axis
-from drivetrain.duty.cycle import duty_cycle, load_metrics, rms
+from drivetrain.duty.cycle import duty_cycle, load_metrics
+from drivetrain.physics.averages import rms
 
 
 def screw_axis(profile: list, *, incline: str = "0 deg", mass: float = 20.0, friction: float = 0.0,

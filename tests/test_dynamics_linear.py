@@ -32,7 +32,8 @@ from drivetrain.dynamics.linear import (
     mass_spring_damper_tf,
     state_space_matrices,
 )
-from drivetrain.dynamics.simulation import chain_energy, simulate_linear_exact
+from drivetrain.dynamics.simulation import simulate_linear_exact
+from drivetrain.dynamics.simulation_result import chain_energy
 from drivetrain.errors import InputError
 from drivetrain.physics.stage import Stage
 

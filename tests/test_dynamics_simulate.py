@@ -24,7 +24,8 @@ from drivetrain.dynamics import (
 )
 from drivetrain.dynamics.friction import friction_torque_exponential, friction_torque_tanh
 from drivetrain.dynamics.linear import second_order_step
-from drivetrain.dynamics.simulation import chain_energy, simulate_linear_exact
+from drivetrain.dynamics.simulation import simulate_linear_exact
+from drivetrain.dynamics.simulation_result import chain_energy
 from drivetrain.errors import InputError
 
 

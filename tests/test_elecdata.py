@@ -22,7 +22,7 @@ from typing import Any
 import pytest
 
 from drivetrain import catalog, cli
-from drivetrain.catalog.db import DERIVED_KT
+from drivetrain.catalog.derive import DERIVED_KT
 from drivetrain.catalog.schema import TRACED_DRIVE_FAMILIES
 
 Row = dict[str, str]

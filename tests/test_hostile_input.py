@@ -242,7 +242,9 @@ def test_simulation_of_one_huge_cycle_is_refused_naming_the_profile(
 def test_simulate_api_refuses_a_duration_past_the_memory_bound() -> None:
     from drivetrain.dynamics import two_mass_chain
     from drivetrain.dynamics.control import tune
-    from drivetrain.dynamics.simulation import MAX_SIMULATION_BYTES, estimate_bytes, max_steps, move_reference, simulate
+    from drivetrain.dynamics.kernel_io import MAX_SIMULATION_BYTES, estimate_bytes, max_steps
+    from drivetrain.dynamics.reference import move_reference
+    from drivetrain.dynamics.simulation import simulate
 
     chain = two_mass_chain(1e-4, 5e-4, 500.0)
     ref = move_reference(1.0, 10.0, 100.0)
@@ -263,7 +265,7 @@ def test_points_past_the_sample_bound_name_the_option(capsys: pytest.CaptureFixt
 
 
 def test_sample_bound_in_the_api() -> None:
-    from drivetrain.motion.profiles import MAX_SAMPLES
+    from drivetrain.motion.cycle import MAX_SAMPLES
 
     cycle = load_axis(ROOT / "examples" / "ball_screw.yaml").cycle()
     with pytest.raises(InputError) as err:
@@ -286,7 +288,7 @@ def test_profile_length_is_capped() -> None:
 
 def _phase_table_by_masks(duty: Any, torque: np.ndarray) -> list[dict[str, Any]]:
     """The definition: one mask per phase (quadratic, the reference for the linear pass)."""
-    from drivetrain.duty.cycle import signed_extreme
+    from drivetrain.physics.averages import signed_extreme
     from drivetrain.units import to_rpm
 
     idx = np.asarray(duty.samples.phase)
@@ -442,7 +444,7 @@ def test_rows_per_file_and_in_the_user_catalog_are_bounded(
 
 def test_export_escapes_formula_cells_and_reimports_them(tmp_path: Path, user_catalog: Path) -> None:
     from drivetrain.catalog import importer
-    from drivetrain.catalog.records import escape_cell, unescape_cell
+    from drivetrain.catalog.reading import escape_cell, unescape_cell
 
     assert escape_cell(-1.5) == -1.5 and escape_cell("-x") == "'-x" and escape_cell("ACME") == "ACME"
     for cell in ("=1+1", "+1", "-2", "@SUM(A1)", "\tx"):
@@ -455,7 +457,7 @@ def test_export_escapes_formula_cells_and_reimports_them(tmp_path: Path, user_ca
     lines = out.read_text(encoding="utf-8").splitlines()
     assert any(",'=HYPERLINK(" in line or ",\"'=HYPERLINK(" in line for line in lines)
     assert not any(",=" in line or ',"=' in line for line in lines)
-    from drivetrain.catalog.records import read_csv
+    from drivetrain.catalog.reading import read_csv
 
     raw = read_csv(out.read_text(encoding="utf-8"), "out.csv")
     assert raw.rows[0].cells["vendor"] == '=HYPERLINK("http://x")'
@@ -528,7 +530,7 @@ def test_no_directory_for_the_temporary(
 
 
 def test_stale_temporaries_of_a_killed_writer_are_removed(tmp_path: Path) -> None:
-    from drivetrain.report import STALE_TEMP_AGE_S, write_atomic
+    from drivetrain.files import STALE_TEMP_AGE_S, write_atomic
 
     target = tmp_path / "r.pdf"
     dead = tmp_path / ".r.pdf.999999999.abc123_x.tmp"  # no such process id
@@ -545,7 +547,7 @@ def test_stale_temporaries_of_a_killed_writer_are_removed(tmp_path: Path) -> Non
 
 
 def test_temporary_names_are_unique(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    from drivetrain.report import write_atomic
+    from drivetrain.files import write_atomic
 
     seen: list[str] = []
     write_atomic(tmp_path / "a.csv", lambda tmp: seen.append(tmp.name) or tmp.write_text("1"), "--csv")

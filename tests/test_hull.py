@@ -1,4 +1,4 @@
-"""The compiled hull (sizing/hull.py) gives the plain-float chain's vertices (motor_fit._chain), and
+"""The compiled hull (sizing/hull.py) gives the plain-float chain's vertices (demand.chain), and
 a demand built with it equals one built without it."""
 
 import numpy as np
@@ -7,8 +7,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from drivetrain.sizing import motor_fit
+from drivetrain.sizing.demand import chain
 from drivetrain.sizing.hull import chains
-from drivetrain.sizing.motor_fit import _chain
 
 # small integer grids make repeats, shared alphas and collinear runs common; floats make the rest
 coord = st.one_of(st.integers(-4, 4).map(float), st.floats(-1e3, 1e3, allow_nan=False, allow_subnormal=False))
@@ -31,7 +31,7 @@ def test_compiled_chains_equal_the_python_chain(groups: list[list[tuple[float, f
     va, vt, counts = chains(a, t, starts, stops)
     end = 0
     for b, n in zip(per_bin, counts.tolist(), strict=True):
-        want = _chain([p[0] for p in b], [p[1] for p in b])
+        want = chain([p[0] for p in b], [p[1] for p in b])
         got = list(zip(va[end:end + n].tolist(), vt[end:end + n].tolist(), strict=True))
         assert got == want
         end += n

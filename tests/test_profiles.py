@@ -13,12 +13,9 @@ from hypothesis import strategies as st
 
 from drivetrain.errors import InputError
 from drivetrain.motion import profiles
-from drivetrain.motion.profiles import (
-    Cycle,
-    Samples,
+from drivetrain.motion.cycle import Cycle, Samples
+from drivetrain.motion.moves import (
     movement_amount,
-    parse_profile,
-    ruckig_move,
     s_curve_jerk_time,
     s_curve_peak_accel,
     symmetric_accel_time,
@@ -27,6 +24,7 @@ from drivetrain.motion.profiles import (
     time_optimal_duration,
     trapezoid_peak_speed,
 )
+from drivetrain.motion.profiles import parse_profile, ruckig_move
 
 
 def test_doctests() -> None:
@@ -119,7 +117,7 @@ def test_yaskawa_feed_timing() -> None:
 
 
 def test_design_example_profile() -> None:
-    """The profile of design.md's axis file."""
+    """Two moves (trapezoid, s-curve) and two dwells (motor and brake holding), as in docs/axis-file.md."""
     cycle = parse_profile(
         [
             {"move": "200 mm", "time": "0.5 s", "accel": "0.1 s"},

@@ -17,7 +17,9 @@ import pytest
 from ruckig import InputParameter, Result, Ruckig, Trajectory
 
 from drivetrain.motion.cams import CAM_LAWS
-from drivetrain.motion.profiles import Cycle, parse_profile, ruckig_move, time_optimal_parameters
+from drivetrain.motion.cycle import Cycle
+from drivetrain.motion.moves import time_optimal_parameters
+from drivetrain.motion.profiles import parse_profile, ruckig_move
 
 N_PER_FAMILY = 1000
 N_RUCKIG = 100_000

@@ -13,7 +13,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from drivetrain.duty.cycle import cubic_mean, fanuc_accel_torque, fanuc_speed_at_peak_torque
+from drivetrain.physics.acceleration import fanuc_accel_torque, fanuc_speed_at_peak_torque
+from drivetrain.physics.averages import cubic_mean
 from drivetrain.sizing.result import size
 
 HERE = Path(__file__).parent

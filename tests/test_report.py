@@ -24,9 +24,9 @@ import yaml
 import drivetrain
 from drivetrain.errors import InputError
 from drivetrain.report import render_html, render_pdf, repr_html, write_report
+from drivetrain.report.checks import CHECK_NAMES
 from drivetrain.report.display import display_units, fmt_number, pretty_unit
 from drivetrain.report.formulas import FORMULAS, docstring_of
-from drivetrain.report.model import CHECK_NAMES
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 CHROMIUM = "/usr/bin/chromium"

@@ -163,7 +163,8 @@ def test_compiled_selection_matches_the_reference_checks(axis_file: Path, curves
 
     from drivetrain.axis.model import Margins
     from drivetrain.catalog.curves import Curve
-    from drivetrain.duty.cycle import cubic_mean, duty_cycle
+    from drivetrain.duty.cycle import duty_cycle
+    from drivetrain.physics.averages import cubic_mean
     from drivetrain.sizing.checks import gearbox_ratings, mechanical_fit, shock_factor
     from drivetrain.sizing.motor_fit import MotorArrays, demand, fit_motors, scaled
     from drivetrain.sizing.selection import CHECK_UNITS, evaluate

@@ -16,8 +16,9 @@ import pytest
 
 from drivetrain import catalog
 from drivetrain.axis.model import load_axis, parse_axis
-from drivetrain.cli import EXIT_FAILS, EXIT_INPUT, EXIT_OK, main
-from drivetrain.duty.cycle import cubic_mean
+from drivetrain.cli import main
+from drivetrain.cli.commands import EXIT_FAILS, EXIT_INPUT, EXIT_OK
+from drivetrain.physics.averages import cubic_mean
 from drivetrain.sizing.checks import gearbox_ratings, mechanical_fit, shock_factor
 from drivetrain.sizing.result import SizingResult, size
 

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from drivetrain import cli
+from drivetrain.cli import commands
 from drivetrain.errors import InputError
 from drivetrain.physics import motor_electrical, regen
 from drivetrain.sizing.result import size
@@ -84,7 +85,7 @@ def test_electrical_keys_of_a_catalog_motor_with_a_drive() -> None:
     assert rg["builtin_resistor_sufficient"] is None
     assert len(rg["events"]) == 2
     assert result.ok
-    json.dumps(cli._jsonable(out))
+    json.dumps(commands.jsonable(out))
 
 
 def test_continuous_current_falls_from_stall_to_rated_with_the_mean_speed() -> None:

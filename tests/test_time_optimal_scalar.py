@@ -6,7 +6,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from drivetrain.motion.profiles import time_optimal_parameters
+from drivetrain.motion.moves import time_optimal_parameters
 
 
 @settings(max_examples=500, deadline=None)

@@ -23,6 +23,8 @@ from drivetrain.axis.model import parse_yaml
 from drivetrain.sizing.result import size
 from drivetrain.web import app as web_app
 from drivetrain.web.app import create_app
+from drivetrain.web.common import ResultCache
+from drivetrain.web.payload import WEB_POINTS_PER_PHASE, plain
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "ball_screw.yaml"
@@ -84,7 +86,7 @@ def test_size_example_matches_the_engine(client: TestClient) -> None:
     r = client.post("/api/size", json=axis)
     assert r.status_code == 200, r.text
     body = r.json()
-    expected = json.loads(json.dumps(web_app.plain(size(axis, web_app.WEB_POINTS_PER_PHASE).to_dict())))
+    expected = json.loads(json.dumps(plain(size(axis, WEB_POINTS_PER_PHASE).to_dict())))
     same_sizing(body["result"], expected)
     assert body["motion"] == "linear"
     n = len(body["series"]["t_s"])
@@ -411,7 +413,7 @@ def test_catalog_ids_with_a_slash_are_found(client: TestClient) -> None:
 
 
 def test_catalog_import_reports_every_bad_row_and_writes_nothing(client: TestClient, data_dir: Path) -> None:
-    key_before = web_app.ResultCache(data_dir).key("size", {"a": 1})
+    key_before = ResultCache(data_dir).key("size", {"a": 1})
     body = assert_error(client.post("/api/catalog/import", files={"file": ("mine.csv", BAD_CSV.encode(), "text/csv")}),
                         422)
     fields = [e["field"] for e in body["errors"]]
@@ -423,7 +425,7 @@ def test_catalog_import_reports_every_bad_row_and_writes_nothing(client: TestCli
     assert r.json()["rows"] == 1 and r.json()["ids"] == ["WEB-M1"]
     assert "mine.csv" in r.json()["message"] and str(data_dir / "tmp") not in r.json()["message"]
     found = client.get("/api/catalog/motors", params={"q": "WEB-M1"}).json()
-    assert web_app.ResultCache(data_dir).key("size", {"a": 1}) != key_before, "an import must invalidate sizings"
+    assert ResultCache(data_dir).key("size", {"a": 1}) != key_before, "an import must invalidate sizings"
     assert found["total"] == 1 and found["items"][0]["origin"] == "user"
     assert not list((data_dir / "tmp").glob("*")), "temporary upload left behind"
 

@@ -12,6 +12,7 @@ The folder is ``$DRIVETRAIN_CACHE_DIR``, else the platform's user cache folder.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import importlib.util
 import json
@@ -20,6 +21,8 @@ import os
 import sys
 import threading
 from pathlib import Path
+
+from drivetrain.files import write_atomic
 
 ENV_CACHE_DIR = "DRIVETRAIN_CACHE_DIR"
 
@@ -93,15 +96,6 @@ def put(unit: str, quantity: str, factors: tuple[float, float]) -> None:
         path = _file()
         if path is None:
             return
-        tmp = None
-        try:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            import tempfile  # only when writing (its imports cost 3-5 ms of every start)
-
-            fd, tmp = tempfile.mkstemp(prefix=".units-", suffix=".json", dir=path.parent)
-            with os.fdopen(fd, "w", encoding="utf-8") as fh:
-                fh.write(content)
-            os.replace(tmp, path)
-        except OSError:
-            if tmp is not None:
-                Path(tmp).unlink(missing_ok=True)
+        with contextlib.suppress(OSError):
+            write_atomic(path, lambda tmp: tmp.write_text(content, encoding="utf-8"), durable=False,
+                         prefix=".units-", suffix=".json")

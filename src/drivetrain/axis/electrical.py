@@ -411,6 +411,6 @@ def shipped_electrical(motor_id: str) -> MotorElectrical:
 
 def _kt_basis_note(row: dict[str, str]) -> str:
     """'; k_T derived = ...' where the shipped row's torque constant was derived, not printed."""
-    from drivetrain.catalog.db import DERIVED_KT
+    from drivetrain.catalog.derive import DERIVED_KT
 
     return f"; k_T {DERIVED_KT}" if row.get("torque_constant_basis", "").startswith("derived") else ""

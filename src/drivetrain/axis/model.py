@@ -51,7 +51,7 @@ from drivetrain.physics.stage import Stage, chain_inertia
 from drivetrain.physics.transmission import TransmissionSpec
 
 if TYPE_CHECKING:
-    from drivetrain.motion.profiles import Cycle
+    from drivetrain.motion.cycle import Cycle
 
 MAX_FILE_BYTES = 1_000_000
 """Largest axis file accepted [bytes]: a real axis is a few kB."""

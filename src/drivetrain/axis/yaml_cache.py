@@ -20,6 +20,8 @@ import pickle
 from pathlib import Path
 from typing import Any
 
+from drivetrain.files import atomic_target
+
 KEEP = 64
 """Entries kept (the newest); older ones are removed when one is added."""
 
@@ -63,25 +65,16 @@ def get(text: str) -> tuple[bool, Any]:
 
 def put(text: str, data: Any) -> None:
     """Remember ``data`` as what the safe loader gives for ``text`` (atomically; best effort)."""
-    tmp = None
     try:
         key = _key(text)
         if key is None:
             return
-        import tempfile  # only when writing
-
         folder = _folder()
-        folder.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=".yaml-", suffix=".pickle", dir=folder)
-        with os.fdopen(fd, "wb") as fh:
+        with (atomic_target(folder / f"{key}.pickle", durable=False, prefix=".yaml-", suffix=".pickle") as tmp,
+              open(tmp, "wb") as fh):
             pickle.dump((key, data), fh, protocol=pickle.HIGHEST_PROTOCOL)
-        os.replace(tmp, folder / f"{key}.pickle")
-        tmp = None
         entries = sorted(folder.glob("*.pickle"), key=lambda p: p.stat().st_mtime_ns, reverse=True)
         for old in entries[KEEP:]:
             old.unlink(missing_ok=True)
     except (OSError, pickle.PicklingError, RecursionError, ValueError):
         pass
-    finally:
-        if tmp is not None:
-            Path(tmp).unlink(missing_ok=True)

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import copy
 import functools
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any, ParamSpec, TypeVar
 
 from drivetrain import units
@@ -40,13 +40,14 @@ from drivetrain.catalog.schema import (
 from drivetrain.errors import InputError
 
 if TYPE_CHECKING:
+    from pathlib import Path
+
     from drivetrain.catalog.importer import ImportReport, export, import_file
-    from drivetrain.catalog.manage import history, remove, update
+    from drivetrain.catalog.manage import history, remove
     from drivetrain.catalog.tables import DriveTable, GearboxTable, MotorTable
 
 _LAZY = {"ImportReport": "importer", "export": "importer", "import_file": "importer", "DriveTable": "tables",
-         "GearboxTable": "tables", "MotorTable": "tables", "history": "manage", "remove": "manage",
-         "update": "manage"}
+         "GearboxTable": "tables", "MotorTable": "tables", "history": "manage", "remove": "manage"}
 
 
 def __getattr__(name: str) -> Any:
@@ -231,6 +232,16 @@ def get(id: str) -> dict[str, Any]:
     return copy.deepcopy(_get(id))  # the caller's own copy of the remembered record
 
 
+def update(id: str, changes: Mapping[str, Any], *, directory: Path | None = None,
+           source: str = "edit") -> dict[str, Any]:
+    """Change fields of one row of your catalog (``manage.update``: validated as an import is, one
+    transaction, logged); returns the row as ``get`` does."""
+    from drivetrain.catalog import manage
+
+    manage.update(id, changes, directory=directory, source=source)
+    return get(id)
+
+
 def motor_row(id: str) -> dict[str, Any] | None:
     """One motor's database columns (SI, unit in the key: the values ``get`` gives for them) without its
     curve and provenance, or None when no motor has this id (``motor_rows``)."""
@@ -278,7 +289,9 @@ def _get(id: str) -> dict[str, Any]:
             f"no motor, gearbox or drive with this id: the shipped data leaves it out ({rejected['reason']})",
             id,
         )
-    raise InputError("id", "no motor, gearbox or drive with this id" + _did_you_mean(id, known), id)
+    from drivetrain.catalog.columns import did_you_mean  # only for an unknown id
+
+    raise InputError("id", "no motor, gearbox or drive with this id" + did_you_mean(id, known), id)
 
 
 def _record(
@@ -341,14 +354,6 @@ def sources(
     return out
 
 
-def _did_you_mean(value: str, known: Sequence[str]) -> str:
-    import difflib  # only for an unknown id
-
-    by_upper = {k.upper(): k for k in known}
-    close = difflib.get_close_matches(value.upper(), list(by_upper), n=3, cutoff=0.6)
-    return f"; did you mean {', '.join(by_upper[c] for c in close)}?" if close else ""
-
-
 def _names(field: str, value: str | Sequence[str]) -> list[str]:
     items = [value] if isinstance(value, str) else list(value)
     if not items or not all(isinstance(v, str) and v.strip() for v in items):
@@ -377,6 +382,9 @@ def _filter(
         wanted_ids = [ids] if isinstance(ids, str) else list(ids)
         missing = [i for i in wanted_ids if i not in by_id]
         if missing:
-            raise InputError("ids", f"no {spec.name} with this id" + _did_you_mean(missing[0], list(by_id)), missing[0])
+            from drivetrain.catalog.columns import did_you_mean  # only for an unknown id
+
+            raise InputError("ids", f"no {spec.name} with this id" + did_you_mean(missing[0], list(by_id)),
+                             missing[0])
         rows = [by_id[i] for i in wanted_ids]
     return rows

@@ -26,6 +26,14 @@ EXCEPTIONS_FILE = "check_exceptions.csv"
 """Documented exceptions of shipped rows: table, id (or an fnmatch pattern), rule, reason."""
 
 
+IMPORT_CONSISTENCY = frozenset({"kt_ke", "mass_for_flange", "inertia_for_flange", "shaft_pilot_flange", "voltage_rule"})
+"""The ``catalog check`` rules an import refuses a row for, beyond the plausibility rules every row is read
+with (catalog.rules.RULES, which hold the others: rated <= peak, n1N <= n1max, ...)."""
+IMPORT_FLAGS = frozenset({"kt_rated_current", "kt_stall_current", "kt_peak_current", "voltage_class"})
+"""The ``catalog check`` rules an import only flags (the import report names the field and the rule): a vendor
+table may print a K_t x I / T outside the band (Yaskawa SGM7D-02K: 1.42), and many datasheets print no
+voltage class."""
+
 @dataclass(frozen=True)
 class Finding:
     """One rule a row breaks: where (table, id, origin), which field, which rule, and why."""

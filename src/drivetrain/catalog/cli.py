@@ -283,7 +283,7 @@ def _cell(spec: TableSpec, name: str, row: dict[str, Any]) -> str:
         return "-"
     if fld is None or fld.quantity == TEXT:
         return str(value)
-    from drivetrain.catalog.importer import display
+    from drivetrain.catalog.columns import display
 
     shown = display(fld, value)
     return _number(shown) if isinstance(shown, float) else str(shown)

@@ -1,5 +1,6 @@
 """Catalog columns: a header (``name``, ``name [unit]``, ``name_<unit suffix>``) resolved against a table,
-units converted to SI, and one cell converted to its stored value (SI float, int, flag or checked text).
+units converted to SI, and one cell converted to its stored value (SI float, int, flag or checked text);
+the way back for an export or an edit: a field's ``header`` and a stored value in its unit (``display``).
 
 Every problem is an ``InputError`` whose field is ``file:line:column``.
 """
@@ -7,8 +8,10 @@ Every problem is an ``InputError`` whose field is ``file:line:column``.
 from __future__ import annotations
 
 import difflib
+import functools
 import math
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -277,3 +280,29 @@ def valid_unicode(text: str) -> bool:
     except UnicodeEncodeError:
         return False
     return True
+
+
+def header(fld: Field) -> str:
+    """Export header of a field: ``name [unit]``, or the bare name for text and pure numbers."""
+    return f"{fld.name} [{fld.unit}]" if fld.unit else fld.name
+
+
+def display(fld: Field, value: Any) -> Any:
+    """A stored SI value in the field's export unit, rounded to 12 significant digits."""
+    if fld.quantity == FLAG and value is not None:
+        return "yes" if value else "no"
+    if value is None or fld.quantity == TEXT or not fld.unit or fld.unit == "dB":
+        return value
+    return float(f"{value / _unit_si(fld.unit, fld.quantity):.12g}")
+
+
+@functools.cache
+def _unit_si(unit: str, quantity: str) -> float:
+    return parse_quantity(f"1 {unit}", quantity, unit)
+
+
+def did_you_mean(value: str, known: Sequence[str]) -> str:
+    """"; did you mean A, B?" naming up to three ids close to ``value`` (case ignored), or ""."""
+    by_upper = {k.upper(): k for k in known}
+    close = difflib.get_close_matches(value.upper(), list(by_upper), n=3, cutoff=0.6)
+    return f"; did you mean {', '.join(by_upper[c] for c in close)}?" if close else ""

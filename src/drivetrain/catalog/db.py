@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
-import math
 import operator
 import os
 import re
@@ -35,7 +34,6 @@ from drivetrain.catalog.schema import (
     BRAKES_FILE,
     CURVE,
     DATA_VERSION,
-    DOCUMENT_FIELDS,
     ELECTRICAL_FILE,
     GEARBOX,
     HISTORY_COLUMNS,
@@ -51,7 +49,9 @@ from drivetrain.catalog.schema import (
     ddl,
     sql_type,
 )
+from drivetrain.catalog.side_tables import merge_brake, merge_electrical, motor_brakes, motor_documents, shipped_text
 from drivetrain.errors import InputError, InputErrors
+from drivetrain.files import atomic_target
 
 if TYPE_CHECKING:
     import sqlite3
@@ -94,11 +94,6 @@ def user_db_path(directory: Path | None = None) -> Path:
             raise InputError(ENV_CATALOG, "must name a catalog file (e.g. team.sqlite), not a folder", env)
         return path
     return (directory or data_dir()) / USER_NAME
-
-
-def shipped_text(filename: str) -> str:
-    """Text of a file shipped in drivetrain/catalog/data (read through importlib.resources)."""
-    return resources.files("drivetrain.catalog").joinpath("data", filename).read_text(encoding="utf-8")
 
 
 def build_stamp() -> str:
@@ -162,14 +157,10 @@ def _meta_of(path: Path, key: str) -> str | None:
 def _build(path: Path, stamp: str, files: str | None = None) -> None:
     """Write the shipped database to a temporary file, then move it into place atomically."""
     import sqlite3
-    import tempfile  # here: its imports would cost every start 3-5 ms
 
     path.parent.mkdir(parents=True, exist_ok=True)
     _remove_stale_temps(path.parent)
-    fd, tmp_name = tempfile.mkstemp(prefix=".catalog-", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    tmp = Path(tmp_name)
-    try:
+    with atomic_target(path, durable=False, prefix=".catalog-", suffix=".tmp") as tmp:
         conn = sqlite3.connect(tmp, isolation_level=None)
         try:
             conn.execute("BEGIN")
@@ -192,9 +183,6 @@ def _build(path: Path, stamp: str, files: str | None = None) -> None:
             conn.execute("COMMIT")
         finally:
             conn.close()
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
 
 
 def _remove_stale_temps(directory: Path) -> None:
@@ -206,7 +194,8 @@ def _remove_stale_temps(directory: Path) -> None:
 
 def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
     """Every shipped file converted and validated; a problem is a packaging bug, so it raises."""
-    from drivetrain.catalog.records import parse_rows, read_csv
+    from drivetrain.catalog.reading import read_csv
+    from drivetrain.catalog.records import parse_rows
 
     documents = motor_documents()
     brakes = motor_brakes()
@@ -228,9 +217,9 @@ def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
             if m is not None:
                 row.values["model"] = m.group(1)
             if shipped.table is MOTOR and shipped.kind == "ac_servo":
-                _merge_electrical(row.values)
+                merge_electrical(row.values)
             if shipped.table is MOTOR and row.id in brakes:
-                _merge_brake(row.values, brakes.pop(row.id))
+                merge_brake(row.values, brakes.pop(row.id))
             complete_row(shipped.table.name, row.values)  # implied values and voltage class (catalog.derive)
             if shipped.table is GEARBOX and shipped.kind == "servo_gearbox":
                 # right-angle series end in R (GPBR, GPDR, GPVR, GPER; data/SOURCES.md)
@@ -242,126 +231,11 @@ def shipped_rows() -> Iterator[tuple[ShippedFile, list[Row]]]:
         raise RuntimeError(f"{BRAKES_FILE} names motors that are not shipped: {', '.join(brakes)}")
 
 
-_BRAKE_COLUMNS = {"rotor_inertia_brake_kgm2": "rotor_inertia_brake", "brake_holding_torque_Nm": "brake_holding_torque",
-                  "brake_code": "brake_code", "brake_source": "brake_source"}
-
-
-def motor_brakes() -> dict[str, dict[str, str]]:
-    """The holding-brake variants of shipped motors by id (BRAKES_FILE; data/SOURCES.md, "Brake variants")."""
-    import csv
-    import io
-
-    reader = csv.DictReader(io.StringIO(shipped_text(BRAKES_FILE)))
-    if reader.fieldnames is None or set(reader.fieldnames) != {"id", *_BRAKE_COLUMNS}:
-        raise RuntimeError(f"{BRAKES_FILE}: columns must be id and {', '.join(_BRAKE_COLUMNS)}")
-    out: dict[str, dict[str, str]] = {}
-    for r in reader:
-        if r["id"] in out or not r["brake_source"].strip():
-            raise RuntimeError(f"{BRAKES_FILE}: {r['id']}: listed twice or without brake_source")
-        out[r["id"]] = {k: v.strip() for k, v in r.items() if k != "id" and v and v.strip()}
-    return out
-
-
-def _merge_brake(values: dict[str, Any], brake: dict[str, str]) -> None:
-    """Add a motor's brake variant (BRAKES_FILE, SI columns) to its row; a value its own file already has must agree."""
-    for column, name in _BRAKE_COLUMNS.items():
-        if column not in brake:
-            continue
-        value: Any = brake[column] if name in ("brake_code", "brake_source") else float(brake[column])
-        have = values.get(name)
-        if have is not None and (have != value if isinstance(value, str) else not math.isclose(have, value,
-                                                                                               rel_tol=1e-9)):
-            raise RuntimeError(f"{BRAKES_FILE}: {values.get('id')}: {name} {value} differs from its file's {have}")
-        values[name] = value
-
-
-def motor_documents() -> dict[str, dict[str, Any]]:
-    """The vendor documents of shipped motors by id (MOTOR_DOCUMENTS_FILE), ``verified`` as 1/0."""
-    import csv
-    import io
-
-    out: dict[str, dict[str, Any]] = {}
-    reader = csv.DictReader(io.StringIO(shipped_text(MOTOR_DOCUMENTS_FILE)))
-    if reader.fieldnames is None or set(reader.fieldnames) != {"id", *DOCUMENT_FIELDS}:
-        raise RuntimeError(f"{MOTOR_DOCUMENTS_FILE}: columns must be id and {', '.join(DOCUMENT_FIELDS)}")
-    for r in reader:
-        values: dict[str, Any] = {k: v.strip() for k, v in r.items() if k != "id" and v and v.strip()}
-        if values.get("verified") not in ("yes", "no"):
-            raise RuntimeError(f"{MOTOR_DOCUMENTS_FILE}: {r['id']}: verified must be yes or no")
-        values["verified"] = int(values["verified"] == "yes")
-        out[r["id"]] = values
-    return out
-
-
 def _reason_of(values: dict[str, Any], default: str) -> str:
     """Why a shipped row is unverified: the notes' own "not verified: ..." clause, else the file's reason."""
     notes = str(values.get("notes") or "")
     m = re.search(r"not verified: ([^;]*(?:;[^;]*)*)$", notes)
     return m.group(1).strip() if m else default
-
-
-DERIVED_KT = "derived = rated torque / rated current of the same vendor table (not printed)"
-"""How a derived torque constant is named in the answer (data/SOURCES.md, "Derived torque constants")."""
-
-# electrical table column -> (motor field, factor to SI); back-EMF V/1000 rpm -> V s/rad (its basis kept as text);
-# the stall torque is the one printed beside the stall current (Siemens 1FT7 M_0 at 100 K, Table 4-8)
-_ELECTRICAL_COLUMNS: dict[str, tuple[str, float]] = {
-    "rated_current_A": ("rated_current", 1.0), "peak_current_A": ("peak_current", 1.0),
-    "stall_current_A": ("stall_current", 1.0), "stall_torque_Nm": ("stall_torque", 1.0),
-    "torque_constant_Nm_per_A": ("torque_constant", 1.0),
-    "back_emf_V_per_krpm": ("back_emf", 60.0 / (2.0 * math.pi * 1000.0)),
-    "winding_resistance_ohm": ("winding_resistance", 1.0),
-    "winding_inductance_H": ("winding_inductance", 1.0),
-    "thermal_time_constant_s": ("thermal_time_constant", 1.0),
-}
-
-
-def _electrical_rows() -> dict[str, dict[str, str]]:
-    import csv
-    import io
-
-    return {r["id"]: r for r in csv.DictReader(io.StringIO(shipped_text(ELECTRICAL_FILE)))}
-
-
-def _merge_electrical(values: dict[str, Any]) -> None:
-    """Add the shipped electrical table's values (data/SOURCES.md, "Motor electrical data") to a motor row.
-
-    Only empty fields are filled; the electrical table's source is kept in ``electrical_source``.
-    """
-    row = _electrical_rows_cached().get(str(values.get("id")))
-    if row is None:
-        return
-    for column, (name, factor) in _ELECTRICAL_COLUMNS.items():
-        text = row.get(column, "").strip()
-        if text and values.get(name) is None:
-            values[name] = float(text) * factor
-    if row.get("pole_count", "").strip() and values.get("pole_count") is None:
-        values["pole_count"] = int(float(row["pole_count"]))
-    # The table prints I_0 at a 60 K and at a 100 K winding rise (Siemens 1FT7, Table 4-8): the stall
-    # current read is the 100 K one, so the rated rise that goes with it is 100 K.
-    if row.get("stall_current_60K_A", "").strip() and values.get("stall_current") is not None:
-        values.setdefault("rated_winding_rise", 100.0)
-    if values.get("back_emf") is not None:
-        values["back_emf_basis"] = "ll_rms"
-    if row.get("resistance_basis"):
-        values["resistance_basis"] = row["resistance_basis"]
-    source = f"{row.get('source', '')} <{row.get('source_url', '')}>"
-    # k_T not printed but rated torque and rated current are (same table): stored as k_T = T_N / I_N,
-    # flagged as derived (data/SOURCES.md, "Derived torque constants")
-    if row.get("torque_constant_basis", "").startswith("derived") and values.get("torque_constant") is not None:
-        names = [n for n in str(values.get("derived") or "").split(",") if n]
-        values["derived"] = ",".join(dict.fromkeys([*names, "torque_constant"]))
-        source += f"; k_T {DERIVED_KT}"
-    values["electrical_source"] = source
-
-
-_ELECTRICAL_CACHE: dict[str, dict[str, dict[str, str]]] = {}
-
-
-def _electrical_rows_cached() -> dict[str, dict[str, str]]:
-    if "rows" not in _ELECTRICAL_CACHE:
-        _ELECTRICAL_CACHE["rows"] = _electrical_rows()
-    return _ELECTRICAL_CACHE["rows"]
 
 
 def _pairs() -> Iterator[tuple[str, ...]]:

@@ -32,6 +32,9 @@ from typing import Any
 
 from drivetrain.catalog.voltage_class import add_derived
 
+DERIVED_KT = "derived = rated torque / rated current of the same vendor table (not printed)"
+"""How a derived torque constant is named in the answer (data/SOURCES.md, "Derived torque constants")."""
+
 
 def _num(values: dict[str, Any], name: str) -> float | None:
     v = values.get(name)
@@ -144,7 +147,6 @@ def formulas(row: Mapping[str, Any]) -> dict[str, str]:
         elif name in ("rated_torque", "rated_speed") and row.get("rated_torque_basis") not in (None, "", "source"):
             out[name] = f"{name}: {row['rated_torque_basis']}"
         elif name == "torque_constant":
-            from drivetrain.catalog.db import DERIVED_KT
 
             out[name] = f"torque_constant: {DERIVED_KT}"
         else:

@@ -12,36 +12,24 @@ and moved into place, so an existing file is never left half-written.
 
 from __future__ import annotations
 
-import contextlib
 import csv
-import functools
 import io
 import json
 import math
 import os
-import tempfile
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from drivetrain.catalog import db
+from drivetrain.catalog.columns import HEADER_LINE, display, header, infer_table
 from drivetrain.catalog.derive import complete_row
-from drivetrain.catalog.records import (
-    HEADER_LINE,
-    Parsed,
-    Row,
-    escape_cell,
-    infer_table,
-    parse_quantity,
-    parse_rows,
-    read_text,
-)
-from drivetrain.catalog.schema import CURVE, DATA_VERSION, FLAG, MOTOR, TABLES, TEXT, Field, TableSpec
+from drivetrain.catalog.reading import escape_cell, read_text
+from drivetrain.catalog.records import Parsed, Row, parse_rows
+from drivetrain.catalog.schema import CURVE, DATA_VERSION, MOTOR, TABLES, TableSpec
 from drivetrain.errors import InputError, InputErrors
-
-if TYPE_CHECKING:
-    import sqlite3
+from drivetrain.files import write_atomic
 
 FORMATS = ("csv", "json")
 MAX_IMPORT_ROWS = 5_000
@@ -142,19 +130,12 @@ def import_file(
                         tuple(flags))
 
 
-IMPORT_CONSISTENCY = frozenset({"kt_ke", "mass_for_flange", "inertia_for_flange", "shaft_pilot_flange", "voltage_rule"})
-"""The ``catalog check`` rules an import refuses a row for, beyond the plausibility rules every row is read
-with (catalog.rules.RULES, which hold the others: rated <= peak, n1N <= n1max, ...)."""
-IMPORT_FLAGS = frozenset({"kt_rated_current", "kt_stall_current", "kt_peak_current", "voltage_class"})
-"""The ``catalog check`` rules an import only flags (the import report names the field and the rule): a vendor
-table may print a K_t x I / T outside the band (Yaskawa SGM7D-02K: 1.42), and many datasheets print no
-voltage class."""
 
 
 def _consistency(parsed: Parsed, filename: str) -> tuple[list[InputError], list[str]]:
     """The consistency rules of ``catalog check`` on each imported row: a rule of IMPORT_CONSISTENCY refuses
     the row (naming the field and the rule), one of IMPORT_FLAGS is listed in the import report."""
-    from drivetrain.catalog.check import row_findings
+    from drivetrain.catalog.check import IMPORT_CONSISTENCY, IMPORT_FLAGS, row_findings
 
     errors: list[InputError] = []
     flags: list[str] = []
@@ -175,11 +156,6 @@ def _default_source(rows: Sequence[Row], source: str) -> None:
         row.values.setdefault("source", source)
         for point in row.curve:
             point.values.setdefault("source", row.values["source"])
-
-
-def write_rows(conn: sqlite3.Connection, spec: TableSpec, rows: Sequence[Row]) -> int:
-    """Insert ``rows`` inside the caller's transaction (manage.write_import logs and replaces)."""
-    return db.insert_rows(conn, "main", spec, rows)
 
 
 def _read(filename: str) -> str:
@@ -330,7 +306,7 @@ def export(
     with ``kind="curve"``. The file re-imports as it is (with ids not already in the catalog).
     """
     text, count = export_text(kind, format, origin=origin, ids=ids, directory=directory)
-    _write_atomic(Path(path), text)
+    _write_text(Path(path), text)
     return count
 
 
@@ -374,25 +350,6 @@ def export_text(
     return json.dumps(doc, indent=1, ensure_ascii=False) + "\n", len(rows)
 
 
-def header(fld: Field) -> str:
-    """Export header of a field: ``name [unit]``, or the bare name for text and pure numbers."""
-    return f"{fld.name} [{fld.unit}]" if fld.unit else fld.name
-
-
-def display(fld: Field, value: Any) -> Any:
-    """A stored SI value in the field's export unit, rounded to 12 significant digits."""
-    if fld.quantity == FLAG and value is not None:
-        return "yes" if value else "no"
-    if value is None or fld.quantity == TEXT or not fld.unit or fld.unit == "dB":
-        return value
-    return float(f"{value / _unit_si(fld.unit, fld.quantity):.12g}")
-
-
-@functools.cache
-def _unit_si(unit: str, quantity: str) -> float:
-    return parse_quantity(f"1 {unit}", quantity, unit)
-
-
 def _curve_point(point: tuple[float, float | None, float | None], source: str = "") -> dict[str, float | str]:
     names = ("speed", "continuous_torque", "peak_torque")
     out: dict[str, float | str] = {}
@@ -414,18 +371,11 @@ def _csv_text(headers: list[str], records: list[list[Any]]) -> str:
     return buffer.getvalue()
 
 
-def _write_atomic(path: Path, text: str) -> None:
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}-", suffix=".tmp", dir=path.parent)
-    except OSError as exc:
-        raise InputError("output", f"cannot be written ({exc.strerror})", str(path)) from None
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as f:
+def _write_text(path: Path, text: str) -> None:
+    """Write ``text`` whole or not at all (``drivetrain.files``); file-system errors name ``output``."""
+
+    def write(tmp: Path) -> None:
+        with open(tmp, "w", encoding="utf-8", newline="") as f:
             f.write(text)
-        os.replace(tmp_name, path)
-    except OSError as exc:  # full disk, file-size limit, a directory in the way
-        raise InputError("output", f"cannot be written ({exc.strerror or exc})", str(path)) from None
-    finally:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp_name)
+
+    write_atomic(path, write, "output")

@@ -71,8 +71,6 @@ def _si(spec: TableSpec, row: Row) -> dict[str, Any]:
 
 def write_import(conn: sqlite3.Connection, spec: TableSpec, rows: Sequence[Row], replace: bool, filename: str) -> None:
     """Write an import's validated rows inside the caller's transaction, replacing user rows if asked."""
-    from drivetrain.catalog.importer import write_rows
-
     name = Path(filename).name
     if spec is CURVE:
         motors = list(dict.fromkeys(str(p.values.get("motor_id")) for p in rows))
@@ -84,7 +82,7 @@ def write_import(conn: sqlite3.Connection, spec: TableSpec, rows: Sequence[Row],
             _log(conn, "replace curve" if before else "import curve", "curve", mid,
                  str(given[0].values.get("source")), {"points": before} if before else None,
                  {"points": [_si(CURVE, p) for p in given]})
-        write_rows(conn, spec, rows)
+        db.insert_rows(conn, "main", spec, rows)
         return
     for row in rows:
         rid = row.id or ""
@@ -98,12 +96,12 @@ def write_import(conn: sqlite3.Connection, spec: TableSpec, rows: Sequence[Row],
             new["curve_points"] = len(row.curve)
         _log(conn, "replace" if old is not None else "import", spec.name, rid,
              str(row.values.get("source") or name), old, new)
-    write_rows(conn, spec, rows)
+    db.insert_rows(conn, "main", spec, rows)
 
 
 def _user_rows(ids: Sequence[str], directory: Path | None) -> dict[str, TableSpec]:
     """The table of each id, which must be a row of your catalog (InputErrors naming every bad one)."""
-    from drivetrain.catalog import _did_you_mean
+    from drivetrain.catalog.columns import did_you_mean
 
     with db.reader(directory) as rd:
         known = rd.ids()
@@ -112,7 +110,7 @@ def _user_rows(ids: Sequence[str], directory: Path | None) -> dict[str, TableSpe
     for rid in ids:
         if rid not in known:
             mine = [k for k, (_, origin) in known.items() if origin == "user"]
-            errors.append(InputError("id", "no row of your catalog has this id" + _did_you_mean(rid, mine), rid))
+            errors.append(InputError("id", "no row of your catalog has this id" + did_you_mean(rid, mine), rid))
         elif known[rid][1] == "builtin":
             errors.append(InputError("id", "is a row of the shipped catalog, which cannot be changed", rid))
         else:
@@ -146,18 +144,16 @@ def remove(ids: Iterable[str], *, directory: Path | None = None, source: str = "
     return len(tables)
 
 
-def update(
-    rid: str, changes: Mapping[str, Any], *, directory: Path | None = None, source: str = "edit"
-) -> dict[str, Any]:
-    """Change fields of one row of your catalog (one transaction); returns the row as ``catalog.get`` does.
+def update(rid: str, changes: Mapping[str, Any], *, directory: Path | None = None, source: str = "edit") -> None:
+    """Change fields of one row of your catalog (one transaction); ``catalog.update`` returns the row after.
 
     ``changes`` maps a field name (``rated_torque``) or a header with a unit (``rotor_inertia [kg*cm^2]``)
     to its new value (a number in that unit, or text with a unit, e.g. "1.2 kg*cm^2"); None or ""
     clears the field. The edited row is validated exactly as an import is; the id cannot change.
     """
-    from drivetrain import catalog
-    from drivetrain.catalog.importer import display, header
-    from drivetrain.catalog.records import RawFile, RawRow, field_of_header, parse_rows
+    from drivetrain.catalog.columns import display, field_of_header, header
+    from drivetrain.catalog.reading import RawFile, RawRow
+    from drivetrain.catalog.records import parse_rows
 
     if not isinstance(changes, Mapping) or not changes:
         raise InputError("changes", "must name at least one field and its new value", has_value=False)
@@ -188,8 +184,7 @@ def update(
         raise parsed.errors[0] if len(parsed.errors) == 1 else InputErrors(parsed.errors)
     row = parsed.rows[0]
     _rederive(spec, row.values, {f.name for k in changes if (f := field_of_header(spec, str(k))) is not None})
-    from drivetrain.catalog.check import row_findings
-    from drivetrain.catalog.importer import IMPORT_CONSISTENCY
+    from drivetrain.catalog.check import IMPORT_CONSISTENCY, row_findings
 
     broken = [row.error(label, name, f"breaks the rule {rule} (docs/catalog.md): {message}")
               for rule, name, message in row_findings(spec, row.values) if rule in IMPORT_CONSISTENCY]
@@ -202,7 +197,6 @@ def update(
         conn.execute(f"DELETE FROM main.{spec.sql} WHERE id = ?", (rid,))
         db.insert_rows(conn, "main", spec, [row])
         _log(conn, "edit", spec.name, rid, source, old, _si(spec, row))
-    return catalog.get(rid)
 
 
 def _rederive(spec: TableSpec, values: dict[str, Any], changed: set[str]) -> None:

@@ -24,19 +24,16 @@ from drivetrain.catalog.columns import (
     Column,
     convert,
     field_of_header,
-    infer_table,
     lookup,
-    parse_quantity,
     resolve_header,
     where,
 )
-from drivetrain.catalog.reading import RawFile, RawRow, escape_cell, read_csv, read_json, read_text, unescape_cell
+from drivetrain.catalog.reading import RawFile, RawRow
 from drivetrain.catalog.rules import RULES
 from drivetrain.catalog.schema import CURVE, DECIBEL, FLAG, MOTOR, TableSpec
 from drivetrain.errors import InputError
 
-__all__ = ["HEADER_LINE", "Parsed", "RawFile", "RawRow", "Row", "escape_cell", "field_of_header", "infer_table",
-           "parse_quantity", "parse_rows", "read_csv", "read_json", "read_text", "resolve_headers", "unescape_cell"]
+__all__ = ["Parsed", "Row", "parse_rows", "resolve_headers"]
 
 # Two columns for one field (e.g. no_load_speed_rad_s and no_load_speed_rpm) must agree this well.
 _SAME_VALUE_RTOL = 1e-3

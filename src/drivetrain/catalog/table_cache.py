@@ -16,7 +16,6 @@ reads only the pages it uses (a sizing never reads the notes and sources columns
 from __future__ import annotations
 
 import hashlib
-import os
 import pickle
 import sys
 from collections.abc import Callable
@@ -26,6 +25,7 @@ from typing import Any, TypeVar
 from drivetrain.catalog import db
 from drivetrain.catalog.freshness import files_signature
 from drivetrain.catalog.schema import DATA_VERSION, SCHEMA_VERSION
+from drivetrain.files import atomic_target
 
 T = TypeVar("T")
 
@@ -148,25 +148,15 @@ def _store(path: Path, key: str, table: Any) -> None:
     start = arrays[0][3] if arrays else len(MAGIC) + 8 + len(header)
     if len(MAGIC) + 8 + len(header) > start:
         return
-    tmp = None
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        import tempfile  # only when writing (its imports cost 3-5 ms of every start)
-
-        fd, tmp = tempfile.mkstemp(prefix=".table-", suffix=".bin", dir=path.parent)
-        with os.fdopen(fd, "wb") as fh:
+        with atomic_target(path, durable=False, prefix=".table-", suffix=".bin") as tmp, open(tmp, "wb") as fh:
             fh.write(MAGIC + len(header).to_bytes(8, "little") + header)
             for (_, arr), (_, _, _, at) in zip(blobs, arrays, strict=True):
                 fh.write(b"\0" * (at - fh.tell()))
                 fh.write(arr.tobytes())
-        os.replace(tmp, path)
-        tmp = None
         _prune(path.parent)
     except OSError:
         pass
-    finally:
-        if tmp is not None:
-            Path(tmp).unlink(missing_ok=True)
 
 
 KEEP = 8

@@ -18,11 +18,10 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from drivetrain.cli import commands
-from drivetrain.cli.commands import EXIT_FAILS, EXIT_INPUT, EXIT_OK
-from drivetrain.cli.commands import jsonable as _jsonable
+from drivetrain.cli.commands import EXIT_INPUT
 from drivetrain.units import UNIT_CHOICES
 
-__all__ = ["EXIT_FAILS", "EXIT_INPUT", "EXIT_OK", "_jsonable", "build_parser", "main"]
+__all__ = ["build_parser", "main"]
 
 
 UNITS_HELP = ("units of the tables (and of the report): si (N*m, kg*cm^2, mm), imperial (lbf*in, lb*in^2, in, "
@@ -57,9 +56,12 @@ def build_parser(optional: bool = True) -> argparse.ArgumentParser:
     p.set_defaults(handler=commands.size)
 
     p = sub.add_parser("select", help="same as size, with a catalog selection even if the axis names a motor")
-    p.add_argument("axis")
-    p.add_argument("--json", action="store_true")
-    p.add_argument("--top", type=int, default=10)
+    p.add_argument("axis", help="axis file (YAML); a motor it names gives way to a catalog selection (its margins "
+                                "and supply voltage kept)")
+    p.add_argument("--json", action="store_true", help="print only the JSON result on standard output")
+    p.add_argument("--top", type=int, default=None, metavar="N",
+                   help="motors listed, each in its best configuration, 1 to 1000 (default: the axis file's "
+                        "motor.select.top, else 10)")
     p.add_argument("--units", choices=UNIT_CHOICES, default="si", help=UNITS_HELP)
     p.set_defaults(handler=commands.select)
 
@@ -184,7 +186,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser(optional=_command(words) not in CORE_COMMANDS)
     args = parser.parse_args(words)
     if args.version:
-        from drivetrain import __version__
+        from drivetrain.version import __version__
 
         print(__version__)
         return 0

@@ -20,14 +20,11 @@ EXIT_INPUT = 2
 """Bad input: one line naming the field, no traceback."""
 
 
-def _write_atomic(path: str, text: str, field: str = "--csv") -> None:
-    """Write a file through a unique temporary sibling and rename, so a reader never sees half of it."""
-    from drivetrain.report import write_atomic
+def _write_text(path: str, text: str, field: str = "--csv") -> None:
+    """Write a text file whole or not at all (``drivetrain.files``); errors name ``field``."""
+    from drivetrain.files import write_atomic
 
-    def write(tmp: Path) -> None:
-        tmp.write_text(text, encoding="utf-8")
-
-    write_atomic(path, write, field)
+    write_atomic(path, lambda tmp: tmp.write_text(text, encoding="utf-8"), field)
 
 
 PLOT_SUFFIXES = (".png", ".svg", ".pdf")
@@ -38,7 +35,8 @@ def _check_outputs(args: argparse.Namespace) -> None:
     """Refuse an output path that cannot be written before the work that fills it."""
     if not any(getattr(args, name, None) for name in ("csv", "report", "plot")):
         return
-    from drivetrain.report import REPORT_SUFFIXES, check_target
+    from drivetrain.files import check_target
+    from drivetrain.report import REPORT_SUFFIXES
 
     for name in ("csv", "report", "plot"):
         path = getattr(args, name, None)
@@ -56,7 +54,8 @@ def _check_outputs(args: argparse.Namespace) -> None:
         raise InputError("--plot", f"must end in {', '.join(PLOT_SUFFIXES)}", plot)
 
 
-def size(args: argparse.Namespace) -> int:
+def size(args: argparse.Namespace, axis: str | dict[str, Any] | None = None) -> int:
+    """``size``: the axis file (or ``axis``, its mapping as ``select`` rewrote it) sized and printed."""
     from drivetrain.errors import InputError
     from drivetrain.sizing.result import size
 
@@ -64,7 +63,7 @@ def size(args: argparse.Namespace) -> int:
         raise InputError("--points", "must be between 3 and 100000", args.points)
     _check_outputs(args)
     try:
-        result = size(args.axis, points_per_phase=args.points, all_pairs=args.all)
+        result = size(args.axis if axis is None else axis, points_per_phase=args.points, all_pairs=args.all)
     except InputError as exc:
         if exc.field == "points_per_phase":
             raise InputError("--points", exc.rule, args.points) from None
@@ -80,7 +79,7 @@ def size(args: argparse.Namespace) -> int:
     if args.aas:
         from drivetrain.machine.aas import axis_aas
 
-        _write_atomic(args.aas, json.dumps(axis_aas(jsonable(result.to_dict())), indent=2))
+        _write_text(args.aas, json.dumps(axis_aas(jsonable(result.to_dict())), indent=2), "--aas")
     if args.json:
         out = result.to_dict()
         if modes is not None:
@@ -132,7 +131,7 @@ def machine_size(args: argparse.Namespace) -> int:
     if args.aas:
         from drivetrain.machine.aas import machine_aas
 
-        _write_atomic(args.aas, json.dumps(machine_aas(out), indent=2))
+        _write_text(args.aas, json.dumps(machine_aas(out), indent=2), "--aas")
     if args.report:
         from drivetrain.report.machine import write_machine_report
 
@@ -197,9 +196,9 @@ def simulate(args: argparse.Namespace) -> int:
 
         buf = io.StringIO()
         res.to_pandas().to_csv(buf)
-        _write_atomic(args.csv, buf.getvalue(), "--csv")
+        _write_text(args.csv, buf.getvalue(), "--csv")
     if args.plot:
-        from drivetrain.report import write_atomic
+        from drivetrain.files import write_atomic
 
         fig = res.plot()
         fmt = Path(args.plot).suffix.lower().lstrip(".")
@@ -217,20 +216,48 @@ def simulate(args: argparse.Namespace) -> int:
     return 0
 
 
+SELECT_TOP = (1, 1000)
+"""Range of ``select --top`` (that of ``motor.select.top``)."""
+SUPPLY_KEYS = ("supply_voltage", "dc_bus_voltage")
+"""Keys of a named motor that apply to every catalog candidate (the machine's supply), kept by ``select``."""
+
+
 def select(args: argparse.Namespace) -> int:
-    from drivetrain.axis.model import load_axis
-    from drivetrain.sizing.result import size
+    """``select``: ``size`` of the axis with a catalog selection, even where the axis names a motor."""
+    from drivetrain.errors import InputError
 
-    axis = load_axis(args.axis)
-    result = size(axis)
-    if args.json:
-        print(json.dumps(jsonable(result.to_dict()), indent=2))
-    else:
-        from drivetrain.cli.quantities import TableUnits
-        from drivetrain.cli.sizing import print_sizing
+    if args.top is not None and not SELECT_TOP[0] <= args.top <= SELECT_TOP[1]:
+        raise InputError("--top", f"must be between {SELECT_TOP[0]} and {SELECT_TOP[1]}", args.top)
+    for name, default in (("points", 64), ("all", False), ("explain", None), ("csv", None), ("report", None),
+                          ("aas", None)):
+        if not hasattr(args, name):
+            setattr(args, name, default)
+    return size(args, selection_axis(args.axis, args.top))
 
-        print_sizing(result, TableUnits(args.units, axis.raw))
-    return _exit_code(result)
+
+def selection_axis(path: str, top: int | None = None) -> Any:
+    """The axis file's mapping with a catalog selection as its motor.
+
+    A motor the file names (by catalog id or by its parameters) gives way to ``motor: {select: {}}``,
+    keeping its ``margins`` and the supply (``SUPPLY_KEYS``); a ``select`` the file has is kept. ``top``
+    (``--top``) sets ``motor.select.top``, the number of motors listed. Anything else is the file's.
+    """
+    import copy
+
+    from drivetrain.axis.model import read_yaml
+
+    data = read_yaml(path)
+    if not isinstance(data, dict):
+        return data  # not an axis file: sizing names the problem
+    data = copy.deepcopy(data)
+    motor = data.get("motor")
+    motor = dict(motor) if isinstance(motor, dict) else {}
+    if motor.get("select") is None:
+        motor = {**{k: motor[k] for k in ("margins", *SUPPLY_KEYS) if k in motor}, "select": {}}
+    if top is not None and isinstance(motor["select"], dict):
+        motor["select"] = {**motor["select"], "top": top}
+    data["motor"] = motor
+    return data
 
 
 def _write_csv(path: str, cols: dict[str, Any]) -> None:
@@ -242,7 +269,7 @@ def _write_csv(path: str, cols: dict[str, Any]) -> None:
     data = np.column_stack([np.asarray(cols[n], dtype=float) for n in names])
     buf = io.StringIO()
     np.savetxt(buf, data, delimiter=",", header=",".join(names), comments="", fmt="%.9g")
-    _write_atomic(path, buf.getvalue())
+    _write_text(path, buf.getvalue())
 
 
 def jsonable(obj: Any) -> Any:

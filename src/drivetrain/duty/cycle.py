@@ -1,6 +1,6 @@
 """The duty cycle: speed, torque and power at the motor shaft over the whole repeating cycle.
 
-Data flow (design.md): profile samples of the load -> mechanism external load -> each stage
+Data flow (docs/conventions.md): profile samples of the load -> mechanism external load -> each stage
 from the load side to the motor side with the four-quadrant rule -> motor-shaft torque (rotor
 excluded) -> metrics. With a motor, its rotor adds J_M alpha.
 
@@ -21,13 +21,16 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from drivetrain.physics.acceleration import acceleration_power, operation_power
+from drivetrain.physics.averages import rms, signed_extreme
 from drivetrain.physics.mechanisms.base import LinearLoad
 from drivetrain.physics.stage import Stage, chain_inertia, torque_in
+from drivetrain.physics.torque_split import gearbox_peak_torque, gearbox_torque_split
 from drivetrain.units import to_rpm
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Axis
-    from drivetrain.motion.profiles import Cycle, Samples
+    from drivetrain.motion.cycle import Cycle, Samples
     from drivetrain.physics.efficiency import EfficiencyModel
 
 Array = NDArray[np.float64]
@@ -182,101 +185,6 @@ class _Const:
 class _ConstCycle:
     period = 1.0
     phases: tuple[()] = ()
-
-
-def fanuc_accel_torque(speed: float, accel_time: float, position_gain: float, motor_inertia: float,
-                       load_inertia: float, efficiency: float) -> float:
-    """Acceleration torque of a linear accel/decel under a position loop [N m].
-
-    T_a = omega (1 / t_a) (J_M + J_L / eta) (1 - exp(-k_s t_a)): the position loop's first-order
-    lag (gain k_s [1/s]) rounds the corner, so the torque peak comes at t_a. FANUC AC Servo
-    Motor alpha-i series Descriptions B-65262EN/03, 3.2.4.1. ``speed`` [rad/s], times [s].
-    """
-    return speed / accel_time * (motor_inertia + load_inertia / efficiency) * (
-        1.0 - math.exp(-position_gain * accel_time))
-
-
-def fanuc_speed_at_peak_torque(speed: float, accel_time: float, position_gain: float) -> float:
-    """Motor speed when the acceleration torque peaks [same unit as ``speed``].
-
-    V_r = V_m (1 - (1 / (t_a k_s)) (1 - exp(-k_s t_a))) (FANUC B-65262EN/03, 3.2.4.1).
-    """
-    return speed * (1.0 - (1.0 - math.exp(-position_gain * accel_time)) / (accel_time * position_gain))
-
-
-def rms(values: Array, weights: Array, period: float) -> float:
-    """Root mean square over a cycle: sqrt(sum(w T^2) / t_c) [same unit as values].
-
-    Lecture, Torque Effective Value: T_rms = sqrt((T_P^2 t_a + T_L^2 t_c + T_S^2 t_d) / t_c).
-    """
-    return math.sqrt(float(np.sum(weights * values**2)) / period)
-
-
-def cubic_mean(values: Array, speeds: Array, weights: Array) -> float:
-    """Speed-weighted cubic mean T_av = (sum n_i t_i |T_i|^3 / sum n_i t_i)^(1/3) [N m].
-
-    Harmonic Drive / strain-wave gear selection (average load torque); see the example
-    harmonic_average_load_torque (published 89 N m). Standstill carries no weight.
-    """
-    n = np.abs(speeds)
-    den = float(np.sum(weights * n))
-    if den <= 0.0:
-        return float(np.max(np.abs(values))) if values.size else 0.0
-    return (float(np.sum(weights * n * np.abs(values) ** 3)) / den) ** (1.0 / 3.0)
-
-
-def signed_extreme(values: Array) -> float:
-    """The value of largest magnitude, with its sign (0 for an empty array)."""
-    if values.size == 0:
-        return 0.0
-    return float(values[int(np.argmax(np.abs(values)))])
-
-
-def minimum_accel_time(speed: float, motor_inertia: float, load_inertia: float, peak_torque: float,
-                       load_torque: float) -> float:
-    """t_am = 2 pi N_M (J_M + J_L) / (60 (T_PM - T_L)) [s] (lecture; ``speed`` in rad/s here).
-
-    ERRATA: the accel time must be at least t_am. Infinite when T_PM <= T_L.
-    """
-    margin = peak_torque - load_torque
-    return math.inf if margin <= 0.0 else speed * (motor_inertia + load_inertia) / margin
-
-
-def minimum_decel_time(speed: float, motor_inertia: float, load_inertia: float, peak_torque: float,
-                       load_torque: float) -> float:
-    """t_dm = 2 pi N_M (J_M + J_L) / (60 (T_PM + T_L)) [s] (lecture; ``speed`` in rad/s here)."""
-    margin = peak_torque + load_torque
-    return math.inf if margin <= 0.0 else speed * (motor_inertia + load_inertia) / margin
-
-
-def operation_power(speed: float, load_torque: float) -> float:
-    """P_o = 2 pi N_M T_L / 60 = omega T_L [W] (lecture, Load Operation Power)."""
-    return speed * load_torque
-
-
-def acceleration_power(speed: float, load_inertia: float, accel_time: float) -> float:
-    """P_a = (2 pi N_M / 60)^2 J_L / t_a = omega^2 J_L / t_a [W] (lecture, Load Acceleration Power)."""
-    return speed**2 * load_inertia / accel_time
-
-
-def gearbox_torque_split(motor_inertia: float, reflected_load_inertia: float) -> float:
-    """k = J_M / (J_M + J_LR) [-] (lecture, Dynamic Loading and Gearbox Sizing).
-
-    During pure acceleration a share k of the motor's torque accelerates its own rotor; only
-    (1 - k) passes through the gearbox, so T_GR = (1 - k) T_M for a purely inertial load.
-    """
-    return motor_inertia / (motor_inertia + reflected_load_inertia)
-
-
-def gearbox_peak_torque(motor_peak_torque: float, motor_inertia: float, reflected_load_inertia: float,
-                        load_torque: float = 0.0) -> float:
-    """Torque through the gearbox when the motor gives ``motor_peak_torque`` [N m, motor side].
-
-    T_GR = (1 - k)(T_M - T_L) + T_L with k = J_M / (J_M + J_LR): the static load torque T_L
-    passes entirely, the accelerating surplus splits by inertia (lecture, gearbox sizing).
-    """
-    k = gearbox_torque_split(motor_inertia, reflected_load_inertia)
-    return (1.0 - k) * (motor_peak_torque - load_torque) + load_torque
 
 
 def gearbox_split_at_motor_peak(axis: Axis, duty: DutyCycle, motor_inertia: float, motor_peak_torque: float,

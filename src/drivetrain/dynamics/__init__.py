@@ -31,6 +31,7 @@ if TYPE_CHECKING:
     )
     from drivetrain.dynamics.filters import Notch, propose_notch
     from drivetrain.dynamics.friction import Friction
+    from drivetrain.dynamics.kernel_io import SimulationDivergedError
     from drivetrain.dynamics.linear import (
         CriticalSpeed,
         StateSpaceMatrices,
@@ -54,15 +55,9 @@ if TYPE_CHECKING:
         two_mass_reduction,
         two_mass_resonance,
     )
-    from drivetrain.dynamics.simulation import (
-        Reference,
-        SimulationDivergedError,
-        SimulationResult,
-        move_reference,
-        simulate,
-        simulate_open_loop,
-        sweep,
-    )
+    from drivetrain.dynamics.reference import Reference, move_reference
+    from drivetrain.dynamics.simulation import simulate, simulate_open_loop, sweep
+    from drivetrain.dynamics.simulation_result import SimulationResult
 
 _LAZY = {  # name -> module: a submodule loads on first use, so `size` (modes only) skips the simulation
     "Chain": "chain",
@@ -100,10 +95,10 @@ _LAZY = {  # name -> module: a submodule loads on first use, so `size` (modes on
     "transfer_function": "linear",
     "two_mass_reduction": "linear",
     "two_mass_resonance": "linear",
-    "Reference": "simulation",
-    "SimulationDivergedError": "simulation",
-    "SimulationResult": "simulation",
-    "move_reference": "simulation",
+    "Reference": "reference",
+    "SimulationDivergedError": "kernel_io",
+    "SimulationResult": "simulation_result",
+    "move_reference": "reference",
     "simulate": "simulation",
     "simulate_open_loop": "simulation",
     "sweep": "simulation",

@@ -38,7 +38,7 @@ if TYPE_CHECKING:
     from drivetrain.axis.model import Axis
     from drivetrain.dynamics.chain import Chain
     from drivetrain.dynamics.control import ServoLoop
-    from drivetrain.dynamics.simulation import SimulationResult
+    from drivetrain.dynamics.simulation_result import SimulationResult
     from drivetrain.sizing.result import SizingResult
 
 _KEYS = {"chain", "motor_inertia", "loop", "friction", "load_torque", "cycles", "step", "excitation_orders"}
@@ -264,7 +264,7 @@ def with_mechanism_spring(axis: Axis, dyn: AxisDynamics, start: float = 0.0) -> 
     """``dyn`` with the mechanism's own spring, following the load along the stroke.
 
     Where the axis file gives the mechanism's stiffness data (``mechanism.screw``/``nut``,
-    ``belt``, ``rack``; ``mechanism_modes.mechanism_stiffness_of``), the mechanism stage gets its
+    ``belt``, ``rack``; ``axis_stiffness.mechanism_stiffness_of``), the mechanism stage gets its
     torsional stiffness k_x(x) r^2 at the load position ``start`` [m], and the chain's
     ``spring_table`` carries the stiffness at the motor shaft, k_x(x) r^2 / i^2 (i the ratio of
     the stages before the mechanism), against the load's angle at the motor shaft, x times the
@@ -273,8 +273,8 @@ def with_mechanism_spring(axis: Axis, dyn: AxisDynamics, start: float = 0.0) -> 
     """
     from dataclasses import replace
 
+    from drivetrain.dynamics.axis_stiffness import mechanism_stiffness_of
     from drivetrain.dynamics.chain import model_from_stages
-    from drivetrain.dynamics.mechanism_modes import mechanism_stiffness_of
 
     if "chain" in _block(axis) or not dyn.stages:
         return dyn
@@ -300,14 +300,9 @@ def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None =
     The mechanism's spring follows the load's position (``with_mechanism_spring``) where the
     axis file gives its stiffness data; the loop is tuned on the chain at the start position.
     """
-    from drivetrain.dynamics.simulation import (
-        MAX_SIMULATION_BYTES,
-        Reference,
-        default_step,
-        estimate_bytes,
-        max_steps,
-        simulate,
-    )
+    from drivetrain.dynamics.kernel_io import MAX_SIMULATION_BYTES, default_step, estimate_bytes, max_steps
+    from drivetrain.dynamics.reference import Reference
+    from drivetrain.dynamics.simulation import simulate
 
     block = _block(axis)
     dyn = model(axis)

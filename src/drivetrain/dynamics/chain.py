@@ -13,7 +13,7 @@ Two ways in:
   ``dynamics: {chain: [{inertia: ...}, {stiffness: ..., damping: ..., backlash: ...}, {inertia: ...}]}``
 - ``model_from_stages``: from the motor inertia, the drive-train ``Stage`` list and the load,
   splitting at every compliant stage and reflecting through the ratios (K/i^2, B/i^2, J/i^2,
-  backlash * i; design.md conventions).
+  backlash * i; docs/conventions.md, Ratios and reflection).
 """
 
 from __future__ import annotations
@@ -49,12 +49,6 @@ def _spring_table(table: Any, springs: int, path: str) -> tuple[FloatArray, Floa
     if not (np.all(np.isfinite(k)) and np.all(k > 0.0)):
         raise InputError(f"{path}.spring_table", "stiffnesses must be finite and > 0 N*m/rad", has_value=False)
     return angle, k
-
-
-def _arr(x: Any, n: int, default: float) -> FloatArray:
-    if x is None:
-        return np.full(n, default, dtype=float)
-    return np.array(x, dtype=float).reshape(-1)
 
 
 @dataclass(frozen=True)
@@ -319,7 +313,7 @@ def model_from_stages(motor_inertia: float, stages: Sequence[Any], load_inertia:
     ``motor_inertia`` [kg m^2]; ``stages`` (``drivetrain.physics.stage.Stage``) from the motor outward;
     ``load_inertia`` at the output of the last stage [kg m^2, or kg for a linear mechanism].
 
-    Rule (lecture, "Energy Equivalence Principle"; design.md conventions): walking outward with
+    Rule (lecture, "Energy Equivalence Principle"; docs/conventions.md): walking outward with
     the cumulative ratio r (motor angle per angle at the current point), every inertia adds J/r^2
     to the current lump. A compliant stage (``stiffness`` not None, given at its input) closes the
     lump: its ``inertia_in`` (motor side) joins the lump before the spring, its spring enters as

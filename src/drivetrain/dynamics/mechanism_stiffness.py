@@ -22,7 +22,7 @@ Sources:
   20 N/(mm um)), k = c_gamma b.
 - Torsional stiffness at the input shaft: k_theta = k_x r^2 with r the lever arm [m/rad]
   (lead / 2 pi for a screw, the pitch radius of a pulley or pinion): a twist d(phi) moves the
-  carriage r d(phi) against k_x (energy equivalence; design.md, linear mechanisms).
+  carriage r d(phi) against k_x (energy equivalence; docs/conventions.md, Linear mechanisms).
 """
 
 from __future__ import annotations
@@ -136,15 +136,6 @@ def screw_drive_stiffness(root_diameter: float, nut_position: ArrayLike, bearing
              "housing": np.full_like(shaft, _stiffness_array(housing_stiffness, "housing_stiffness"))}
     parts["total"] = series(*parts.values())
     return parts
-
-
-def belt_specific_stiffness(per_width: float, width: float) -> float:
-    """Specific stiffness c_spec of a belt of ``width`` [m] from a per-width catalog value [N/m] -> [N].
-
-    Belt vendors give c_spec per unit width (e.g. N per mm of width); the belt's c_spec is that
-    times the width.
-    """
-    return _positive(per_width, "belt.specific_stiffness_per_width", "N/m") * _positive(width, "belt.width", "m")
 
 
 BELT_STRAIN_AT_ALLOWABLE = 0.004

@@ -39,7 +39,6 @@ from drivetrain.dynamics.chain import Chain
 from drivetrain.dynamics.control import ServoLoop, check_stable
 from drivetrain.dynamics.kernel_io import (
     MAX_SIMULATION_BYTES,
-    SimulationDivergedError,
     check_step,
     default_step,
     diverged,
@@ -55,16 +54,13 @@ from drivetrain.dynamics.kernel_io import (
     spring_table,
     thread_count,
 )
-from drivetrain.dynamics.reference import Reference, move_reference
-from drivetrain.dynamics.simulation_result import SimulationResult, chain_energy
+from drivetrain.dynamics.reference import Reference
+from drivetrain.dynamics.simulation_result import SimulationResult
 from drivetrain.errors import InputError
 
-__all__ = ["MAX_SIMULATION_BYTES", "Reference", "SimulationDivergedError", "SimulationResult", "chain_energy",
-           "default_step", "estimate_bytes", "max_steps", "move_reference", "simulate", "simulate_linear_exact",
-           "simulate_open_loop", "sweep"]
+__all__ = ["simulate", "simulate_linear_exact", "simulate_open_loop", "sweep"]
 
 FloatArray = NDArray[np.float64]
-_kernel_module = kernel_module  # the benchmark times the kernel through this name
 
 
 def simulate(

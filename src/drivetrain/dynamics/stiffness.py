@@ -242,7 +242,7 @@ def torsional_from_axial_lead(axial_stiffness: float, lead: float) -> float:
     .. math:: K = k_{ax} \left(\frac{h}{2\pi}\right)^2
 
     axial stiffness [N/m], lead h [m/rev]: the screw turns 2 pi rad per lead of travel, so its
-    lever arm is h / (2 pi) (design.md, "Linear mechanisms").
+    lever arm is h / (2 pi) (docs/conventions.md, "Linear mechanisms").
 
     >>> round(torsional_from_axial_lead(1e9, 0.01), 1)
     2533.0
@@ -267,8 +267,3 @@ def reflect_stiffness(stiffness: float, ratio: float) -> float:
 def reflect_damping(damping: float, ratio: float) -> float:
     r"""Viscous damping behind a ratio i seen at its input [N m s/rad]: B / i^2 (power equivalence)."""
     return damping / ratio**2
-
-
-def reflect_angle(angle: float, ratio: float) -> float:
-    """An angle (backlash) at a stage's output seen at its input [rad]: phi * i."""
-    return angle * ratio

@@ -19,7 +19,7 @@ import math
 import re
 from typing import Any
 
-from drivetrain import __version__
+from drivetrain.version import __version__
 
 SMT = "https://admin-shell.io/idta/PowerDriveTrainSizing"
 IRDI = {"ManufacturerName": "0173-1#02-AAO677#002", "ManufacturerArticleNumber": "0173-1#02-AAO676#003",

@@ -104,16 +104,10 @@ def motor_power(res: SizingResult) -> tuple[Array, str, list[str]]:
     t_m = duty.motor_torque(j)
     p = t_m * duty.omega
     elec = axis.electrical
-    kt = None
-    if elec is not None:
-        kt = elec.kt if elec.kt is not None else (
-            None if elec.ke is None else float(motor_electrical.kt_from_ke(elec.ke)))
+    kt = None if elec is None else motor_electrical.torque_constant(elec.kt, elec.ke)
     if axis.motor is not None and elec is not None and kt is not None and elec.resistance is not None:
-        sat = None
-        if elec.peak_current is not None:
-            sat = motor_electrical.Saturation(np.array(axis.motor.rated_torque), np.array(axis.motor.peak_torque),
-                                              np.array(elec.peak_current))
-        current = np.abs(motor_electrical.current_from_torque(t_m, kt, sat))
+        sat = motor_electrical.saturation(axis.motor.rated_torque, axis.motor.peak_torque, elec.peak_current)
+        current = motor_electrical.phase_current(t_m, kt, sat)
         return p + regen.copper_loss(current, elec.resistance), "electrical", notes
     missing = [k for k, v in (("torque constant", kt), ("winding resistance", None if elec is None else
                                                              elec.resistance)) if v is None]

@@ -18,11 +18,11 @@ from typing import Any
 
 import numpy as np
 
-from drivetrain import __version__
 from drivetrain.errors import InputError
 from drivetrain.machine.axes import AxisPower, axis_power, bom_items
 from drivetrain.machine.model import BusGroup, Machine, load_machine, parse_machine
 from drivetrain.physics import dc_bus, regen
+from drivetrain.version import __version__
 
 PERCENTILES = (50, 90, 95, 99, 100)
 PHASING_KEYS = ("bus_peak_power_W", "bus_rms_power_W", "supply_peak_power_W", "resistor_energy_per_cycle_J",

@@ -2,7 +2,7 @@
 and the jerk-limited time-optimal move (its parameters and duration, with a scalar path for one move
 given as numbers). Units SI: m (or rad), s, m/s, m/s^2, m/s^3.
 
-Sources: the lecture notes in ``seed/`` (trapezoid ``v_max = x_f / t_2``, ``a_max = x_f /
+Sources: the lecture (trapezoidal profile: trapezoid ``v_max = x_f / t_2``, ``a_max = x_f /
 (t_1 t_2)``; movement amount ``L_s = V (2 t_s - t_a - t_d) / 2``); jerk-limited time-optimal
 rest-to-rest moves: L. Biagiotti, C. Melchiorri, *Trajectory Planning for Automatic Machines and
 Robots*, Springer (2008), sec. 3.4 (double S). ``time_optimal_duration`` equals ruckig's duration

@@ -1,7 +1,7 @@
 """Motion profiles: moves and dwells in a repeating cycle, their exact segments and sampling.
 
 A profile is a list of steps, run in order; the cycle repeats. A step is a move or a dwell
-(the axis file's ``profile:`` key, as in design.md)::
+(the axis file's ``profile:`` key, docs/axis-file.md)::
 
     {move: 200 mm, time: 0.5 s, accel: 0.1 s[, decel: 0.1 s]}       trapezoid, given ramp times
     {move: 200 mm, time: 0.5 s, shape: trapezoid | triangle | s_curve
@@ -32,9 +32,9 @@ Guarantees (tested on seeded random moves in ``tests/test_profiles_random.py``):
 - ``time_optimal_duration`` equals ruckig's duration within 1e-9 s (seeded comparison).
 
 The module parses; the exact form and its sampling are in ``cycle.py`` and the closed forms of one
-move (peaks, time-optimal) in ``moves.py``, both re-exported here.
+move (peaks, time-optimal) in ``moves.py``.
 
-Sources: the lecture notes in ``seed/`` (trapezoid ``v_max = x_f / t_2``, ``a_max = x_f /
+Sources: the lecture (trapezoidal profile: trapezoid ``v_max = x_f / t_2``, ``a_max = x_f /
 (t_1 t_2)``; movement amount ``L_s = V (2 t_s - t_a - t_d) / 2``); cam laws in ``cams.py``
 (Norton); jerk-limited time-optimal rest-to-rest moves: L. Biagiotti, C. Melchiorri,
 *Trajectory Planning for Automatic Machines and Robots*, Springer (2008), sec. 3.4 (double S).
@@ -54,26 +54,19 @@ from drivetrain import units
 from drivetrain.errors import InputError
 from drivetrain.motion.cams import CAM_LAWS, DEGREE, cam_law
 from drivetrain.motion.cycle import (
-    MAX_SAMPLES,
     Cycle,
     Kinematics,
     Motion,
     Phase,
     PhaseKind,
-    Samples,
     Segment,
     Step,
     _PieceTable,
 )
 from drivetrain.motion.moves import (
-    TimeOptimal,
     movement_amount,
     s_curve_jerk_time,
     s_curve_peak_accel,
-    symmetric_accel_time,
-    symmetric_trapezoid_peak_accel,
-    symmetric_trapezoid_peak_speed,
-    time_optimal_duration,
     time_optimal_parameters,
     trapezoid_peak_speed,
 )
@@ -537,10 +530,5 @@ def _ruckig_segments(prof: Any) -> list[Segment]:
     return segments
 
 
-__all__ = [  # the profile's parts live in cycle.py (exact form, sampling) and moves.py (closed forms of one move)
-    "DEFAULT_JERK_FRACTION", "HOLDING", "MAX_PROFILE_STEPS", "MAX_SAMPLES", "SHAPES", "VALID_KEYS", "Cycle",
-    "FreeMove", "Kinematics", "Motion", "Phase", "PhaseKind", "Samples", "Segment", "Step", "TimeOptimal",
-    "movement_amount", "parse_profile", "ruckig_move", "s_curve_jerk_time", "s_curve_peak_accel",
-    "symmetric_accel_time", "symmetric_trapezoid_peak_accel", "symmetric_trapezoid_peak_speed",
-    "time_optimal_duration", "time_optimal_parameters", "trapezoid_peak_speed",
-]
+__all__ = ["DEFAULT_JERK_FRACTION", "HOLDING", "MAX_PROFILE_STEPS", "SHAPES", "VALID_KEYS", "FreeMove", "parse_profile",
+           "ruckig_move"]

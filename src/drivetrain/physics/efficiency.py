@@ -1,7 +1,7 @@
 """Four-quadrant efficiency: which way power flows through a lossy element decides the loss.
 
 Source: ServoSoft four-quadrant pages of the lecture (Quadrants 1-4: T_DM = J_DP alpha +
-(1/eta)[...] when motoring, + eta[...] when braking) and ``design.md`` (Conventions, four
+(1/eta)[...] when motoring, + eta[...] when braking) and ``docs/conventions.md`` (Four
 quadrants). Modelica's ``LossyGear`` follows the same rule. All torques in [N m].
 """
 
@@ -20,7 +20,7 @@ def speed_sign(omega: ArrayLike, direction: ArrayLike) -> NDArray[np.float64]:
     """Sign of motion [-1, 0, 1]: the sign of ``omega``, or of the move ``direction`` where omega is 0.
 
     At zero speed inside a move the quadrant follows the move's direction, so the ends of a
-    segment carry no spurious jump (design.md). ``direction`` is 0 in a dwell.
+    segment carry no spurious jump (docs/conventions.md). ``direction`` is 0 in a dwell.
     """
     w = np.asarray(omega, dtype=float)
     # sign(where(...)) equals where(w != 0, sign(w), sign(direction)), in fewer passes
@@ -46,7 +46,7 @@ def torque_through_losses(
 
     At standstill in a dwell (``direction`` 0) the element holds: computed as motoring (the safe
     side), except a self-locking element (``back_efficiency <= 0``) that holds the load by
-    itself and passes no torque (design.md). A self-locking element lowering a load (braking
+    itself and passes no torque (docs/conventions.md). A self-locking element lowering a load (braking
     quadrant) gives ``T * eta_back`` of the opposite sign: the motor must drive the load down.
     """
     return losses_by_sign(np.asarray(torque, dtype=float), speed_sign(omega, direction), efficiency, back_efficiency)

@@ -96,11 +96,6 @@ def spring(stiffness: float, displacement: ArrayLike, preload: float = 0.0) -> A
     return stiffness * np.asarray(displacement, dtype=float) + preload
 
 
-def centrifugal_force(mass: float, radius: float, omega: ArrayLike) -> Array:
-    """F = M r omega^2 [N] on a point mass at ``radius`` [m] (lecture, centrifugal force)."""
-    return mass * radius * np.asarray(omega, dtype=float) ** 2
-
-
 def slip_limit_acceleration(mu_static: float, incline: float, g: float = G_STANDARD) -> float:
     """Largest acceleration before a load slips on its carrier [m/s^2]: a_max < mu_0 g cos(alpha).
 

@@ -2,7 +2,7 @@
 
 Sources: densities of iron and aluminium from the lecture's load pages ("rho = 7.87e3 [kg/m^3]:
 Iron, rho = 2.70e3: Aluminum"); the steel density varies by vendor guide (7.8e3 FANUC and
-Mitsubishi, 7.87e3 Yaskawa, 7.9e3 Siemens, see examples/README.md), so steel is 7.85e3, the
+Mitsubishi, 7.87e3 Yaskawa, 7.9e3 Siemens: their selection guides, docs/references.md), so steel is 7.85e3, the
 common engineering value, and every example test sets its source's own figure. Shear moduli:
 the lecture gives G = 11e6 lb/in^2 for stainless steel (Resonant Frequency page); others are
 handbook values (Roark's Formulas for Stress and Strain, 8th ed., Table 2.1 typical values).
@@ -92,11 +92,3 @@ def shear_modulus(material: str, field: str = "material") -> float:
         raise InputError(field, f"no shear modulus for this material; valid: {', '.join(sorted(SHEAR_MODULUS))}",
                          material)
     return SHEAR_MODULUS[key]
-
-
-def friction_pair(name: str, field: str = "friction") -> FrictionPair:
-    """Static and sliding friction coefficients of a named pair, e.g. ``steel_steel``."""
-    key = name.strip().lower().replace(" ", "_").replace("-", "_").replace("/", "_")
-    if key not in FRICTION:
-        raise InputError(field, f"unknown friction pair; valid: {', '.join(sorted(FRICTION))}", name)
-    return FRICTION[key]

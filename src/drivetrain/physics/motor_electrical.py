@@ -79,8 +79,8 @@ def ke_si(value: ArrayLike, basis: str, per_krpm: bool = True) -> FloatArray:
         per_krpm: True when ``value`` is per 1000 rpm.
 
     Source: sinusoidal three-phase quantities: line-to-line amplitude = sqrt(3) x phase
-    amplitude, rms = amplitude / sqrt(2). Check: MathWorks BLY171D, Ke = 3.8 V_pk,LL/krpm,
-    p = 4 gives psi = 0.0052 Wb as the blockset prints (FluxPM).
+    amplitude, rms = amplitude / sqrt(2). Check: MathWorks Motor Control Blockset, BLY171D record,
+    Ke = 3.8 V_pk,LL/krpm, p = 4 gives psi = 0.0052 Wb as the blockset prints (FluxPM).
 
     >>> round(float(ke_si(3.8, "ll_peak")) / 4, 5)
     0.00524
@@ -120,7 +120,7 @@ def phase_value(value: ArrayLike, basis: str) -> FloatArray:
     phase value in star, so R_ph = R_LL / 2; the same holds for the synchronous inductance of
     a balanced machine measured between two terminals).
 
-    Source: series connection of two star phases between two terminals.
+    Derivation: series connection of two star phases between two terminals.
     """
     if basis == "phase":
         return np.asarray(value, dtype=float)
@@ -238,6 +238,41 @@ def torque_from_current(current: ArrayLike, kt: ArrayLike, saturation: Saturatio
         high = mag * np.where(has, t_p / i_p, k)
     out = np.where(mag <= i_n, k * mag, np.where(mag <= i_p, mid, high))
     return np.asarray(np.sign(i) * out, dtype=float)
+
+
+def torque_constant(kt: float | None, ke: float | None) -> float | None:
+    """The torque constant K_t [N m / A rms] a current is computed with: the datasheet ``kt`` where
+    given, else the ideal one from the phase-peak ``ke`` [V s/rad] (:func:`kt_from_ke`); None when
+    neither is known (no current can then be computed).
+
+    >>> torque_constant(0.88, 0.5), round(torque_constant(None, 0.5), 4), torque_constant(None, None)
+    (0.88, 1.0607, None)
+    """
+    if kt is not None:
+        return kt
+    return None if ke is None else float(kt_from_ke(ke))
+
+
+def saturation(rated_torque: float, peak_torque: float, peak_current: float | None) -> Saturation | None:
+    """The datasheet's rated torque, peak torque [N m] and current at peak torque [A rms] as a
+    ``Saturation``, or None where the current at peak torque is not given (K_t then constant)."""
+    if peak_current is None:
+        return None
+    return Saturation(np.array(rated_torque), np.array(peak_torque), np.array(peak_current))
+
+
+def phase_current(torque: ArrayLike, kt: float, sat: Saturation | None = None) -> FloatArray:
+    """Magnitude of the phase current [A rms] over a torque series [N m]: :math:`|I| = |T / K_t(T)|`.
+
+    ``kt`` [N m / A rms] (see :func:`torque_constant`), falling between the datasheet's rated and
+    peak points where ``sat`` (see :func:`saturation`) is given. Source: as :func:`current_from_torque`.
+
+    Siemens 1FT7044-5AK7: 23 N m at 30 A (k_T 0.88, rated 2 N m):
+
+    >>> [round(float(i), 6) for i in phase_current(np.array([-23.0, 1.76]), 0.88, saturation(2.0, 23.0, 30.0))]
+    [30.0, 2.0]
+    """
+    return np.abs(current_from_torque(torque, kt, sat))
 
 
 # ---------------------------------------------------------------------------- voltage limit
@@ -386,7 +421,7 @@ def base_speed(
 def no_load_speed(ke: ArrayLike, dc_bus: ArrayLike, modulation: float = 1.0) -> FloatArray:
     r"""Speed [rad/s] where the back-EMF amplitude reaches the voltage limit: :math:`\hat v_{max}/k_e`.
 
-    Source: v_q = omega_e psi at zero current (the dq equations above).
+    Source: v_q = omega_e psi at zero current (the dq equations of :func:`voltage_limited_current`).
     """
     return np.asarray(max_phase_voltage(dc_bus, modulation) / np.asarray(ke, dtype=float), dtype=float)
 

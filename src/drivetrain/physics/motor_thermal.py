@@ -65,7 +65,7 @@ def thermal_resistance(rated_rise: ArrayLike, rated_current: ArrayLike, r_phase:
         rated_current: continuous (stall) current I_0 [A rms] that gives that rise.
         r_phase: phase resistance [ohm] at the hot winding (:func:`copper_resistance`).
 
-    Source: steady state of the first-order model at the rating, P = 3 I_0^2 R_ph.
+    Derivation: steady state of the first-order model at the rating, P = 3 I_0^2 R_ph.
     """
     i = np.asarray(rated_current, dtype=float)
     return np.asarray(np.asarray(rated_rise, dtype=float) / (3.0 * i**2 * np.asarray(r_phase, dtype=float)))
@@ -87,7 +87,7 @@ def steady_rise(rms_current: ArrayLike, rated_current: ArrayLike, rated_rise: Ar
 def time_to_fraction(tau: ArrayLike, fraction: float = 0.95) -> FloatArray:
     r"""Time [s] for the mean rise to reach ``fraction`` of its steady value from cold: :math:`-\tau\ln(1-f)`.
 
-    Source: step response 1 - exp(-t / tau) of the first-order model (95 %: 3.0 tau).
+    Derivation: step response 1 - exp(-t / tau) of the first-order model (95 %: 3.0 tau).
 
     >>> round(float(time_to_fraction(2100.0)), 1)
     6291.0

@@ -4,7 +4,7 @@ Energy path of one deceleration or lowering event (power signs: positive = motor
 
 * shaft power :math:`p_m = T\omega` [W] at the motor shaft, rotor included. The duty cycle's
   torque already carries the four-quadrant losses of every mechanism and transmission stage
-  (design.md: a load driving back passes :math:`T_{out}\eta_{back}/i`), so those losses are
+  (docs/conventions.md: a load driving back passes :math:`T_{out}\eta_{back}/i`), so those losses are
   already out of :math:`p_m` and are not taken off twice;
 * winding copper loss :math:`p_{Cu} = 3 I^2 R_{ph}` [W], I the phase rms current, R_ph the
   per-phase resistance of the star equivalent (:mod:`drivetrain.physics.motor_electrical`);
@@ -79,7 +79,7 @@ def copper_loss(current: ArrayLike, r_phase: ArrayLike) -> FloatArray:
     I phase rms current [A], R_ph per-phase (star) resistance [ohm] (a line-to-line value
     halves first: :func:`drivetrain.physics.motor_electrical.phase_value`).
 
-    Source: Joule loss of three phases carrying rms current I.
+    Derivation: Joule loss of three phases carrying rms current I.
     """
     i = np.asarray(current, dtype=float)
     return np.asarray(3.0 * i**2 * np.asarray(r_phase, dtype=float))
@@ -88,7 +88,7 @@ def copper_loss(current: ArrayLike, r_phase: ArrayLike) -> FloatArray:
 def resistor_max_resistance(u_on: ArrayLike, peak_power: ArrayLike) -> FloatArray:
     r"""Largest braking resistance [ohm] taking the peak power at the switch-on voltage: :math:`U_{on}^2/P_{peak}`.
 
-    Source: P = U^2 / R of the resistor across the bus when the brake chopper conducts.
+    Derivation: P = U^2 / R of the resistor across the bus when the brake chopper conducts.
     +inf when no power must be absorbed.
     """
     p = np.asarray(peak_power, dtype=float)

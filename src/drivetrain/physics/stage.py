@@ -4,7 +4,7 @@ Every mechanism and transmission element reduces to a ``Stage``: a ratio, inerti
 motor side of its own losses, inertia reflected to its input but inside its losses, an
 efficiency by direction of power flow, and (for dynamics) stiffness, damping and backlash.
 
-Conventions (design.md): the ratio ``i`` is input speed / output speed; for a linear
+Conventions (docs/conventions.md): the ratio ``i`` is input speed / output speed; for a linear
 mechanism it is input angle per load travel [rad/m] (1 / lever arm). Downstream inertia,
 stiffness and viscous damping reflect as J/i^2, K/i^2, B/i^2; torque as T/i with losses.
 Lecture: "Gear system-motor connections", energy equivalence: J_2' = J_2 / n^2.
@@ -103,7 +103,7 @@ def torque_in(
     ``load_torque_only`` model. ``omega_in``, ``alpha_in`` [rad/s, rad/s^2] at the input.
     Returns (total input torque, external part of it).
 
-    ``four_quadrant`` (design.md): T_in = J_in alpha + Q(J_inside alpha + T_out / i), where Q
+    ``four_quadrant`` (docs/conventions.md): T_in = J_in alpha + Q(J_inside alpha + T_out / i), where Q
     divides by eta when power flows to the load and multiplies by eta_back when it flows back
     (ServoSoft quadrant pages). ``load_torque_only`` (vendor selection guides, e.g. Yaskawa
     T_L = (9.8 mu M + F) P_B / (2 pi R eta)): only the external torque is divided by eta, in

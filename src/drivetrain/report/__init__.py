@@ -15,151 +15,33 @@ given and in SI; the formulas used with their sources; versions of software and 
 Units follow ``units``: ``si`` (N·m, rpm, kg·cm², mm), ``imperial`` (lbf·in, rpm, lb·in², in)
 or ``as-given`` (the units the axis file used, SI otherwise). Files are written atomically: a
 temporary sibling is renamed over the target only once complete. plotly and matplotlib are
-imported on first use, so ``import drivetrain`` stays fast.
+imported on first use, so ``import drivetrain`` stays fast. (``drivetrain.files`` writes every file.)
 """
 
 from __future__ import annotations
 
-import contextlib
 import os
-from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from drivetrain.errors import InputError
+from drivetrain.files import check_target, write_atomic
 
 if TYPE_CHECKING:
     from drivetrain.sizing.result import SizingResult
 
-__all__ = ["REPORT_SUFFIXES", "check_target", "render_html", "render_pdf", "repr_html", "write_atomic", "write_report"]
+__all__ = ["REPORT_SUFFIXES", "render_html", "render_pdf", "repr_html", "write_report"]
 
 REPORT_SUFFIXES: dict[str, str] = {".html": "html", ".htm": "html", ".pdf": "pdf"}
 """File suffixes ``write_report`` understands, and the format each writes."""
 
 
 def _check_units(units: str) -> str:
-    from drivetrain.report.display import UNIT_CHOICES
+    from drivetrain.units import UNIT_CHOICES
 
     if units not in UNIT_CHOICES:
         raise InputError("--units", f"must be one of {', '.join(UNIT_CHOICES)}", units)
     return units
-
-
-STALE_TEMP_AGE_S = 3600.0
-"""A temporary sibling of a target older than this [s] whose writer is gone is removed."""
-
-
-def check_target(path: str | os.PathLike[str], field: str) -> Path:
-    """``path`` as a Path if a file can be written there, else ``InputError`` naming ``field``.
-
-    Checked before the work that produces the file: the target must not be a directory, and no
-    existing ancestor may be a file. Permission and space problems show when writing.
-    """
-    target = Path(path)
-    if str(path) == "" or target.name in ("", ".", ".."):
-        raise InputError(field, "must name a file", str(path))
-    if target.is_dir():
-        raise InputError(field, "is a directory; give a file name", str(path))
-    parent = target.parent
-    while not parent.exists() and parent != parent.parent:
-        parent = parent.parent
-    if parent.exists() and not parent.is_dir():
-        raise InputError(field, f"cannot be written: {parent} is a file, not a directory", str(path))
-    return target
-
-
-def _os_error(exc: OSError, field: str, path: Path) -> InputError:
-    import errno
-
-    why = {errno.ENOSPC: "the disk is full", errno.EDQUOT: "the disk quota is exceeded",
-           errno.EFBIG: "the file-size limit is exceeded", errno.EACCES: "permission denied",
-           errno.EPERM: "permission denied", errno.EROFS: "the file system is read-only",
-           errno.EISDIR: "it is a directory", errno.ENOTDIR: "a parent is not a directory"}.get(
-        exc.errno or 0, exc.strerror or type(exc).__name__)
-    return InputError(field, f"cannot be written ({why})", str(path))
-
-
-@contextlib.contextmanager
-def _atomic_target(path: Path, field: str = "--report") -> Iterator[Path]:
-    """A temporary file next to ``path``; renamed over it when the block succeeds, removed if not.
-
-    The temporary name is unique and carries the writer's process id, so stale ones (left by a
-    killed writer) are recognised and removed by the next write to the same target. Errors of the
-    file system (read-only, full disk, file-size limit, a directory in the way) are ``InputError``
-    naming ``field``.
-    """
-    import tempfile
-
-    check_target(path, field)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        _remove_stale(path)
-        fd, name = tempfile.mkstemp(prefix=f".{path.name}.{os.getpid()}.", suffix=".tmp", dir=path.parent)
-        os.close(fd)
-    except OSError as exc:
-        raise _os_error(exc, field, path) from None
-    tmp = Path(name)
-    try:
-        yield tmp
-        with open(tmp, "rb+") as fh:
-            os.fsync(fh.fileno())
-        os.chmod(tmp, 0o644 & ~_umask())
-        os.replace(tmp, path)
-    except OSError as exc:
-        with contextlib.suppress(OSError):
-            tmp.unlink()
-        raise _os_error(exc, field, path) from None
-    except BaseException:
-        with contextlib.suppress(OSError):
-            tmp.unlink()
-        raise
-
-
-def _remove_stale(path: Path) -> None:
-    """Remove temporary siblings of ``path`` whose writer process no longer runs."""
-    import glob
-    import re
-    import time
-
-    pattern = re.compile(rf"\.{re.escape(path.name)}\.(?:(\d+)\.)?[A-Za-z0-9_]+\.tmp")
-    now = time.time()
-    for sibling in path.parent.glob(f".{glob.escape(path.name)}.*.tmp"):
-        m = pattern.fullmatch(sibling.name)
-        if m is None:
-            continue
-        with contextlib.suppress(OSError):
-            pid = int(m.group(1)) if m.group(1) is not None else None
-            writer_gone = pid is not None and pid != os.getpid() and not _alive(pid)
-            if writer_gone or now - sibling.stat().st_mtime > STALE_TEMP_AGE_S:
-                sibling.unlink()
-
-
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except (PermissionError, OverflowError, ValueError):
-        return True  # another user's process (or not a pid): leave its file alone
-    return True
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
-def write_atomic(path: str | os.PathLike[str], write: Callable[[Path], None], field: str) -> Path:
-    """Write a file through ``write(temporary sibling)`` and rename it over ``path``; see ``_atomic_target``."""
-    target = Path(path)
-    with _atomic_target(target, field) as tmp:
-        write(tmp)
-    return target
-
-
-def _write_atomic(path: Path, write: Callable[[Path], None]) -> Path:
-    return write_atomic(path, write, "--report")
 
 
 def render_html(result: SizingResult, units: str = "si") -> str:
@@ -183,7 +65,7 @@ def render_pdf(result: SizingResult, path: str | os.PathLike[str], units: str = 
 
     model = build_report(result, _check_units(units))
     target = Path(path)
-    return _write_atomic(target, lambda tmp: write_pdf(model, tmp))
+    return write_atomic(target, lambda tmp: write_pdf(model, tmp), "--report")
 
 
 def write_report(result: SizingResult, path: str | os.PathLike[str], units: str = "si") -> Path:
@@ -205,4 +87,4 @@ def write_report(result: SizingResult, path: str | os.PathLike[str], units: str 
     def write(tmp: Path) -> None:
         tmp.write_bytes(data)
 
-    return _write_atomic(target, write)
+    return write_atomic(target, write, "--report")

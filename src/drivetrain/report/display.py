@@ -21,7 +21,7 @@ from numpy.typing import ArrayLike, NDArray
 from drivetrain.errors import InputError
 from drivetrain.units import IMPERIAL_UNITS, SI_UNITS, UNIT_CHOICES
 
-__all__ = ["IMPERIAL_UNITS", "SI_UNITS", "UNIT_CHOICES", "DisplayUnits", "UnitsChoice", "display_units", "fmt_number",
+__all__ = ["DisplayUnits", "UnitsChoice", "display_units", "fmt_number",
            "fmt_percent", "pretty_unit"]
 
 if TYPE_CHECKING:

@@ -76,7 +76,7 @@ def candidate_label(c: dict[str, Any]) -> str:
 
 def shaft_metrics(result: SizingResult, omega: Array, torque: Array) -> dict[str, Any]:
     """Peak, RMS, speeds, power, regenerated energy and per-phase torques of a motor-shaft cycle (SI keys)."""
-    from drivetrain.duty.cycle import rms, signed_extreme
+    from drivetrain.physics.averages import rms, signed_extreme
     from drivetrain.units import to_rpm
 
     duty = result.duty

@@ -15,9 +15,10 @@ from importlib import resources
 from string import Template
 from typing import TYPE_CHECKING
 
+from drivetrain.report.blocks import KeyFigure, Table, Verdict
 from drivetrain.report.diagram import to_svg
 from drivetrain.report.formulas import Formula, markup_html
-from drivetrain.report.model import KeyFigure, ReportModel, Table, Verdict, build_report
+from drivetrain.report.model import ReportModel, build_report
 from drivetrain.report.plots import PlotSpec
 
 if TYPE_CHECKING:
@@ -159,7 +160,7 @@ def _plot_script(figures: list[tuple[str, str]]) -> str:
 
 def render_html(result: SizingResult, units: str = "si") -> str:
     """The whole report as one HTML document: offline, plotly.js embedded, every user string escaped."""
-    from drivetrain import __version__
+    from drivetrain.version import __version__
 
     model = build_report(result, units)
     figures: list[tuple[str, str]] = []

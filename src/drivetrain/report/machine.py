@@ -19,8 +19,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from drivetrain.errors import InputError
+from drivetrain.report.blocks import Cell, KeyFigure, Table, Verdict
 from drivetrain.report.display import fmt_number
-from drivetrain.report.model import Cell, KeyFigure, ReportModel, Table, Verdict, build_report, report_date
+from drivetrain.report.model import ReportModel, build_report, report_date
 from drivetrain.report.plots import Panel, PlotSpec, Trace
 
 if TYPE_CHECKING:
@@ -162,9 +163,9 @@ def _axis_models(result: MachineResult) -> list[tuple[str, ReportModel]]:
 
 def render_machine_html(result: MachineResult) -> str:
     """The machine report as one offline HTML document."""
-    from drivetrain import __version__
     from drivetrain.report.html import _kpis, _plot_script, _plotly_div, _resource, _table, render_body
     from drivetrain.report.html import _verdict as verdict_html
+    from drivetrain.version import __version__
 
     d = result.to_dict()
     figures: list[tuple[str, str]] = []
@@ -212,8 +213,8 @@ def render_machine_pdf(result: MachineResult, path: Path) -> None:
     """The machine report on A4 pages: the machine's sections, then a page set per axis."""
     import matplotlib
 
-    from drivetrain import __version__
     from drivetrain.report.pdf import INK, _Doc
+    from drivetrain.version import __version__
 
     d = result.to_dict()
     m = d["machine"]
@@ -261,17 +262,17 @@ def render_machine_pdf(result: MachineResult, path: Path) -> None:
 
 def write_machine_report(result: MachineResult, path: str | os.PathLike[str]) -> Path:
     """Write the machine report as HTML (``.html``) or PDF (``.pdf``); the file is replaced only when complete."""
-    from drivetrain.report import _write_atomic
+    from drivetrain.files import write_atomic
 
     target = Path(path)
     suffix = target.suffix.lower()
     if suffix not in (".html", ".htm", ".pdf"):
         raise InputError("--report", "must end in .html or .pdf", str(path))
     if suffix == ".pdf":
-        return _write_atomic(target, lambda tmp: render_machine_pdf(result, tmp))
+        return write_atomic(target, lambda tmp: render_machine_pdf(result, tmp), "--report")
     data = render_machine_html(result).encode("utf-8")
 
     def write(tmp: Path) -> None:
         tmp.write_bytes(data)
 
-    return _write_atomic(target, write)
+    return write_atomic(target, write, "--report")

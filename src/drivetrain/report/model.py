@@ -16,8 +16,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from drivetrain.report import tables
-from drivetrain.report.blocks import Cell, KeyFigure, Status, Table, Verdict
-from drivetrain.report.checks import CHECK_NAMES, check_value, checks_table, failure_sentence, verdict
+from drivetrain.report.blocks import KeyFigure, Table, Verdict
+from drivetrain.report.checks import checks_table, verdict
 from drivetrain.report.diagram import Diagram, build_diagram
 from drivetrain.report.display import DisplayUnits, display_units
 from drivetrain.report.focus import focus_of
@@ -27,8 +27,7 @@ from drivetrain.report.plots import PlotSpec, all_plots
 if TYPE_CHECKING:
     from drivetrain.sizing.result import SizingResult
 
-__all__ = ["CHECK_NAMES", "Cell", "KeyFigure", "ReportModel", "Status", "Table", "Verdict", "build_report",
-           "catalog_version", "check_value", "failure_sentence", "report_date"]
+__all__ = ["ReportModel", "build_report", "catalog_version", "report_date"]
 
 
 @dataclass
@@ -92,14 +91,15 @@ def catalog_version(result: SizingResult) -> str:
 
 def build_report(result: SizingResult, units: str = "si") -> ReportModel:
     """The report's content for ``result`` in the chosen units (si, imperial, as-given)."""
-    from drivetrain import __version__
-    from drivetrain.report.electrical import electrical_table, regen_plot
+    from drivetrain.report.electrical import electrical_table, regen_plot, supply_curve_traces
     from drivetrain.report.mechanism import mechanism_checks_table, mechanism_modes, modes_plot, modes_table
+    from drivetrain.version import __version__
 
     du = display_units(units, result.axis.raw)
     focus = focus_of(result)
     modes = mechanism_modes(result)
-    plots = {p.key: p for p in all_plots(result, du, focus)}
+    supply = supply_curve_traces(result, du) if focus is not None else []
+    plots = {p.key: p for p in all_plots(result, du, focus, supply)}
     notes = []
     if focus is not None:
         notes.append("The motor's speed-torque envelope is derived from its ratings (rated, stall and peak torque, "

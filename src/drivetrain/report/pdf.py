@@ -15,11 +15,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from drivetrain.report.blocks import KeyFigure, Table, Verdict
 from drivetrain.report.diagram import aspect as diagram_aspect
 from drivetrain.report.diagram import draw_matplotlib as draw_diagram
 from drivetrain.report.display import fit_text, wrap_text
 from drivetrain.report.formulas import markup_mathtext, markup_plain
-from drivetrain.report.model import KeyFigure, ReportModel, Table, Verdict
+from drivetrain.report.model import ReportModel
 from drivetrain.report.plots import PlotSpec, draw_matplotlib, figure_ratio, mpl_text
 
 if TYPE_CHECKING:

@@ -13,6 +13,7 @@ motor's envelopes, the cycle's operating points, the RMS point at mean speed and
 from __future__ import annotations
 
 import html
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -221,8 +222,10 @@ def _check_line(check: dict[str, Any] | None, du: DisplayUnits, factor: float) -
     return f"{head}{fmt_number(req)} {sign} {fmt_number(avail)} {unit}: {fmt_percent(check.get('margin'))}"
 
 
-def speed_torque_plot(result: SizingResult, du: DisplayUnits, focus: Focus | None = None) -> PlotSpec:
-    """The speed-torque plane: envelopes of the motor, the cycle's operating points, RMS point, margins."""
+def speed_torque_plot(result: SizingResult, du: DisplayUnits, focus: Focus | None = None,
+                      supply: Sequence[Trace] = ()) -> PlotSpec:
+    """The speed-torque plane: envelopes of the motor, the cycle's operating points, RMS point, margins;
+    ``supply``: the motor's curves at the supply voltage (``electrical.supply_curve_traces``), if computed."""
     from drivetrain.units import from_rpm
 
     tq = du.label("torque")
@@ -245,9 +248,6 @@ def speed_torque_plot(result: SizingResult, du: DisplayUnits, focus: Focus | Non
                                   COLORS["intermittent"], width=2.2, unit=tq))
         panel.traces.append(Trace(x_env, du.array(cont.torque[0], "torque"), f"continuous S1{tag}",
                                   COLORS["continuous"], width=2.2, unit=tq))
-        from drivetrain.report.electrical import supply_curve_traces
-
-        supply = supply_curve_traces(result, du)
         panel.traces.extend(supply)
         if supply:
             caption += (" The dashed and dotted purple curves are the motor's limits at the supply voltage, from "
@@ -302,9 +302,11 @@ def speed_torque_plot(result: SizingResult, du: DisplayUnits, focus: Focus | Non
                     hover="closest")
 
 
-def all_plots(result: SizingResult, du: DisplayUnits, focus: Focus | None = None) -> list[PlotSpec]:
-    """Every plot of the report, in report order."""
-    return [motion_plot(result, du), motor_shaft_plot(result, du, focus), speed_torque_plot(result, du, focus)]
+def all_plots(result: SizingResult, du: DisplayUnits, focus: Focus | None = None,
+              supply: Sequence[Trace] = ()) -> list[PlotSpec]:
+    """Every plot of the report, in report order (``supply``: see ``speed_torque_plot``)."""
+    return [motion_plot(result, du), motor_shaft_plot(result, du, focus),
+            speed_torque_plot(result, du, focus, supply)]
 
 
 # --------------------------------------------------------------------------- plotly

@@ -32,7 +32,7 @@ class Check:
     note: str = ""
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON form (design.md: name, required, available, margin, ok)."""
+        """JSON form (docs/conventions.md, The JSON result: name, required, available, margin, ok)."""
         return asdict(self)
 
 
@@ -43,14 +43,6 @@ def margin_of(required: Array | float, available: Array | float) -> Array:
     with np.errstate(divide="ignore", invalid="ignore"):
         out = np.where(req > 0.0, avail / np.where(req > 0.0, req, 1.0) - 1.0, np.inf)
     return np.asarray(out, dtype=float)
-
-
-def to_checks(name: str, unit: str, required: Array, available: Array, margin: Array, approximate: bool = False,
-              note: str = "") -> list[Check]:
-    """Per-candidate Check objects from arrays."""
-    return [Check(name, float(r), float(a), unit, bool(m >= 0.0), float(m), approximate, note)
-            for r, a, m in zip(np.atleast_1d(required), np.atleast_1d(available), np.atleast_1d(margin),
-                               strict=True)]
 
 
 def combine_margins(*margins: Array) -> Array:
@@ -143,7 +135,7 @@ def gearbox_ratings(out_peak: Array | float, out_cubic: Array | float, in_peak_s
     cycles/h without the impact factor); Beckhoff AG2400 TP+ data (T2B "maximum 1000 cycles per
     hour", T2Em.stop "possible 1000 times during the service life", n1N nominal and n1Max maximum
     input speed; https://infosys.beckhoff.com/content/1033/ag2400_ba/8995369483.html); cubic mean:
-    drivetrain.duty.cycle.cubic_mean.
+    drivetrain.physics.averages.cubic_mean.
     """
     def rated(required: Array | float, available: Array | float) -> tuple[Array, Array, Array]:
         req, av = np.broadcast_arrays(np.asarray(required, dtype=float), np.asarray(available, dtype=float))

@@ -59,14 +59,11 @@ def catalog_electrical(motor_id: str) -> MotorElectrical:
 def _currents(cycle: DutyCycle, inertia: float, elec: MotorElectrical, rated: float,
               peak: float) -> np.ndarray | None:
     """|I(t)| [A rms] of the motor over its cycle, or None without a torque constant."""
-    kt = elec.kt if elec.kt is not None else (
-        None if elec.ke is None else float(motor_electrical.kt_from_ke(elec.ke)))
+    kt = motor_electrical.torque_constant(elec.kt, elec.ke)
     if kt is None:
         return None
-    sat = None
-    if elec.peak_current is not None:
-        sat = motor_electrical.Saturation(np.array(rated), np.array(peak), np.array(elec.peak_current))
-    return np.abs(motor_electrical.current_from_torque(cycle.motor_torque(inertia), kt, sat))
+    sat = motor_electrical.saturation(rated, peak, elec.peak_current)
+    return motor_electrical.phase_current(cycle.motor_torque(inertia), kt, sat)
 
 
 _DRIVES: weakref.WeakKeyDictionary[DriveTable, tuple[DriveData, ...]] = weakref.WeakKeyDictionary()

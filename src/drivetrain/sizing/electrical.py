@@ -88,8 +88,7 @@ def electrical_answer(axis: Axis, duty: DutyCycle, motor: MotorData, margins: Ma
         out.motor = {"envelope_source": envelope_source}
         return out
     assert elec is not None or drive is not None
-    kt = None if elec is None else (elec.kt if elec.kt is not None else
-                                    (None if elec.ke is None else float(motor_electrical.kt_from_ke(elec.ke))))
+    kt = None if elec is None else motor_electrical.torque_constant(elec.kt, elec.ke)
     if kt is None:
         raise InputError("motor.kt", "the current checks need the motor's torque constant (give kt, or ke)",
                          has_value=False)
@@ -97,11 +96,8 @@ def electrical_answer(axis: Axis, duty: DutyCycle, motor: MotorData, margins: Ma
     torque_margin = margins.torque if margins is not None else 1.0
     t_m = duty.motor_torque(motor.inertia)
     w = duty.omega
-    sat = None
-    if elec.peak_current is not None:
-        sat = motor_electrical.Saturation(np.array(motor.rated_torque), np.array(motor.peak_torque),
-                                          np.array(elec.peak_current))
-    current = np.abs(motor_electrical.current_from_torque(t_m, kt, sat))
+    sat = motor_electrical.saturation(motor.rated_torque, motor.peak_torque, elec.peak_current)
+    current = motor_electrical.phase_current(t_m, kt, sat)
     i_rms = float(drive_overload.rms_current(current, duty.weights, duty.period))
     i_peak = float(current.max()) if current.size else 0.0
     supply, bus = dc_bus(elec, drive)

@@ -177,7 +177,7 @@ def curve_torque(curve: Curve, omega: ArrayLike, which: str = "continuous") -> E
     skipped; a curve with none gives NaN. Returns Envelope(torque (1, S) or the shape of omega,
     approximate=False).
 
-    Source: linear interpolation of the vendor's T-n characteristic points.
+    Source: the vendor's T-n characteristic points (catalog/data/SOURCES.md), interpolated linearly.
     """
     if which not in ("continuous", "peak"):
         raise ValueError(f"which must be 'continuous' or 'peak', got {which!r}")

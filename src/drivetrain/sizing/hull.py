@@ -1,10 +1,10 @@
 """The convex hull of a duty cycle's (acceleration, torque) points per speed bin, compiled:
-``motor_fit._chain`` for every bin in one pass. ``motor_fit.demand`` uses it for cycles of many
+``demand.chain`` for every bin in one pass. ``motor_fit.demand`` uses it for cycles of many
 points (importing this module imports numba; a short cycle keeps the plain-float chain, whose
 per-call cost is lower there), and a study (``study/batch.py``) for its many variants, several
 gearbox efficiencies in one pass (``fast_demands``).
 
-Same algorithm and the same floating-point operations in the same order as ``_chain`` (Andrew's
+Same algorithm and the same floating-point operations in the same order as ``demand.chain`` (Andrew's
 monotone chain, collinear points within a relative turn of 1e-12 dropped; no fast-math, so no
 fused multiply-add), hence the same vertices, bins and padding as ``motor_fit.demand``:
 ``tests/test_hull.py`` and ``tests/test_study_batch.py`` assert equality (hypothesis). Source:
@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from drivetrain.jit import njit
-from drivetrain.sizing.motor_fit import _COLLINEAR, Demand, binned_points
+from drivetrain.sizing.demand import COLLINEAR, Demand, binned_points
 
 Array = NDArray[np.float64]
 
@@ -31,7 +31,7 @@ def _half(x: Array, y: Array, idx: NDArray[np.int64], out: NDArray[np.int64]) ->
         while n >= 2:
             x0, y0, x1, y1 = x[out[n - 2]], y[out[n - 2]], x[out[n - 1]], y[out[n - 1]]
             turn_a, turn_b = (x1 - x0) * (y[p] - y0), (y1 - y0) * (x[p] - x0)
-            if turn_a - turn_b > _COLLINEAR * (abs(turn_a) + abs(turn_b)):
+            if turn_a - turn_b > COLLINEAR * (abs(turn_a) + abs(turn_b)):
                 break
             n -= 1
         out[n] = p
@@ -45,7 +45,7 @@ def _hulls(x: Array, y: Array, starts: NDArray[np.int64], stops: NDArray[np.int6
     """Hull vertices (as point indices) of each run ``[starts[b], stops[b])`` of points sorted by (x, y).
 
     Returns the vertex indices of all runs one after the other and the count of each run,
-    in the order of ``motor_fit._chain``: lower chain without its last point, then upper chain
+    in the order of ``demand.chain``: lower chain without its last point, then upper chain
     without its last point; fewer than 3 points are returned as they are; an empty result is
     the first point.
     """
@@ -86,7 +86,7 @@ def _hulls(x: Array, y: Array, starts: NDArray[np.int64], stops: NDArray[np.int6
 
 def chains(alpha: Array, torque: Array, starts: NDArray[np.integer], stops: NDArray[np.integer]) -> tuple[
         Array, Array, NDArray[np.int64]]:
-    """Hull vertices of the points ``[starts[b]:stops[b]]`` of each bin b, as ``motor_fit._chain`` gives them.
+    """Hull vertices of the points ``[starts[b]:stops[b]]`` of each bin b, as ``demand.chain`` gives them.
 
     The points of each bin are sorted by (alpha, T) without repeats. Returns the vertices of every
     bin one after another (alpha [rad/s^2], T [N m]) and each bin's number of vertices.

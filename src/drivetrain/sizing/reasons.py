@@ -98,7 +98,7 @@ def _reason(ch: dict[str, Any], fit_bad: str) -> str:
 
 def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None,
                    rank: int | None) -> dict[str, Any]:
-    """One candidate as in design.md: motor, gearbox, ratio, inertia ratio, status, checks, why it failed.
+    """One candidate as in docs/axis-file.md: motor, gearbox, ratio, inertia ratio, status, checks, why it failed.
 
     ``status`` is ``ok`` (every check passes), ``unknown`` (none fails, some cannot be judged:
     ``unknown`` names them) or ``fails``; ``failures`` holds one sentence per failing check, a

@@ -1,7 +1,7 @@
 """Sizing: the duty cycle of an axis, checked against a given motor or a catalog selection.
 
 ``size(axis)`` is the orchestrator behind ``drivetrain size``: profile -> duty cycle ->
-metrics -> motor checks -> ``SizingResult`` (JSON of design.md, tables, plots).
+metrics -> motor checks -> ``SizingResult`` (JSON of docs/axis-file.md, tables, plots).
 """
 
 from __future__ import annotations
@@ -14,19 +14,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from drivetrain import __version__
 from drivetrain.axis.model import Axis, MotorData, load_axis, parse_axis
-from drivetrain.duty.cycle import (
-    DutyCycle,
-    acceleration_power,
-    duty_cycle,
-    load_metrics,
-    minimum_accel_time,
-    minimum_decel_time,
-    operation_power,
-)
+from drivetrain.duty.cycle import DutyCycle, duty_cycle, load_metrics
+from drivetrain.physics.acceleration import acceleration_power, minimum_accel_time, minimum_decel_time, operation_power
 from drivetrain.sizing.checks import Check, running_torque
 from drivetrain.sizing.motor_fit import MotorArrays, demand, fit_motors
+from drivetrain.version import __version__
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -66,7 +59,7 @@ class SizingResult:
         return True
 
     def to_dict(self) -> dict[str, Any]:
-        """The JSON result of design.md (keys carry their unit)."""
+        """The JSON result of docs/axis-file.md (keys carry their unit)."""
         from drivetrain.catalog import DATA_VERSION
 
         out: dict[str, Any] = {"axis": self.axis.name, "drivetrain_version": __version__,
@@ -247,7 +240,9 @@ def gearbox_rating_checks(axis: Axis, duty: DutyCycle, motor: MotorData | None,
     the cycle; the emergency-stop torque needs a motor (given, or the selected one). A rating
     that is not given is reported unknown, not passed; ``strict`` makes an unknown fail.
     """
-    from drivetrain.duty.cycle import cubic_mean, gearbox_peak_torque, gearbox_split_at_motor_peak
+    from drivetrain.duty.cycle import gearbox_split_at_motor_peak
+    from drivetrain.physics.averages import cubic_mean
+    from drivetrain.physics.torque_split import gearbox_peak_torque
     from drivetrain.physics.transmission import GearboxSpec
     from drivetrain.sizing.checks import GEARBOX_CHECKS, gearbox_ratings, shock_factor
 

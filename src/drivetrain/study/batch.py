@@ -61,8 +61,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from drivetrain.axis.model import Axis
-from drivetrain.duty.cycle import cubic_mean, duty_from_samples
+from drivetrain.duty.cycle import duty_from_samples
 from drivetrain.errors import InputError
+from drivetrain.physics.averages import cubic_mean
 from drivetrain.sizing.candidates import FIT_BIT
 from drivetrain.sizing.checks import shock_factor
 from drivetrain.sizing.hull import fast_demands
@@ -82,9 +83,9 @@ if TYPE_CHECKING:
     from drivetrain.axis.model import Margins, SelectSpec
     from drivetrain.catalog import GearboxTable, MotorTable
     from drivetrain.duty.cycle import DutyCycle
-    from drivetrain.motion.profiles import Cycle, Samples
+    from drivetrain.motion.cycle import Cycle, Samples
     from drivetrain.sizing.candidates import Candidates
-    from drivetrain.sizing.motor_fit import Demand
+    from drivetrain.sizing.demand import Demand
     from drivetrain.sizing.result import SizingResult
 
 Array = NDArray[np.float64]

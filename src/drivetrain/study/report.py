@@ -271,10 +271,11 @@ def _describe(df: pd.DataFrame, name: str) -> str:
 
 def write_report(result: StudyResult, path: Path) -> Path:
     """Write the report atomically; returns its path."""
-    from drivetrain.study.runner import _atomic, _write_text
+    from drivetrain.files import write_atomic
+    from drivetrain.study.runner import _write_text
 
     text = render(result)
-    _atomic(path, lambda tmp: _write_text(tmp, text))
+    write_atomic(path, lambda tmp: _write_text(tmp, text))
     return path
 
 

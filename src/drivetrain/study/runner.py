@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from drivetrain.errors import InputError
+from drivetrain.files import write_atomic
 from drivetrain.study.record import fast_covers, row_from
 from drivetrain.study.spec import Parameter, Study
 
@@ -176,8 +177,8 @@ def make_plan(study: Study) -> Plan:
 
 def metadata(study: Study) -> dict[str, Any]:
     """What the result files record about their making."""
-    from drivetrain import __version__
     from drivetrain.catalog.schema import DATA_VERSION
+    from drivetrain.version import __version__
 
     return {"study_file": study.text, "study_source": study.source, "base_axis_file": study.base_text,
             "drivetrain_version": __version__, "catalog_data_version": DATA_VERSION,
@@ -196,13 +197,6 @@ def frame(rows: list[dict[str, Any]], study: Study) -> pd.DataFrame:
     return df
 
 
-def _atomic(path: Path, write: Callable[[Path], None]) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp")
-    write(tmp)
-    tmp.replace(path)
-
-
 def _write_text(path: Path, text: str) -> None:
     path.write_text(text, encoding="utf-8")
 
@@ -214,7 +208,7 @@ def write_parquet(df: pd.DataFrame, path: Path, meta: dict[str, Any]) -> None:
 
     table = pa.Table.from_pandas(_arrow_safe(df), preserve_index=False)
     table = table.replace_schema_metadata({**(table.schema.metadata or {}), META_KEY: json.dumps(meta).encode()})
-    _atomic(path, lambda tmp: pq.write_table(table, tmp))
+    write_atomic(path, lambda tmp: pq.write_table(table, tmp))
 
 
 def _arrow_safe(df: pd.DataFrame) -> pd.DataFrame:
@@ -246,8 +240,8 @@ def write_results(df: pd.DataFrame, out: Path, study: Study) -> list[Path]:
     csv_path = out.with_suffix(".csv")
     meta_path = out.with_suffix(".meta.json")
     write_parquet(df, pq_path, meta)
-    _atomic(csv_path, lambda tmp: df.to_csv(tmp, index=False))
-    _atomic(meta_path, lambda tmp: _write_text(tmp, json.dumps(meta, indent=1)))
+    write_atomic(csv_path, lambda tmp: df.to_csv(tmp, index=False))
+    write_atomic(meta_path, lambda tmp: _write_text(tmp, json.dumps(meta, indent=1)))
     return [pq_path, csv_path, meta_path]
 
 

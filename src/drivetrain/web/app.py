@@ -44,30 +44,24 @@ from fastapi.staticfiles import StaticFiles
 from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
-from drivetrain import __version__
 from drivetrain.errors import InputError
+from drivetrain.version import __version__
 from drivetrain.web import routes_catalog, routes_machine, routes_meta, routes_projects, routes_reports, routes_sizing
-from drivetrain.web.cli import ENV_SERVERS, ENV_TOKEN
 from drivetrain.web.common import (
     ApiError,
     Context,
     ResultCache,
     SafeJSONResponse,
-    dump_yaml,
     error_body,
     json_error,
-    parse_axis_text,
-    safe_filename,
 )
 from drivetrain.web.models import ERRORS, MAX_TEXT_BYTES
-from drivetrain.web.payload import WEB_POINTS_PER_PHASE, candidate_axis, candidate_payload, encode, plain, size_payload
+from drivetrain.web.payload import size_payload
 from drivetrain.web.routes_catalog import MAX_UPLOAD_BYTES
 from drivetrain.web.store import ENV_DATA_DIR, StoreError, default_data_dir
 from drivetrain.web.workers import WorkerPool
 
-__all__ = ["LOOPBACK_HOSTS", "MAX_BODY_BYTES", "MAX_TEXT_BYTES", "MAX_UPLOAD_BYTES", "WEB_POINTS_PER_PHASE",
-           "ApiError", "Guard", "ResultCache", "allowed_methods", "candidate_axis", "candidate_payload",
-           "create_app", "dump_yaml", "encode", "parse_axis_text", "plain", "safe_filename", "size_payload"]
+__all__ = ["LOOPBACK_HOSTS", "MAX_BODY_BYTES", "Guard", "allowed_methods", "create_app"]
 
 log = logging.getLogger("drivetrain.web")
 
@@ -253,16 +247,18 @@ async def _send_json(send: Send, status: int, detail: str, field: str | None,
 
 
 def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | None = LOOPBACK_HOSTS,
-               max_body: int = MAX_BODY_BYTES, timeout: float = REQUEST_TIMEOUT_S, token: str | None = None) -> FastAPI:
+               max_body: int = MAX_BODY_BYTES, timeout: float = REQUEST_TIMEOUT_S, token: str | None = None,
+               servers: int = 1) -> FastAPI:
     """The FastAPI application.
 
     ``data_dir`` holds the project database, the user catalog and temporary files (default:
     ``$DRIVETRAIN_DATA_DIR`` or ``~/.local/share/drivetrain``); when given, it is also exported
     as ``$DRIVETRAIN_DATA_DIR`` so the catalog and sizing read the same folder. ``allowed_hosts``
     are the Host names served (None: any, for a deliberate non-loopback bind). ``token`` is the
-    page's anti-forgery token (``X-Drivetrain-Token``, needed by form and text bodies; default:
-    ``$DRIVETRAIN_SERVE_TOKEN``, which ``serve --workers N`` shares between its workers, else a
-    new random one); ``app.state.token`` holds it.
+    page's anti-forgery token (``X-Drivetrain-Token``, needed by form and text bodies; default: a new
+    random one; ``serve --workers N`` gives its workers one to share); ``app.state.token`` holds it.
+    ``servers``: the server processes sharing the machine (``serve --workers N``), which share
+    ``MAX_PARALLEL_WORK`` sizing processes.
     """
     from drivetrain.web.store import Store
 
@@ -282,7 +278,7 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
     def worker_pool() -> WorkerPool:
         with pools_lock:
             if not workers:
-                workers.append(WorkerPool(sizing_processes(), directory))
+                workers.append(WorkerPool(sizing_processes(servers), directory))
             return workers[0]
 
     def work_pool() -> ThreadPoolExecutor:
@@ -308,7 +304,7 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
     app.state.store = store
     app.state.sizing_workers = worker_pool  # the app's WorkerPool (made on first use)
     app.state.data_dir = directory
-    token = token or os.environ.get(ENV_TOKEN) or secrets.token_urlsafe(32)
+    token = token or secrets.token_urlsafe(32)
     app.state.token = token
     app.add_middleware(Guard, allowed_hosts=allowed_hosts, max_body=max_body, upload_body=MAX_UPLOAD_BYTES,
                        timeout=timeout, report_timeout=REPORT_TIMEOUT_S, token=token)
@@ -441,14 +437,10 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
     return app
 
 
-def sizing_processes() -> int:
-    """Sizing processes of one server process: MAX_PARALLEL_WORK, shared among the server processes
-    of ``serve --workers N`` (at least one each)."""
-    try:
-        servers = max(1, int(os.environ.get(ENV_SERVERS, "1")))
-    except ValueError:
-        servers = 1
-    return max(1, MAX_PARALLEL_WORK // servers)
+def sizing_processes(servers: int = 1) -> int:
+    """Sizing processes of one server process: MAX_PARALLEL_WORK, shared among the ``servers`` server
+    processes of ``serve --workers N`` (at least one each)."""
+    return max(1, MAX_PARALLEL_WORK // max(1, servers))
 
 
 def allowed_methods(app: FastAPI, path: str) -> list[str]:

@@ -88,14 +88,21 @@ def url_of(sock: socket.socket) -> str:
 def app_from_env() -> Any:
     """The app of one worker process of ``serve --workers N`` (uvicorn calls it: ``factory=True``).
 
-    The data folder comes from ``$DRIVETRAIN_DATA_DIR`` (or the default one) and the Host check from
-    ``$DRIVETRAIN_SERVE_ANY_HOST``, both exported by ``run`` before it starts the workers.
+    The data folder comes from ``$DRIVETRAIN_DATA_DIR`` (or the default one), the Host check from
+    ``$DRIVETRAIN_SERVE_ANY_HOST``, the shared page token from ``$DRIVETRAIN_SERVE_TOKEN`` and the
+    number of server processes from ``$DRIVETRAIN_SERVE_WORKERS``, all exported by ``run`` before it
+    starts the workers.
     """
     from drivetrain.web.app import LOOPBACK_HOSTS, create_app
 
     _exit_with_parent()
     any_host = os.environ.get(ENV_ANY_HOST) == "1"
-    return create_app(None, allowed_hosts=None if any_host else LOOPBACK_HOSTS)
+    try:
+        servers = max(1, int(os.environ.get(ENV_SERVERS, "1")))
+    except ValueError:
+        servers = 1
+    return create_app(None, allowed_hosts=None if any_host else LOOPBACK_HOSTS, token=os.environ.get(ENV_TOKEN),
+                      servers=servers)
 
 
 def _exit_with_parent() -> None:

@@ -231,7 +231,7 @@ def register(app: FastAPI, ctx: Context) -> None:
         need_catalog()
         import json
 
-        from drivetrain.catalog import manage
+        from drivetrain import catalog
 
         try:
             changes = json.loads(await request.body() or b"null")
@@ -240,7 +240,7 @@ def register(app: FastAPI, ctx: Context) -> None:
         if not isinstance(changes, dict):
             raise InputError("body", "must be a JSON object of field: value", has_value=False)
         record: dict[str, Any] = plain(await blocking(
-            lambda: manage.update(item_id, changes, directory=directory, source="web catalog edit")))
+            lambda: catalog.update(item_id, changes, directory=directory, source="web catalog edit")))
         return record
 
     @app.get("/api/catalog/history", tags=["catalog"])

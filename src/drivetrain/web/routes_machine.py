@@ -151,9 +151,7 @@ def machine_payload(result: MachineResult, links: dict[int, dict[str, Any]]) -> 
 
 def machine_examples() -> dict[str, Path]:
     """Machine files shipped next to the package in a source checkout (examples/machine/*.yaml with axes)."""
-    import drivetrain
-
-    root = Path(drivetrain.__file__).resolve().parents[2] / "examples" / "machine"
+    root = Path(__file__).resolve().parents[3] / "examples" / "machine"  # src/drivetrain/web/ -> the checkout
     if not root.is_dir():
         return {}
     out = {}

@@ -8,7 +8,7 @@ from typing import Annotated, Any
 from fastapi import FastAPI
 from fastapi import Path as PathParam
 
-from drivetrain import __version__
+from drivetrain.version import __version__
 from drivetrain.web.common import ApiError, Context, catalog_available, parse_axis_text, report_module
 from drivetrain.web.models import AxisOut, HealthOut
 
@@ -54,9 +54,7 @@ def register(app: FastAPI, ctx: Context) -> None:
 
 def _examples() -> dict[str, Path]:
     """Example axes shipped next to the package in a source checkout (examples/*.yaml)."""
-    import drivetrain
-
-    root = Path(drivetrain.__file__).resolve().parents[2] / "examples"
+    root = Path(__file__).resolve().parents[3] / "examples"  # src/drivetrain/web/ -> the checkout
     if not root.is_dir():
         return {}
     return {p.stem: p for p in sorted(root.glob("*.yaml")) if p.is_file()}

@@ -4,7 +4,7 @@ A mechanism turns load motion and force into speed and torque at its input shaft
 ``Stage`` (ratio = input angle per load travel, its own inertia outside its losses, the
 load's inertia reflected inside them) plus an external-load model. Linear mechanisms use a
 lever arm r [m/rad]: lead / (2 pi) for a screw, the pulley, pinion, roll or drum radius
-otherwise (design.md, Conventions). Rotary mechanisms have r = 1 rad/rad.
+otherwise (docs/conventions.md, Linear mechanisms). Rotary mechanisms have r = 1 rad/rad.
 """
 
 from __future__ import annotations
@@ -39,7 +39,6 @@ from drivetrain.fields import (
 from drivetrain.physics.loads import (
     ThrustMode,
     coulomb_friction,
-    gravity_force,
     linear_load_force,
     process_thrust,
     spring,
@@ -222,14 +221,12 @@ class RotaryLoadSpec(Spec):
 
 __all__ = [
     "Array",
-    "ForceNonNeg",
     "LinearLoad",
     "LinearLoadSpec",
     "Mechanism",
     "Motion",
     "RotaryLoad",
     "RotaryLoadSpec",
-    "gravity_force",
 ]
 
 
