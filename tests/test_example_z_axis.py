@@ -2,8 +2,8 @@
 done-when) from the shipped data, end to end: the CLI table, the JSON, the report and the web payload.
 
 ``unknown: fail`` makes the selection pass over the smaller motors whose drive cannot be checked, and say so.
-As shipped, the answer is the Yaskawa SGM7J-04A with SGD7S-2R8A (the drive's currents from a third-party
-transcription, flagged unverified; data/SOURCES.md "Drives"). The one chain whose every electrical check the
+On the file's 400 V supply the 200 V and 100 V class motors are passed over by the voltage-class check
+(docs/checks.md, "Voltage class"), and the answer is the 400 V Siemens chain. The one chain whose every electrical check the
 catalog can judge from vendor pages is the Siemens 1FT7044-5AK7 (Kt, currents, R, L, Ke, thermal data from the
 S120 1FT7 configuration manual 01/2009, Table 4-8, p. 90) with the S120 Motor Module that table recommends
 (9 A / 18 A): the same axis restricted to Siemens (``SIEMENS``) answers it, and the tests of the full electrical
@@ -39,17 +39,30 @@ def result(siemens: Path):  # type: ignore[no-untyped-def]
     return size(siemens)
 
 
-def test_the_shipped_example_answers_a_yaskawa_chain_flagged_unverified() -> None:
+def test_the_shipped_example_answers_a_400_v_chain_on_its_400_v_supply() -> None:
+    """The file states a 400 V supply: every 200 V (and 100 V) class motor is passed over for its voltage class,
+    with the reason, and motors of unknown class too (``unknown: fail``); the answer is the 400 V Siemens chain."""
     r = size(EXAMPLE)
     assert r.ok
     sel = r.selection["selected"]
-    assert sel["motor"] == "SGM7J-04A"
-    d = sel["drive"]
-    assert d["status"] == "ok" and d["id"] == "SGD7S-2R8A" and d["basis"] == "vendor pairing table"
-    assert (d["continuous_current_A"], d["peak_current_A"]) == (2.8, 9.3)  # the transcription's SGD7S-2R8A
-    assert d["unverified"] is True and "hdauto-chatbot" in d["unverified_reason"]
-    assert d["motor_rms_current_A"] <= 2.8 and d["motor_peak_current_A"] <= 9.3
-    assert r.selection["drive_passed_over_count"] > 0  # smaller motors whose drive cannot be checked
+    assert sel["motor"] == "1FT7044-5AK7" and sel["drive"]["status"] == "ok"
+    assert sel["voltage_class"]["status"] == "pass" and sel["voltage_class"]["required"] == 400.0
+    over = {p["motor"]: p["reason"] for p in r.selection["drive_passed_over"]}
+    assert over["SGM7J-04A"].startswith("voltage_class: a 200 V class motor on a 400 V supply")
+    assert over["SGMP-03B"].startswith("voltage_class: a 100 V class motor on a 400 V supply")
+    assert "voltage class is not known" in over["APM-FC04A"]
+
+
+def test_a_200_v_motor_named_on_a_400_v_supply_is_passed_over_by_its_class(tmp_path: Path) -> None:
+    """The issue's case: supply_voltage 400 V selected SGM7G-03A (a 200 V motor) and offered 200 V SGD7S drives."""
+    text = EXAMPLE.read_text(encoding="utf-8").replace(
+        "select: {unknown: fail, gearbox: none}", "select: {unknown: fail, gearbox: none, vendor: yaskawa}")
+    path = tmp_path / "z_yaskawa.yaml"
+    path.write_text(text, encoding="utf-8")
+    r = size(path)
+    assert not r.ok  # every shipped Yaskawa servo is a 100 V or 200 V class motor
+    assert all(p["reason"].startswith("voltage_class:") for p in r.selection["drive_passed_over"])
+    assert "drive_advice" in r.selection
 
 
 def test_the_answer_is_a_motor_and_its_drive_with_every_electrical_check(result) -> None:  # type: ignore[no-untyped-def]

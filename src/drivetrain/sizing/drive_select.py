@@ -41,6 +41,7 @@ from drivetrain.axis.electrical import DriveData, MotorElectrical, drive_from_ca
 from drivetrain.errors import InputError
 from drivetrain.physics import drive_overload, motor_electrical
 from drivetrain.sizing.electrical import _drive_block, _regen_block, dc_bus, electrical_answer
+from drivetrain.sizing.voltage_class import stated_supply, voltage_class_check
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Axis, Margins, MotorData
@@ -269,8 +270,14 @@ def _walk(axis: Axis, duty: DutyCycle, sel: dict[str, Any], motors: MotorTable,
 
     c = sel["_candidates"]
     passed: list[dict[str, Any]] = []
+    supply = stated_supply(axis)
     for k in best_per_motor(c, sel["_ranked"])[:_WALK]:
         m = int(c.motor[k])
+        vc = voltage_class_check(supply, _motor_voltage(motors, m))
+        if vc is not None and (vc["status"] == "fail" or (strict and vc["status"] == "unknown")):
+            passed.append({"motor": str(motors.ids[m]), "drive_status": f"voltage_class {vc['status']}",
+                           "reason": f"voltage_class: {vc['note']}"})
+            continue
         block = _motor_prospect(motors, m, axis.drive)
         if "status" not in block:  # checkable: its current decides
             block, _ = _candidate_drive(axis, duty, sel, motors, int(k))
@@ -285,6 +292,9 @@ def _needs_walk(axis: Axis, duty: DutyCycle, sel: dict[str, Any], strict: bool) 
     cannot be checked: no current trace then)."""
     motors, _ = sel["_tables"]
     best = int(sel["_best"])
+    vc = voltage_class_check(stated_supply(axis), _motor_voltage(motors, int(sel["_candidates"].motor[best])))
+    if vc is not None and (vc["status"] == "fail" or (strict and vc["status"] == "unknown")):
+        return True
     block = _motor_prospect(motors, int(sel["_candidates"].motor[best]), axis.drive)
     if "status" in block:
         return strict
@@ -344,9 +354,13 @@ def attach_drives(axis: Axis, duty: DutyCycle, chosen: dict[str, Any], margins: 
     ks += [int(sel["_best"])] if "selected" in sel else []
     catalog.motor_rows([str(motors.ids[int(c.motor[k])]) for k in ks])  # one query for the motors below
     done: dict[int, tuple[dict[str, Any], DriveData | None]] = {}
+    supply = stated_supply(axis)
     for cand, k in zip(chosen["candidates"], shown, strict=False):
         done[k] = _candidate_drive(axis, duty, sel, motors, k)
         cand["drive"] = done[k][0]
+        vc = voltage_class_check(supply, _motor_voltage(motors, int(c.motor[k])))
+        if vc is not None:
+            cand["voltage_class"] = vc
     if "selected" not in sel:
         return
     best = int(sel["_best"])
@@ -356,6 +370,9 @@ def attach_drives(axis: Axis, duty: DutyCycle, chosen: dict[str, Any], margins: 
 
     cycle, _ = candidate_cycle(axis, duty, sel, best)
     sel["selected"]["drive"] = block
+    vc = voltage_class_check(supply, _motor_voltage(motors, int(c.motor[best])))
+    if vc is not None:
+        sel["selected"]["voltage_class"] = vc
     sel["selected"].update(selected_electrical(axis, cycle, motors, int(c.motor[best]), drive, margins))
 
 
