@@ -15,8 +15,7 @@ from drivetrain.web.common import (
     Context,
     attachment,
     error_body,
-    parse_axis_text,
-    parse_machine_text,
+    parse_text,
     safe_filename,
 )
 from drivetrain.web.models import (
@@ -37,7 +36,7 @@ _VERSION = Annotated[int, PathParam(ge=1, le=2**53, description="version number"
 
 def register(app: FastAPI, ctx: Context) -> None:
     """Add the project routes to ``app``."""
-    store, light = ctx.store, ctx.light
+    store, light, isolated = ctx.store, ctx.light, ctx.isolated
 
     def detail(info: Any, text: str, parsed: dict[str, Any] | None = None) -> dict[str, Any]:
         """The project with its text parsed as what it holds: ``axis`` or ``machine`` (the other null)."""
@@ -54,9 +53,6 @@ def register(app: FastAPI, ctx: Context) -> None:
             out[key], out["yaml_error"] = None, error_body(exc)
         return out
 
-    def parse_text(kind: str, text: str) -> dict[str, Any]:
-        return parse_machine_text(text) if kind == "machine" else parse_axis_text(text)
-
     @app.get("/api/projects", response_model=list[ProjectOut], tags=["projects"])
     async def list_projects(
         kind: Annotated[Literal["axis", "machine"] | None, Query(description="only projects of this kind")] = None,
@@ -67,7 +63,7 @@ def register(app: FastAPI, ctx: Context) -> None:
     @app.post("/api/projects", response_model=ProjectDetail, status_code=201, tags=["projects"])
     async def create_project(body: ProjectCreate) -> dict[str, Any]:
         """A new axis or machine project (version 1). The text must be YAML; it may still fail sizing (a draft)."""
-        parsed = await light(parse_text, body.kind, body.yaml)
+        parsed = await isolated(parse_text, body.kind, body.yaml)
         info = await light(lambda: store.create(body.name, body.yaml, kind=body.kind))
         return detail(info, body.yaml, parsed)
 
@@ -81,7 +77,7 @@ def register(app: FastAPI, ctx: Context) -> None:
     async def save_project(project_id: _PROJECT_ID, body: ProjectSave) -> dict[str, Any]:
         """Save the text as the next version (one transaction; refused if base_version is stale)."""
         current = await light(store.info, project_id)
-        parsed = await light(parse_text, current.kind, body.yaml)
+        parsed = await isolated(parse_text, current.kind, body.yaml)
         info = await light(store.save, project_id, body.yaml, body.base_version, body.note)
         return detail(info, body.yaml, parsed)
 
