@@ -80,21 +80,34 @@ MAX_MESSAGE_CHARS = 1000
 
 
 def clip(text: str, limit: int = MAX_MESSAGE_CHARS) -> str:
-    """``text`` cut to ``limit`` characters, saying how many more there were."""
-    return text if len(text) <= limit else f"{text[:limit]}... ({len(text) - limit} more characters)"
+    """``text`` cut to at most ``limit`` characters, ending in how many were left out."""
+    if len(text) <= limit:
+        return text
+    keep = limit - 40  # room for the note
+    return f"{text[:keep]}... ({len(text) - keep} more characters)"
+
+
+def _counted(err: InputError) -> int:
+    """The number of errors a count item of ``bounded`` stands for (0: ``err`` is not one)."""
+    m = re.fullmatch(r"and (\d+) more errors \(the first \d+ are listed\)", err.rule) if not err.field else None
+    return int(m.group(1)) if m else 0
 
 
 def bounded(err: InputError) -> InputError:
     """``err`` with at most MAX_ERROR_ITEMS errors (the first ones, then one counting the rest), each
-    field and rule cut to MAX_MESSAGE_CHARS; the same object when it is within both bounds."""
+    field and rule cut to MAX_MESSAGE_CHARS; the same object when it is within both bounds. Bounding
+    again (a worker bounds what it sends, the answer what it lists) keeps the count."""
     errors = err.errors if isinstance(err, InputErrors) else [err]
+    more = _counted(errors[-1]) if len(errors) > 1 else 0
+    if more:
+        errors = errors[:-1]
     if len(errors) <= MAX_ERROR_ITEMS and all(len(e.field) <= MAX_MESSAGE_CHARS and len(e.rule) <= MAX_MESSAGE_CHARS
                                               for e in errors):
         return err
     kept = [InputError(clip(e.field), clip(e.rule), e.value, has_value=e.has_value) for e in errors[:MAX_ERROR_ITEMS]]
-    if len(errors) > MAX_ERROR_ITEMS:
-        kept.append(InputError("", f"and {len(errors) - MAX_ERROR_ITEMS} more errors (the first "
-                                   f"{MAX_ERROR_ITEMS} are listed)", has_value=False))
+    more += len(errors) - len(kept)
+    if more:
+        kept.append(InputError("", f"and {more} more errors (the first {len(kept)} are listed)", has_value=False))
     return kept[0] if len(kept) == 1 else InputErrors(kept)
 
 

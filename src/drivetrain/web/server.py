@@ -9,7 +9,7 @@ with a guard around it, per server process:
 
 - the headers of a request must be complete ``HEADER_TIMEOUT_S`` after the connection opened or
   its previous answer was sent, and within ``MAX_HEADER_BYTES``; else the answer is 408 (431) and
-  the connection is closed;
+  the connection is closed; a request that is not valid HTTP gets a JSON 400 (uvicorn's is text);
 - one client address holds at most ``MAX_PENDING_PER_CLIENT`` connections whose headers are not
   complete, all clients together ``MAX_PENDING``: one more closes the oldest of them (a client
   that sends its request at once is never the oldest for long);
@@ -52,7 +52,8 @@ MAX_CONNECTIONS = 512
 KEEP_ALIVE_S = 5.0
 """An idle connection is closed after this long without a new request [s] (uvicorn's ``timeout_keep_alive``)."""
 
-_REASONS = {408: "Request Timeout", 431: "Request Header Fields Too Large", 503: "Service Unavailable"}
+_REASONS = {400: "Bad Request", 408: "Request Timeout", 431: "Request Header Fields Too Large",
+            503: "Service Unavailable"}
 
 
 class _Pending:
@@ -158,6 +159,10 @@ class Guard:
     def connection_lost(self, exc: Exception | None) -> None:
         self._disarm()
         super().connection_lost(exc)  # type: ignore[misc]
+
+    def send_400_response(self, msg: str) -> None:
+        """A request uvicorn cannot parse: answered in JSON like every other error."""
+        self._refuse(400, f"the request is not valid HTTP/1.1 ({msg.rstrip('.')})")
 
     # -------------------------------------------------------------------- the guard
 
