@@ -35,8 +35,12 @@ _VERSION = Annotated[int, PathParam(ge=1, le=2**53, description="version number"
 
 
 def register(app: FastAPI, ctx: Context) -> None:
-    """Add the project routes to ``app``."""
-    store, light, isolated = ctx.store, ctx.light, ctx.isolated
+    """Add the project routes to ``app``.
+
+    A save parses its text with the web's one parser (``common.parse_text``, the command line's
+    bounds) on a thread, not in the worker processes: a save must not wait behind sizings and
+    reports, and the parser's bounds keep it short."""
+    store, light = ctx.store, ctx.light
 
     def detail(info: Any, text: str, parsed: dict[str, Any] | None = None) -> dict[str, Any]:
         """The project with its text parsed as what it holds: ``axis`` or ``machine`` (the other null)."""
@@ -63,7 +67,7 @@ def register(app: FastAPI, ctx: Context) -> None:
     @app.post("/api/projects", response_model=ProjectDetail, status_code=201, tags=["projects"])
     async def create_project(body: ProjectCreate) -> dict[str, Any]:
         """A new axis or machine project (version 1). The text must be YAML; it may still fail sizing (a draft)."""
-        parsed = await isolated(parse_text, body.kind, body.yaml)
+        parsed = await light(parse_text, body.kind, body.yaml)
         info = await light(lambda: store.create(body.name, body.yaml, kind=body.kind))
         return detail(info, body.yaml, parsed)
 
@@ -77,7 +81,7 @@ def register(app: FastAPI, ctx: Context) -> None:
     async def save_project(project_id: _PROJECT_ID, body: ProjectSave) -> dict[str, Any]:
         """Save the text as the next version (one transaction; refused if base_version is stale)."""
         current = await light(store.info, project_id)
-        parsed = await isolated(parse_text, current.kind, body.yaml)
+        parsed = await light(parse_text, current.kind, body.yaml)
         info = await light(store.save, project_id, body.yaml, body.base_version, body.note)
         return detail(info, body.yaml, parsed)
 
