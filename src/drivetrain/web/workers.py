@@ -1,12 +1,14 @@
-"""Sizing in worker processes that a request's time limit can stop.
+"""Heavy work in worker processes that a request's time limit can stop.
 
 A sizing holds the interpreter for its whole run, and a thread cannot be stopped: a request that
 timed out would keep computing, and a few such requests would hold every worker thread (and the
-interpreter lock) while other users wait. So the web app sizes in a few long-lived worker
+interpreter lock) while other users wait. So the web app runs its heavy work (axis and machine
+sizing, reports, AAS downloads, catalog imports, the YAML parse routes) in a few long-lived worker
 processes: a request sends its job to an idle one and waits for the answer; when its time limit
-fires, the worker is killed and a fresh one takes its place on the next request. Bad input
-comes back as the same ``InputError`` (or ``ApiError``) the engine raised; anything else as
-``WorkerError`` with the worker's traceback in its notes.
+fires, the worker is killed and a fresh one takes its place at once. Requests that find every
+worker busy are served first come, first served. Bad input comes back as the same
+``InputError`` (or ``ApiError``) the engine raised, at most the first errors of it (``common.
+bounded``); anything else as ``WorkerError`` with the worker's traceback in its notes.
 
 Workers are spawned, not forked (the server process runs threads), and import the engine when
 they start, so a fresh worker is ready in about the time of one ``import drivetrain``.
