@@ -29,7 +29,7 @@ from drivetrain.web.routes_machine import machine_size_payload
 from test_web_hostile import CLIENT_TIMEOUT_S, Server
 
 ROOT = Path(__file__).resolve().parents[1]
-LIMIT_S = 10.0
+LIMIT_S = 20.0
 """The test server's request time limit [s]."""
 HEADER_TIMEOUT_S = 3.0
 """The test server's header timeout [s] (``drivetrain serve``: web.server.HEADER_TIMEOUT_S)."""
