@@ -124,7 +124,11 @@ def test_with_two_workers_the_order_holds(tmp_path: Path) -> None:
         await until(lambda: len(h.started) == 4)
         assert h.started[2:] == ["C", "D"]
         h.submit("G")
-        for name in "CDEFG":
+        # one job ended at a time, each next start awaited: the order of the starts is the order of the hand-outs
+        for ended, starts in (("C", "E"), ("D", "F"), ("E", "G")):
+            h.finish(ended)
+            await until(lambda starts=starts: h.started[-1] == starts)  # type: ignore[misc]
+        for name in "FG":
             h.finish(name)
         for name in "ABCDEFG":
             assert await h.tasks[name] == name
