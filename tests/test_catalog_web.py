@@ -33,6 +33,9 @@ def client(tmp_path: Path) -> Iterator[TestClient]:
         app = create_app(tmp_path)
         # the page's token, as the page sends it on form bodies (drivetrain.web.app.Guard)
         with TestClient(app, base_url=BASE, headers={"x-drivetrain-token": app.state.token}) as c:
+            # imports run in the app's worker processes: let them warm up first (on a loaded machine that
+            # alone can take most of a request's time limit)
+            assert app.state.sizing_workers().wait_ready(120.0), "the worker processes did not start"
             yield c
 
 

@@ -20,7 +20,11 @@ def client(tmp_path_factory: pytest.TempPathFactory) -> Iterator[TestClient]:
     path = tmp_path_factory.mktemp("web-machine")
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("DRIVETRAIN_DATA_DIR", str(path))
-        with TestClient(create_app(path), base_url="http://127.0.0.1") as c:
+        app = create_app(path)
+        with TestClient(app, base_url="http://127.0.0.1") as c:
+            # machine sizing runs in the app's worker processes: let them warm up first (on a loaded machine
+            # that alone can take most of a request's time limit)
+            assert app.state.sizing_workers().wait_ready(120.0), "the worker processes did not start"
             yield c
 
 

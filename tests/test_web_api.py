@@ -45,6 +45,9 @@ def client(data_dir: Path) -> Iterator[TestClient]:
         mp.setenv("DRIVETRAIN_DATA_DIR", str(data_dir))
         app = create_app(data_dir)
         with TestClient(app, base_url=BASE, headers={"x-drivetrain-token": app.state.token}) as c:
+            # the worker processes (sizing, parsing, reports, imports) warm up before the first request:
+            # on a loaded machine their start alone can take most of a request's time limit
+            assert app.state.sizing_workers().wait_ready(120.0), "the sizing workers did not start"
             yield c
 
 

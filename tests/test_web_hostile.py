@@ -66,9 +66,16 @@ def example_axis(name: str | None = None) -> dict[str, Any]:
 
 
 class Server:
-    def __init__(self, app: Any, sock: socket.socket) -> None:
+    """``app`` served on ``sock`` in a thread with the settings of ``drivetrain serve`` (``web.server.config``);
+    ``limits`` change the slow-client guard's bounds (``web.server.Guard``)."""
+
+    def __init__(self, app: Any, sock: socket.socket, **limits: Any) -> None:
+        from drivetrain.web import server as web_server
+
         self.app, self.port = app, sock.getsockname()[1]
-        self.server = uvicorn.Server(uvicorn.Config(app, log_level="warning", timeout_keep_alive=30))
+        self.config = web_server.config(app, log_level="warning", timeout_keep_alive=30, **limits)
+        self.protocol: Any = self.config.http
+        self.server = uvicorn.Server(self.config)
         self.thread = threading.Thread(target=self.server.run, kwargs={"sockets": [sock]}, daemon=True)
         self.thread.start()
         deadline = time.monotonic() + 60

@@ -58,10 +58,12 @@ from drivetrain.web.common import (
 from drivetrain.web.models import ERRORS, MAX_TEXT_BYTES
 from drivetrain.web.payload import size_payload
 from drivetrain.web.routes_catalog import MAX_UPLOAD_BYTES
+from drivetrain.web.routes_machine import machine_size_payload
 from drivetrain.web.store import ENV_DATA_DIR, StoreError, default_data_dir
 from drivetrain.web.workers import WorkerPool
 
-__all__ = ["LOOPBACK_HOSTS", "MAX_BODY_BYTES", "Guard", "allowed_methods", "create_app"]
+__all__ = ["LOOPBACK_HOSTS", "MAX_BODY_BYTES", "MAX_IN_FLIGHT", "UPLOAD_BODY_BYTES", "Guard", "allowed_methods",
+           "create_app"]
 
 log = logging.getLogger("drivetrain.web")
 
@@ -69,6 +71,13 @@ T = TypeVar("T")
 
 MAX_BODY_BYTES = MAX_TEXT_BYTES + 65_536
 """Largest request body [bytes]: an axis file and its JSON wrapping."""
+UPLOAD_BODY_BYTES = MAX_UPLOAD_BYTES + 65_536
+"""Largest body of an upload (catalog import, axis file) [bytes]: the file (MAX_UPLOAD_BYTES, 20 MB) and
+its multipart wrapping; the route itself refuses a file over MAX_UPLOAD_BYTES."""
+MAX_IN_FLIGHT = 200
+"""Requests one server process handles at once; one more is answered 503 (JSON, Retry-After) at once.
+Slow clients cannot fill these places: a request counts only once its headers are complete
+(``drivetrain.web.server`` closes connections whose headers do not come in time)."""
 REQUEST_TIMEOUT_S = 20.0
 """Time limit of one request [s]; a report (PDF through a browser) gets REPORT_TIMEOUT_S."""
 REPORT_TIMEOUT_S = 120.0
@@ -104,6 +113,7 @@ class Guard:
         self.max_body, self.upload_body = max_body, upload_body
         self.timeout, self.report_timeout = timeout, report_timeout
         self.token = token
+        self.in_flight = 0
 
     @staticmethod
     def _host_of(value: str) -> str:
@@ -161,6 +171,17 @@ class Guard:
         if scope["type"] != "http":
             await self.app(scope, receive, send)
             return
+        if self.in_flight >= MAX_IN_FLIGHT:
+            await _send_json(send, 503, f"the server is busy ({MAX_IN_FLIGHT} requests at once); try again in a moment",
+                             None, {"retry-after": "2"})
+            return
+        self.in_flight += 1  # one event loop per server process: no lock needed
+        try:
+            await self._guarded(scope, receive, send)
+        finally:
+            self.in_flight -= 1
+
+    async def _guarded(self, scope: Scope, receive: Receive, send: Send) -> None:
         headers = {k.decode("latin-1").lower(): v.decode("latin-1") for k, v in scope.get("headers", [])}
         host = self._host_of(headers.get("host", ""))
         if self.allowed is not None and host not in self.allowed:
@@ -234,6 +255,9 @@ async def _send_json(send: Send, status: int, detail: str, field: str | None,
                      extra: dict[str, str] | None = None) -> None:
     import json
 
+    from drivetrain.web.common import clip
+
+    detail = clip(detail)
     body = json.dumps({"detail": detail, "field": field, "errors": [{"field": field, "message": detail}]}).encode()
     headers = [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode())]
     headers += [(k.encode(), v.encode()) for k, v in (extra or {}).items()]
@@ -306,7 +330,7 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
     app.state.data_dir = directory
     token = token or secrets.token_urlsafe(32)
     app.state.token = token
-    app.add_middleware(Guard, allowed_hosts=allowed_hosts, max_body=max_body, upload_body=MAX_UPLOAD_BYTES,
+    app.add_middleware(Guard, allowed_hosts=allowed_hosts, max_body=max_body, upload_body=UPLOAD_BODY_BYTES,
                        timeout=timeout, report_timeout=REPORT_TIMEOUT_S, token=token)
 
     async def blocking(fn: Callable[..., T], *args: Any) -> T:
@@ -414,7 +438,7 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
     app.mount("/static", StaticFiles(directory=STATIC_DIR, follow_symlink=False), name="static")
 
     context = Context(store=store, cache=cache, directory=directory, blocking=blocking, light=light, isolated=isolated,
-                      temp_path=temp_path, size_payload=size_payload)
+                      temp_path=temp_path, size_payload=size_payload, machine_payload=machine_size_payload)
     for module in (routes_meta, routes_sizing, routes_reports, routes_projects, routes_catalog, routes_machine):
         module.register(app, context)
 

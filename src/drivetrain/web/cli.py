@@ -3,6 +3,8 @@
 ``--workers N`` (N > 1) runs N uvicorn worker processes on the one socket bound here; each builds
 its app with ``app_from_env`` from the environment this process exports.
 
+uvicorn's settings and the guard against slow clients are in ``drivetrain.web.server``.
+
 Importing this module is cheap: FastAPI and uvicorn are imported when the command runs.
 """
 
@@ -139,6 +141,7 @@ def run(args: argparse.Namespace) -> int:
 
     import uvicorn
 
+    from drivetrain.web import server as web_server
     from drivetrain.web.app import LOOPBACK_HOSTS, create_app
     from drivetrain.web.store import ENV_DATA_DIR
 
@@ -153,8 +156,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"warning: serving on {args.host}: anyone who can reach this address can use the app and its "
               "projects", file=sys.stderr)
     print(f"drivetrain web app on {url_of(sock)} (data in {app.state.data_dir}); Ctrl+C stops it", flush=True)
-    config = uvicorn.Config(app, log_level=args.log_level, access_log=args.log_level in ("info", "debug"),
-                            timeout_keep_alive=5, limit_concurrency=200, server_header=False)
+    config = web_server.config(app, log_level=args.log_level, access_log=args.log_level in ("info", "debug"))
     server = uvicorn.Server(config)
     try:
         server.run(sockets=[sock])
@@ -175,6 +177,7 @@ def _run_workers(args: argparse.Namespace) -> int:
     from uvicorn.config import STARTUP_FAILURE
     from uvicorn.supervisors import Multiprocess
 
+    from drivetrain.web import server as web_server
     from drivetrain.web.store import ENV_DATA_DIR, default_data_dir
 
     data_dir = Path(args.data_dir).expanduser().resolve() if args.data_dir else None
@@ -192,9 +195,8 @@ def _run_workers(args: argparse.Namespace) -> int:
               "projects", file=sys.stderr)
     print(f"drivetrain web app on {url_of(sock)} (data in {data_dir or default_data_dir()}, {args.workers} worker "
           "processes); Ctrl+C stops it", flush=True)
-    config = uvicorn.Config(APP_FACTORY, factory=True, workers=args.workers, log_level=args.log_level,
-                            access_log=args.log_level in ("info", "debug"), timeout_keep_alive=5,
-                            limit_concurrency=200, server_header=False)
+    config = web_server.config(APP_FACTORY, factory=True, workers=args.workers, log_level=args.log_level,
+                               access_log=args.log_level in ("info", "debug"))
     # Older uvicorn versions take the worker's entry point as ``target``; newer ones make it themselves.
     extra: dict[str, Any] = {}
     if "target" in inspect.signature(Multiprocess).parameters:

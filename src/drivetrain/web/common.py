@@ -39,7 +39,8 @@ class Context:
     ``light`` runs quick file and database calls on AnyIO's threads; ``temp_path`` makes a
     temporary file inside the data folder (the caller removes it); ``size_payload`` is the
     sizing behind ``/api/size`` (``drivetrain.web.payload.size_payload``, as ``create_app``
-    finds it in ``drivetrain.web.app`` when the app is built).
+    finds it in ``drivetrain.web.app`` when the app is built); ``machine_payload`` the one
+    behind ``/api/machine/size`` (``routes_machine.machine_size_payload``, found the same way).
     """
 
     store: Store
@@ -50,6 +51,7 @@ class Context:
     isolated: Runner
     temp_path: Callable[[str], Path]
     size_payload: Callable[[dict[str, Any]], dict[str, Any]]
+    machine_payload: Callable[..., dict[str, Any]]
 
 
 class SafeJSONResponse(JSONResponse):
@@ -70,17 +72,65 @@ class ApiError(Exception):
 
 
 
+MAX_ERROR_ITEMS = 20
+"""Errors listed in one error answer; the rest are counted in a last item (a catalog import of a
+header with tens of thousands of unknown columns would otherwise answer tens of MB)."""
+MAX_MESSAGE_CHARS = 1000
+"""Characters of one error message (or field name) in an answer; the rest are cut and counted."""
+
+
+def clip(text: str, limit: int = MAX_MESSAGE_CHARS) -> str:
+    """``text`` cut to at most ``limit`` characters, ending in how many were left out."""
+    if len(text) <= limit:
+        return text
+    keep = limit - 40  # room for the note
+    return f"{text[:keep]}... ({len(text) - keep} more characters)"
+
+
+def _counted(err: InputError) -> int:
+    """The number of errors a count item of ``bounded`` stands for (0: ``err`` is not one)."""
+    m = re.fullmatch(r"and (\d+) more errors \(the first \d+ are listed\)", err.rule) if not err.field else None
+    return int(m.group(1)) if m else 0
+
+
+def bounded(err: InputError) -> InputError:
+    """``err`` with at most MAX_ERROR_ITEMS errors (the first ones, then one counting the rest), each
+    field and rule cut to MAX_MESSAGE_CHARS; the same object when it is within both bounds. Bounding
+    again (a worker bounds what it sends, the answer what it lists) keeps the count."""
+    errors = err.errors if isinstance(err, InputErrors) else [err]
+    more = _counted(errors[-1]) if len(errors) > 1 else 0
+    if more:
+        errors = errors[:-1]
+    if len(errors) <= MAX_ERROR_ITEMS and all(len(e.field) <= MAX_MESSAGE_CHARS and len(e.rule) <= MAX_MESSAGE_CHARS
+                                              for e in errors):
+        return err
+    kept = [InputError(clip(e.field), clip(e.rule), e.value, has_value=e.has_value) for e in errors[:MAX_ERROR_ITEMS]]
+    more += len(errors) - len(kept)
+    if more:
+        kept.append(InputError("", f"and {more} more errors (the first {len(kept)} are listed)", has_value=False))
+    return kept[0] if len(kept) == 1 else InputErrors(kept)
+
+
 def error_body(err: InputError) -> dict[str, Any]:
-    """The JSON of a 422 for an InputError (or several)."""
+    """The JSON of a 422 for an InputError (or several), bounded (``bounded``)."""
+    err = bounded(err)
     errors = err.errors if isinstance(err, InputErrors) else [err]
     items = [{"field": e.field or None, "message": e.message} for e in errors]
-    return {"detail": str(err), "field": err.field or None, "errors": items}
+    return {"detail": "\n".join(str(i["message"]) for i in items), "field": err.field or None, "errors": items}
 
 
 def json_error(status: int, detail: str, field: str | None = None, headers: dict[str, str] | None = None,
                 errors: list[dict[str, Any]] | None = None) -> JSONResponse:
-    body = {"detail": detail or "error", "field": field,
-            "errors": errors if errors is not None else [{"field": field, "message": detail}]}
+    """An error answer: ``detail`` and each listed error's message cut to MAX_MESSAGE_CHARS, at most
+    MAX_ERROR_ITEMS errors listed (then one counting the rest)."""
+    detail = clip(detail or "error")
+    field = None if field is None else clip(field)
+    listed = errors if errors is not None else [{"field": field, "message": detail}]
+    items = [{**e, "message": clip(str(e.get("message", "")))} for e in listed[:MAX_ERROR_ITEMS]]
+    if len(listed) > MAX_ERROR_ITEMS:
+        items.append({"field": None, "message": f"and {len(listed) - MAX_ERROR_ITEMS} more errors (the first "
+                                                f"{MAX_ERROR_ITEMS} are listed)"})
+    body = {"detail": detail, "field": field, "errors": items}
     return SafeJSONResponse(body, status_code=status, headers=headers)
 
 
@@ -149,6 +199,13 @@ def parse_axis_text(text: str, field: str = "yaml") -> dict[str, Any]:
 def parse_machine_text(text: str, field: str = "yaml") -> dict[str, Any]:
     """Machine YAML text to a mapping through the CLI's safe loader and limits (its keys checked when sized)."""
     return _yaml_mapping(text, field, "machine keys (version, machine, cycle_time, supply, axes, buses)")
+
+
+def parse_text(kind: str, text: str, field: str = "yaml") -> dict[str, Any]:
+    """The web's one parse of YAML text from a request (an axis or a machine file): the CLI's parser
+    with its bounds (``drivetrain.axis.model.parse_yaml``). Routes run it in a worker process
+    (``Context.isolated``), so a parse that runs past the request's time limit is killed with it."""
+    return parse_machine_text(text, field) if kind == "machine" else parse_axis_text(text, field)
 
 
 class ResultCache:

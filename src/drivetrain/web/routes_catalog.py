@@ -12,13 +12,16 @@ import numpy as np
 from fastapi import FastAPI, File, Form, Query, Request, UploadFile
 from fastapi import Path as PathParam
 
+from drivetrain.catalog.importer import MAX_IMPORT_BYTES
 from drivetrain.errors import InputError, InputErrors
-from drivetrain.web.common import ApiError, Context, need_catalog, safe_filename
+from drivetrain.web.common import MAX_ERROR_ITEMS, ApiError, Context, bounded, need_catalog, safe_filename
 from drivetrain.web.models import CatalogPage, EnvelopeOut, FacetsOut, ImportOut
 from drivetrain.web.payload import engine, motor_envelope, plain
 
-MAX_UPLOAD_BYTES = 5_000_000
-"""Largest catalog import [bytes]."""
+MAX_UPLOAD_BYTES = MAX_IMPORT_BYTES
+"""Largest catalog import [bytes]: the import's own limit (``catalog.importer.MAX_IMPORT_BYTES``, 20 MB),
+the one docs/limits.md states; the request body may be larger by its multipart wrapping
+(``app.UPLOAD_BODY_BYTES``)."""
 _CATALOG_ID = Annotated[str, PathParam(min_length=1, max_length=200, description="catalog id")]
 """A catalog id in a path: it may hold a slash (FANUC's "beta 0.2/5000is"), so the routes take the
 rest of the path (``{...:path}``) and the page sends it percent-encoded."""
@@ -109,14 +112,27 @@ def utc_now() -> str:
 
 def rename_import_error(exc: InputError, tmp: str, shown: str) -> InputError:
     errors = exc.errors if isinstance(exc, InputErrors) else [exc]
+    if len(errors) > MAX_ERROR_ITEMS + 1:  # only the first ones are answered: rename no more
+        exc = bounded(exc)
+        errors = exc.errors if isinstance(exc, InputErrors) else [exc]
     renamed = [InputError(e.field.replace(tmp, shown), e.rule.replace(tmp, shown), e.value, has_value=e.has_value)
                for e in errors]
     return renamed[0] if len(renamed) == 1 else InputErrors(renamed)
 
 
+def import_job(path: str, kind: str | None, directory: Path, replace: bool, source: str) -> dict[str, Any]:
+    """Import the file at ``path`` into the user catalog; run in a worker process (killed, and its
+    transaction rolled back by SQLite, when the request runs past its time limit)."""
+    from drivetrain import catalog
+
+    rep = catalog.import_file(Path(path), kind, directory=directory, replace=replace, source=source)
+    return {"table": rep.table, "rows": rep.rows, "curve_points": rep.curve_points, "ids": list(rep.ids),
+            "message": str(rep)}
+
+
 def register(app: FastAPI, ctx: Context) -> None:
     """Add the catalog routes to ``app``."""
-    blocking, temp_path, directory = ctx.blocking, ctx.temp_path, ctx.directory
+    blocking, isolated, temp_path, directory = ctx.blocking, ctx.isolated, ctx.temp_path, ctx.directory
 
     @app.get("/api/catalog/facets", response_model=FacetsOut, tags=["catalog"])
     async def catalog_facets() -> dict[str, Any]:
@@ -191,8 +207,6 @@ def register(app: FastAPI, ctx: Context) -> None:
 
         Rows that name no source record the uploaded file's name and the time of the upload (UTC)."""
         need_catalog()
-        from drivetrain import catalog
-
         shown = safe_filename(Path(file.filename or "upload.csv").stem, "")
         suffix = Path(file.filename or "").suffix.lower()
         if suffix not in (".csv", ".json"):
@@ -203,17 +217,16 @@ def register(app: FastAPI, ctx: Context) -> None:
         path = temp_path(suffix)
         try:
             path.write_bytes(data)
+            del data
             try:
                 uploaded = f"uploaded file {shown + suffix} at {utc_now()}"
-                rep = await blocking(lambda: catalog.import_file(path, kind, directory=directory, replace=replace,
-                                                                 source=uploaded))
+                rep = await isolated(import_job, str(path), kind, directory, replace, uploaded)
             except InputError as exc:
                 raise rename_import_error(exc, str(path), shown + suffix) from None
         finally:
             path.unlink(missing_ok=True)
-        message = str(rep).replace(str(path), shown + suffix)
-        return {"table": rep.table, "rows": rep.rows, "curve_points": rep.curve_points, "ids": list(rep.ids),
-                "message": message}
+        rep["message"] = str(rep["message"]).replace(str(path), shown + suffix)
+        return rep
 
     @app.delete("/api/catalog/items/{item_id:path}", tags=["catalog"])
     async def catalog_remove(item_id: _CATALOG_ID) -> dict[str, Any]:

@@ -28,12 +28,13 @@ from drivetrain.web.common import (
     check_unicode,
     dump_yaml,
     parse_axis_text,
-    parse_machine_text,
+    parse_text,
     safe_filename,
 )
 from drivetrain.web.models import YamlIn
 from drivetrain.web.payload import electrical_payload, encode, engine
 from drivetrain.web.store import NotFound, Store
+from drivetrain.web.workers import encoded
 
 if TYPE_CHECKING:
     from drivetrain.machine.result import MachineResult
@@ -177,22 +178,53 @@ def inline_example(path: Path) -> dict[str, Any]:
     return {**data, "axes": axes}
 
 
-def register(app: FastAPI, ctx: Context) -> None:
-    """Add the machine routes to ``app``."""
-    blocking, light, store, temp_path = ctx.blocking, ctx.light, ctx.store, ctx.temp_path
+def sized_machine(resolved: dict[str, Any], samples: int, seed: int) -> MachineResult:
+    """The machine (its axes inline) sized; run in a worker process, like every job below."""
+    from drivetrain.machine.model import parse_machine
+    from drivetrain.machine.result import size_machine
 
-    async def sized(request: Request, samples: int, seed: int) -> tuple[MachineResult, dict[int, dict[str, Any]]]:
+    def run() -> MachineResult:
+        machine = parse_machine(resolved, allow_include=False, max_axes=MAX_WEB_AXES)
+        return size_machine(machine, phasing_samples=samples, seed=seed)
+
+    return engine(run)
+
+
+def machine_size_payload(resolved: dict[str, Any], links: dict[int, dict[str, Any]], samples: int,
+                         seed: int) -> dict[str, Any]:
+    """What ``/api/machine/size`` answers (``machine_payload`` of the sized machine)."""
+    return machine_payload(sized_machine(resolved, samples, seed), links)
+
+
+def machine_report_job(resolved: dict[str, Any], samples: int, seed: int, path: str) -> str:
+    """Write the machine report (HTML or PDF by the suffix of ``path``); returns the machine's name."""
+    from drivetrain.report.machine import write_machine_report
+
+    result = sized_machine(resolved, samples, seed)
+    write_machine_report(result, Path(path))
+    return result.machine.name
+
+
+def machine_aas_job(resolved: dict[str, Any], samples: int, seed: int) -> tuple[str, str]:
+    """The machine's name and its AAS environment as JSON text."""
+    from drivetrain.machine.aas import machine_aas
+
+    result = sized_machine(resolved, samples, seed)
+    return result.machine.name, json.dumps(machine_aas(json.loads(encode(result.to_dict()))), indent=2)
+
+
+def register(app: FastAPI, ctx: Context) -> None:
+    """Add the machine routes to ``app``.
+
+    Sizing a machine, its report and its AAS run in the app's worker processes (``ctx.isolated``):
+    past the request's time limit the worker is killed and the request's place is free again.
+    """
+    isolated, light, store, temp_path = ctx.isolated, ctx.light, ctx.store, ctx.temp_path
+
+    async def resolved_of(request: Request) -> tuple[dict[str, Any], dict[int, dict[str, Any]]]:
         data = await machine_from(request)
         resolved, links = await light(resolve_projects, data, store)
-
-        def run() -> MachineResult:
-            from drivetrain.machine.model import parse_machine
-            from drivetrain.machine.result import size_machine
-
-            machine = parse_machine(resolved, allow_include=False, max_axes=MAX_WEB_AXES)
-            return size_machine(machine, phasing_samples=samples, seed=seed)
-
-        return await blocking(lambda: engine(run)), links
+        return resolved, links
 
     @app.post("/api/machine/size", tags=["machine"], response_class=Response,
               responses={200: {"content": {"application/json": {"schema": {"type": "object"}}}}},
@@ -203,8 +235,8 @@ def register(app: FastAPI, ctx: Context) -> None:
         Besides the JSON result (``drivetrain machine size --json``): ``series`` (the machine cycle's
         grid and each axis's and bus's power [W]), ``table`` (one row per motor: motor, drive, gearbox,
         smallest margin, pass) and ``links`` (axis name: the saved axis project it came from)."""
-        result, links = await sized(request, samples, seed)
-        body = await blocking(lambda: encode(machine_payload(result, links)))
+        resolved, links = await resolved_of(request)
+        body = await isolated(encoded, ctx.machine_payload, resolved, links, samples, seed)
         return Response(body, media_type="application/json")
 
     @app.post("/api/report/machine", tags=["machine"], response_class=Response,
@@ -214,21 +246,15 @@ def register(app: FastAPI, ctx: Context) -> None:
     async def machine_report(request: Request, format: Literal["html", "pdf"] = "html", samples: _SAMPLES = 200,
                              seed: _SEED = 0) -> Response:
         """The machine report (HTML or PDF: the bus over the cycle, the buses, the BOM, each axis's page)."""
-        result, _ = await sized(request, samples, seed)
+        resolved, _ = await resolved_of(request)
         path = temp_path(f".{format}")
-
-        def write() -> None:
-            from drivetrain.report.machine import write_machine_report
-
-            write_machine_report(result, path)
-
         try:
-            await blocking(write)
+            name = await isolated(machine_report_job, resolved, samples, seed, str(path))
         except BaseException:
             path.unlink(missing_ok=True)
             raise
         media = "text/html; charset=utf-8" if format == "html" else "application/pdf"
-        return FileResponse(path, media_type=media, filename=safe_filename(result.machine.name, f"-report.{format}"),
+        return FileResponse(path, media_type=media, filename=safe_filename(name, f"-report.{format}"),
                             background=BackgroundTask(path.unlink, missing_ok=True))
 
     @app.post("/api/machine/aas", tags=["machine"], response_class=Response,
@@ -236,18 +262,14 @@ def register(app: FastAPI, ctx: Context) -> None:
               openapi_extra=_BODY)
     async def machine_aas_route(request: Request, samples: _SAMPLES = 200, seed: _SEED = 0) -> Response:
         """The sizing as an IDTA 02021 "Sizing of Power Drive Trains" AAS environment (JSON), as a download."""
-        from drivetrain.machine.aas import machine_aas
-
-        result, _ = await sized(request, samples, seed)
-        plain = json.loads(encode(result.to_dict()))
-        body = json.dumps(machine_aas(plain), indent=2)
-        return Response(body, media_type="application/json",
-                        headers=attachment(safe_filename(result.machine.name, ".aas.json")))
+        resolved, _ = await resolved_of(request)
+        name, body = await isolated(machine_aas_job, resolved, samples, seed)
+        return Response(body, media_type="application/json", headers=attachment(safe_filename(name, ".aas.json")))
 
     @app.post("/api/machine/parse", tags=["machine"])
     async def parse_machine_yaml(body: YamlIn) -> dict[str, Any]:
         """Machine YAML text to its JSON form (the keys are checked when it is sized)."""
-        return {"machine": await light(parse_machine_text, body.yaml)}
+        return {"machine": await isolated(parse_text, "machine", body.yaml)}
 
     @app.post("/api/machine/yaml", tags=["machine"], response_class=Response,
               openapi_extra={"requestBody": {"required": True, "description": "the machine as JSON",

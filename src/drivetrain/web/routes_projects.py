@@ -15,8 +15,7 @@ from drivetrain.web.common import (
     Context,
     attachment,
     error_body,
-    parse_axis_text,
-    parse_machine_text,
+    parse_text,
     safe_filename,
 )
 from drivetrain.web.models import (
@@ -36,7 +35,11 @@ _VERSION = Annotated[int, PathParam(ge=1, le=2**53, description="version number"
 
 
 def register(app: FastAPI, ctx: Context) -> None:
-    """Add the project routes to ``app``."""
+    """Add the project routes to ``app``.
+
+    A save parses its text with the web's one parser (``common.parse_text``, the command line's
+    bounds) on a thread, not in the worker processes: a save must not wait behind sizings and
+    reports, and the parser's bounds keep it short."""
     store, light = ctx.store, ctx.light
 
     def detail(info: Any, text: str, parsed: dict[str, Any] | None = None) -> dict[str, Any]:
@@ -53,9 +56,6 @@ def register(app: FastAPI, ctx: Context) -> None:
         except InputError as exc:
             out[key], out["yaml_error"] = None, error_body(exc)
         return out
-
-    def parse_text(kind: str, text: str) -> dict[str, Any]:
-        return parse_machine_text(text) if kind == "machine" else parse_axis_text(text)
 
     @app.get("/api/projects", response_model=list[ProjectOut], tags=["projects"])
     async def list_projects(

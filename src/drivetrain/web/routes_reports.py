@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 from fastapi import FastAPI, Request
 from fastapi.responses import FileResponse, Response
@@ -12,9 +12,18 @@ from drivetrain.web.common import ApiError, Context, axis_body, axis_from, repor
 from drivetrain.web.payload import engine
 
 
+def report_job(axis: dict[str, Any], path: str, units: str) -> None:
+    """Size the axis and write its report to ``path`` (HTML or PDF by its suffix); run in a worker process."""
+    from drivetrain.report import write_report
+    from drivetrain.sizing.result import size
+
+    write_report(engine(size, axis), path, units=units)
+
+
 def register(app: FastAPI, ctx: Context) -> None:
-    """Add the report route to ``app``."""
-    blocking, temp_path = ctx.blocking, ctx.temp_path
+    """Add the report route to ``app``: the report is written in one of the app's worker processes
+    (``ctx.isolated``), killed at the request's time limit like a sizing."""
+    isolated, temp_path = ctx.isolated, ctx.temp_path
 
     @app.post("/api/report", tags=["sizing"], response_class=Response,
               responses={200: {"content": {"text/html": {"schema": {"type": "string"}},
@@ -29,14 +38,8 @@ def register(app: FastAPI, ctx: Context) -> None:
         axis = await axis_from(request)
         suffix = f".{format}"
         path = temp_path(suffix)
-
-        def write() -> None:
-            from drivetrain.sizing.result import size
-
-            module.write_report(engine(size, axis), str(path), units=units)
-
         try:
-            await blocking(write)
+            await isolated(report_job, axis, str(path), units)
         except BaseException:
             path.unlink(missing_ok=True)
             raise

@@ -17,7 +17,7 @@ from drivetrain.web.common import (
     axis_from,
     dump_yaml,
     need_catalog,
-    parse_axis_text,
+    parse_text,
     safe_filename,
 )
 from drivetrain.web.models import YAML_FILE, AxisOut, CandidateOut, SizeOut, YamlIn
@@ -27,7 +27,7 @@ from drivetrain.web.workers import encoded
 
 def register(app: FastAPI, ctx: Context) -> None:
     """Add the sizing and axis-file routes to ``app``."""
-    cache, isolated, light, size_payload = ctx.cache, ctx.isolated, ctx.light, ctx.size_payload
+    cache, isolated, size_payload = ctx.cache, ctx.isolated, ctx.size_payload
 
     @app.post("/api/size", response_model=SizeOut, tags=["sizing"],
               openapi_extra={"requestBody": axis_body("the axis to size")})
@@ -64,7 +64,7 @@ def register(app: FastAPI, ctx: Context) -> None:
     @app.post("/api/yaml/parse", response_model=AxisOut, tags=["axis file"])
     async def yaml_parse(body: YamlIn) -> dict[str, Any]:
         """Axis YAML text to its JSON form (safe loader, same limits as the CLI)."""
-        return {"axis": await light(parse_axis_text, body.yaml), "yaml": None}
+        return {"axis": await isolated(parse_text, "axis", body.yaml), "yaml": None}
 
     @app.post("/api/yaml/dump", tags=["axis file"], response_class=Response, responses=YAML_FILE,
               openapi_extra={"requestBody": axis_body("the axis to write as YAML", complete=False)})
@@ -88,4 +88,4 @@ def register(app: FastAPI, ctx: Context) -> None:
             text = data.decode("utf-8-sig")
         except UnicodeDecodeError as exc:
             raise InputError("file", f"is not UTF-8 text (byte {exc.start})", has_value=False) from None
-        return {"axis": await light(parse_axis_text, text, "file"), "yaml": text}
+        return {"axis": await isolated(parse_text, "axis", text, "file"), "yaml": text}

@@ -1,12 +1,14 @@
-"""Sizing in worker processes that a request's time limit can stop.
+"""Heavy work in worker processes that a request's time limit can stop.
 
 A sizing holds the interpreter for its whole run, and a thread cannot be stopped: a request that
 timed out would keep computing, and a few such requests would hold every worker thread (and the
-interpreter lock) while other users wait. So the web app sizes in a few long-lived worker
+interpreter lock) while other users wait. So the web app runs its heavy work (axis and machine
+sizing, reports, AAS downloads, catalog imports, the YAML parse routes) in a few long-lived worker
 processes: a request sends its job to an idle one and waits for the answer; when its time limit
-fires, the worker is killed and a fresh one takes its place on the next request. Bad input
-comes back as the same ``InputError`` (or ``ApiError``) the engine raised; anything else as
-``WorkerError`` with the worker's traceback in its notes.
+fires, the worker is killed and a fresh one takes its place at once. Requests that find every
+worker busy are served first come, first served. Bad input comes back as the same
+``InputError`` (or ``ApiError``) the engine raised, at most the first errors of it (``common.
+bounded``); anything else as ``WorkerError`` with the worker's traceback in its notes.
 
 Workers are spawned, not forked (the server process runs threads), and import the engine when
 they start, so a fresh worker is ready in about the time of one ``import drivetrain``.
@@ -14,6 +16,8 @@ they start, so a fresh worker is ready in about the time of one ``import drivetr
 
 from __future__ import annotations
 
+import asyncio
+import collections
 import contextlib
 import importlib
 import multiprocessing
@@ -32,7 +36,7 @@ import anyio
 import anyio.to_thread
 
 from drivetrain.errors import InputError, InputErrors
-from drivetrain.web.common import ApiError
+from drivetrain.web.common import ApiError, bounded
 
 __all__ = ["WorkerError", "WorkerPool", "encoded"]
 
@@ -48,8 +52,8 @@ WARM_AXIS: dict[str, Any] = {
     "motor": {"select": {"objective": "smallest"}}}
 """Sized once by a worker when it starts: the unit registry, the catalog and the compiled selection
 load then, not during a user's first request."""
-_POLL_S = 0.02
-"""How often a request waiting for a busy pool looks for an idle worker [s]."""
+MAX_WAITING = 64
+"""Requests that may wait for a busy pool (per server process); one more is answered 503 at once."""
 
 
 class WorkerError(RuntimeError):
@@ -81,6 +85,8 @@ def _input_error_state(err: InputError) -> tuple[str, str, Any, bool]:
 
 
 def _error_state(exc: BaseException) -> tuple[Any, ...]:
+    if isinstance(exc, InputError):  # the answer lists only the first errors: send no more than those
+        exc = bounded(exc)
     if isinstance(exc, InputErrors):
         return ("inputs", [_input_error_state(e) for e in exc.errors])
     if isinstance(exc, InputError):
@@ -181,12 +187,25 @@ class _Worker:
 
 
 class WorkerPool:
-    """At most ``size`` worker processes; ``run`` sizes on one and kills it if the request is cancelled."""
+    """At most ``size`` worker processes, handed out first come, first served.
 
-    def __init__(self, size: int, data_dir: Path) -> None:
-        self.size, self.data_dir = size, data_dir
+    ``run`` sizes on one and kills it if the request is cancelled (its time limit). A request that
+    finds no idle worker joins a queue; a worker that comes free (or the fresh replacement of a
+    killed one) goes to the request at the head of the queue, never to one that arrived later, so
+    no request waits behind newer ones. At most ``max_waiting`` requests queue; one more is
+    answered 503 at once (the client retries) rather than after the time limit.
+
+    The queue is resolved on the event loop: ``run``, and so every hand-over, runs there;
+    ``spawn`` makes a worker (a test passes a fake one).
+    """
+
+    def __init__(self, size: int, data_dir: Path, max_waiting: int = MAX_WAITING,
+                 spawn: Callable[[], Any] | None = None) -> None:
+        self.size, self.data_dir, self.max_waiting = size, data_dir, max_waiting
         self.ctx = multiprocessing.get_context("spawn")
-        self.idle: list[_Worker] = []
+        self.spawn: Callable[[], Any] = spawn or (lambda: _Worker(self.ctx, self.data_dir))
+        self.idle: list[Any] = []
+        self.waiting: collections.deque[asyncio.Future[Any]] = collections.deque()
         self.count = 0
         self.lock = threading.Lock()
         self.closed = False
@@ -195,54 +214,105 @@ class WorkerPool:
         """Start every worker now (they warm up while the server starts), rather than on first use."""
         with self.lock:
             while not self.closed and self.count < self.size:
-                self.idle.append(_Worker(self.ctx, self.data_dir))
+                self.idle.append(self.spawn())
                 self.count += 1
 
-    def _take(self) -> _Worker | None:
-        with self.lock:
-            if self.closed:
-                raise ApiError(503, "the server is stopping")
-            for worker in [w for w in self.idle if not w.process.is_alive()]:
-                self.idle.remove(worker)
-                worker.kill()
+    def _take(self) -> Any | None:
+        """An idle worker (a warm one first) or a new one if the pool is not full; None if all are busy."""
+        if self.closed:
+            raise ApiError(503, "the server is stopping")
+        for worker in [w for w in self.idle if not w.process.is_alive()]:
+            self.idle.remove(worker)
+            worker.kill()
+            self.count -= 1
+        if self.idle:
+            worker = next((w for w in reversed(self.idle) if w.poll_ready()), self.idle[-1])
+            self.idle.remove(worker)
+            return worker
+        if self.count < self.size:
+            self.count += 1
+            try:
+                return self.spawn()
+            except BaseException:
                 self.count -= 1
-            if self.idle:  # a warm worker first
-                worker = next((w for w in reversed(self.idle) if w.poll_ready()), self.idle[-1])
-                self.idle.remove(worker)
-                return worker
-            if self.count < self.size:
-                self.count += 1
-                try:
-                    return _Worker(self.ctx, self.data_dir)
-                except BaseException:
-                    self.count -= 1
-                    raise
+                raise
         return None
 
-    def _give_back(self, worker: _Worker) -> None:
+    async def _acquire(self) -> Any:
+        """A worker for this request: at once if one is free and nobody waits, else in arrival order."""
+        with self.lock:
+            worker = None if self.waiting else self._take()
+            if worker is not None:
+                return worker
+            if len(self.waiting) >= self.max_waiting:
+                raise ApiError(503, f"the server is busy ({len(self.waiting)} requests are waiting for a sizing "
+                               "worker); try again in a moment")
+            turn: asyncio.Future[Any] = asyncio.get_running_loop().create_future()
+            self.waiting.append(turn)
+        try:
+            return await turn
+        except BaseException:  # cancelled while waiting (its time limit)
+            with self.lock:
+                if turn in self.waiting:
+                    self.waiting.remove(turn)
+                    raise
+            if turn.done() and not turn.cancelled() and turn.exception() is None:
+                self._release(turn.result())  # handed over just as it was cancelled: pass it on
+            raise
+
+    def _release(self, worker: Any) -> None:
+        """Hand ``worker`` to the longest-waiting request, else put it back among the idle ones."""
         with self.lock:
             if self.closed:
                 worker.kill()
                 self.count -= 1
-            else:
-                self.idle.append(worker)
+                return
+            while self.waiting:
+                turn = self.waiting.popleft()
+                if not turn.done():
+                    turn.set_result(worker)
+                    return
+            self.idle.append(worker)
 
-    def _drop(self, worker: _Worker) -> None:
-        """Kill ``worker`` and start its replacement at once (it warms up before the next request)."""
+    def _drop(self, worker: Any) -> None:
+        """Kill ``worker`` and start its replacement at once (it warms up while the next request waits)."""
         worker.kill()
         with self.lock:
             self.count -= 1
-            if not self.closed:
-                with contextlib.suppress(OSError):
-                    self.idle.append(_Worker(self.ctx, self.data_dir))
-                    self.count += 1
+            if self.closed:
+                return
+            try:
+                fresh = self.spawn()
+            except OSError:
+                fresh = None
+            else:
+                self.count += 1
+        if fresh is not None:
+            self._release(fresh)
+        else:  # no process could be started: the next request tries again
+            self._wake_one()
+
+    def _wake_one(self) -> None:
+        """Let the longest-waiting request try to start a worker of its own (the pool has room)."""
+        with self.lock:
+            while self.waiting and self.count < self.size and not self.closed:
+                turn = self.waiting.popleft()
+                if turn.done():
+                    continue
+                try:
+                    worker = self._take()
+                except BaseException as exc:
+                    turn.set_exception(exc)
+                    return
+                if worker is None:
+                    self.waiting.appendleft(turn)
+                    return
+                turn.set_result(worker)
+                return
 
     async def run(self, fn: Callable[..., T], *args: Any) -> T:
         """``fn(*args)`` in a worker process; ``fn`` and its arguments must pickle (module-level functions)."""
-        worker = self._take()
-        while worker is None:
-            await anyio.sleep(_POLL_S)
-            worker = self._take()
+        worker = await self._acquire()
         try:
             kind, value = await anyio.to_thread.run_sync(worker.call, fn, args, abandon_on_cancel=True)
         except BaseException as exc:  # cancelled (time limit), or the worker died
@@ -251,7 +321,7 @@ class WorkerPool:
                 raise ApiError(503, "the sizing worker stopped before it answered (out of memory?); try again") \
                     from None
             raise
-        self._give_back(worker)
+        self._release(worker)
         if kind == "error":
             raise _error_from(value)
         result: T = value
@@ -268,10 +338,14 @@ class WorkerPool:
         return all(w.poll_ready(max(0.0, deadline - time.monotonic())) for w in workers)
 
     def close(self) -> None:
-        """Stop every worker (idle ones now; busy ones when their request ends)."""
+        """Stop every worker (idle ones now; busy ones when their request ends) and refuse the waiting requests."""
         with self.lock:
             self.closed = True
             idle, self.idle = self.idle, []
             self.count -= len(idle)
+            waiting, self.waiting = list(self.waiting), collections.deque()
         for worker in idle:
             worker.kill()
+        for turn in waiting:
+            if not turn.done():
+                turn.set_exception(ApiError(503, "the server is stopping"))
