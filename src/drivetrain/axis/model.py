@@ -61,6 +61,9 @@ MAX_DEPTH = 100
 """Deepest nesting of mappings and lists: a real axis file is under 8 levels deep."""
 MAX_DIGITS = 400
 """Longest number written in a file [digits]: a float has 17 significant digits."""
+MAX_TOTAL_RATIO = 1e12
+"""Largest product of the ratios from the motor to the load [-, or rad/m]: a harmonic drive, a worm
+and a planetary stage on a 1 mm screw come to about 1e10."""
 
 
 
@@ -267,6 +270,7 @@ def parse_axis(data: Any, *, text_checked: bool = False) -> Axis:
         stages = tuple(t.build(k) for k, t in enumerate(resolve_transmission(spec.transmission)))
     except InputError as exc:
         raise exc.at("") from None
+    check_ratio_chain([*stages, mechanism.stage], len(stages))
     motor = _motor_data(spec.motor) if spec.motor is not None else None
     electrical = None
     if spec.motor is not None and spec.motor.select is None:
@@ -278,6 +282,21 @@ def parse_axis(data: Any, *, text_checked: bool = False) -> Axis:
                 mechanism=mechanism, transmission=stages, spec=spec, motor=motor, raw=data,
                 electrical=electrical, drive=None if spec.drive is None else drive_data(spec.drive),
                 environment=environment(spec.environment))
+
+
+def check_ratio_chain(stages: list[Stage], n_transmission: int) -> None:
+    """The product of the ratios from the motor outward must stay within ``MAX_TOTAL_RATIO`` (and
+    above its inverse): each speed, torque and inertia is carried through it (J / i^2 at each
+    stage), so a chain of large ratios would overflow a float in the sizing. The error names the
+    element at which the product leaves the bound (``transmission[k]`` or ``mechanism``)."""
+    total = 1.0
+    for k, st in enumerate(stages):
+        total *= abs(st.ratio)
+        if not 1.0 / MAX_TOTAL_RATIO <= total <= MAX_TOTAL_RATIO:  # (also catches inf and nan)
+            where = f"transmission[{k}]" if k < n_transmission else "mechanism"
+            raise InputError(where, f"brings the product of the ratios from the motor to {total:.3g}; it must lie "
+                             f"between {1.0 / MAX_TOTAL_RATIO:g} and {MAX_TOTAL_RATIO:g} (in SI: rad/m for a "
+                             "linear mechanism)", st.ratio)
 
 
 def _motor_data(m: MotorSpec) -> MotorData | None:

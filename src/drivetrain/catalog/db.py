@@ -378,24 +378,58 @@ def user_writer(directory: Path | None = None) -> Iterator[sqlite3.Connection]:
         conn.execute("PRAGMA synchronous = FULL")
         try:
             _ensure_user_schema(conn)
+        except sqlite3.OperationalError as exc:
+            raise write_error(exc, path) from None
         except sqlite3.DatabaseError as exc:
             raise InputError("catalog", f"is not a drivetrain catalog database ({exc})", str(path)) from None
-        with immediate_transaction(conn):
-            yield conn
+        try:
+            with immediate_transaction(conn):
+                yield conn
+        except sqlite3.OperationalError as exc:  # read-only file or folder, full disk, I/O error: nothing written
+            raise write_error(exc, path) from None
     finally:
         conn.close()
 
 
+def write_error(exc: Exception, path: Path | str) -> InputError:
+    """The user catalog could not be written (``exc`` from SQLite): where and why, and that the
+    transaction was rolled back, so the catalog is as it was before."""
+    text = str(exc)
+    if "readonly" in text or "read-only" in text:
+        why = "the file or its folder is read-only"
+    elif "full" in text:
+        why = "the disk is full"
+    elif "unable to open" in text:
+        why = "its folder cannot be written (the journal cannot be created)"
+    elif "locked" in text or "busy" in text:
+        why = "another process holds it (try again)"
+    else:
+        why = "the file system refused the write"
+    return InputError("catalog", f"cannot be written: {why} (SQLite: {text[:200]}); nothing was changed, "
+                      "the catalog is as it was", str(path))
+
+
+def _rollback(conn: sqlite3.Connection) -> None:
+    """Roll the open transaction back; SQLite may have rolled it back itself (a full disk, an I/O
+    error), and a failing rollback must not hide the error that caused it."""
+    import sqlite3
+
+    if conn.in_transaction:
+        with contextlib.suppress(sqlite3.Error):
+            conn.execute("ROLLBACK")
+
+
 @contextlib.contextmanager
 def immediate_transaction(conn: sqlite3.Connection) -> Iterator[sqlite3.Connection]:
-    """One write transaction on an autocommit connection: all of it is committed, or none of it."""
+    """One write transaction on an autocommit connection: all of it is committed, or none of it
+    (a COMMIT that fails, e.g. on a full disk, is rolled back too)."""
     conn.execute("BEGIN IMMEDIATE")
     try:
         yield conn
+        conn.execute("COMMIT")
     except BaseException:
-        conn.execute("ROLLBACK")
+        _rollback(conn)
         raise
-    conn.execute("COMMIT")
 
 
 def _ensure_user_schema(conn: sqlite3.Connection) -> None:
@@ -411,7 +445,7 @@ def _ensure_user_schema(conn: sqlite3.Connection) -> None:
             )
         conn.execute("COMMIT")
     except BaseException:
-        conn.execute("ROLLBACK")
+        _rollback(conn)
         raise
     _check_user_version(conn, "main")
 
@@ -445,7 +479,7 @@ def _upgrade_user(conn: sqlite3.Connection, schema: str) -> None:
         )
         conn.execute("COMMIT")
     except BaseException:
-        conn.execute("ROLLBACK")
+        _rollback(conn)
         raise
 
 
