@@ -234,10 +234,12 @@ def _axis(raw: Any, k: int, root: Path, allow_include: bool = True) -> MachineAx
         if "\x00" in inc:
             raise InputError(f"{where}.include", "contains a NUL byte, which no file name can hold", inc)
         target = Path(inc) if Path(inc).is_absolute() else root / inc
-        axis_data = read_yaml(target, f"{where}.include")  # a regular file within the axis-file bounds
         try:
+            axis_data = read_yaml(target, f"{where}.include")  # a regular file within the axis-file bounds
             axis = parse_axis(axis_data)
         except InputError as exc:
+            if exc.field == f"{where}.include":  # the file itself (no file, a device, too large, bad YAML)
+                raise
             raise exc.at(f"{where}.include({inc})") from None
         source = inc
     else:

@@ -6,8 +6,9 @@ one batch at a time from ``Study.iter_variants`` (a grid is never listed), at mo
 a Parquet file (one row group per ``FLUSH_ROWS`` rows) and a CSV file as they arrive, so the
 memory of the run does not grow with the number of variants. The table is complete when the run
 ends (``out`` .parquet, .csv and .meta.json); an interrupted run leaves the rows finished so far in
-the partial files, readable as they are. The returned DataFrame holds no rows: its ``attrs``
-say where the table is and how many variants pass.
+the partial files, readable as they are. The rows are in the order their tasks finish (in
+variant order when run in this process; sort by ``variant`` to have it otherwise). The returned
+DataFrame holds no rows: its ``attrs`` say where the table is and how many variants pass.
 """
 
 from __future__ import annotations
