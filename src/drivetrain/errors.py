@@ -102,3 +102,22 @@ def _printable(text: str) -> str:
     if text.isprintable():
         return text
     return "".join(c if c.isprintable() else ascii(c)[1:-1] for c in text)
+
+
+def write_failure(field: str, exc: Exception, path: Any, what: str = "the file") -> InputError:
+    """A store that could not be written (``exc`` from SQLite or the file system) as an input error
+    at ``field``: where (``path``) and why, and that the write was rolled back, so ``what`` is as it
+    was before."""
+    text = str(exc)
+    if "readonly" in text or "read-only" in text:
+        why = "the file or its folder is read-only"
+    elif "full" in text or "No space" in text:
+        why = "the disk is full"
+    elif "unable to open" in text:
+        why = "its folder cannot be written (the journal cannot be created)"
+    elif "locked" in text or "busy" in text:
+        why = "another process holds it (try again)"
+    else:
+        why = "the file system refused the write"
+    return InputError(field, f"cannot be written: {why} ({text[:200]}); nothing was changed, {what} is as it "
+                      "was", str(path))

@@ -49,7 +49,7 @@ from drivetrain.catalog.schema import (
     ddl,
     sql_type,
 )
-from drivetrain.errors import InputError, InputErrors
+from drivetrain.errors import InputError, InputErrors, write_failure
 
 if TYPE_CHECKING:
     import sqlite3
@@ -379,39 +379,20 @@ def user_writer(directory: Path | None = None) -> Iterator[sqlite3.Connection]:
         try:
             _ensure_user_schema(conn)
         except sqlite3.OperationalError as exc:
-            raise write_error(exc, path) from None
+            raise write_failure("catalog", exc, path, "the catalog") from None
         except sqlite3.DatabaseError as exc:
             raise InputError("catalog", f"is not a drivetrain catalog database ({exc})", str(path)) from None
         try:
             with immediate_transaction(conn):
                 yield conn
         except sqlite3.OperationalError as exc:  # read-only file or folder, full disk, I/O error: nothing written
-            raise write_error(exc, path) from None
+            raise write_failure("catalog", exc, path, "the catalog") from None
     finally:
         conn.close()
 
 
-def write_error(exc: Exception, path: Path | str) -> InputError:
-    """The user catalog could not be written (``exc`` from SQLite): where and why, and that the
-    transaction was rolled back, so the catalog is as it was before."""
-    text = str(exc)
-    if "readonly" in text or "read-only" in text:
-        why = "the file or its folder is read-only"
-    elif "full" in text:
-        why = "the disk is full"
-    elif "unable to open" in text:
-        why = "its folder cannot be written (the journal cannot be created)"
-    elif "locked" in text or "busy" in text:
-        why = "another process holds it (try again)"
-    else:
-        why = "the file system refused the write"
-    return InputError("catalog", f"cannot be written: {why} (SQLite: {text[:200]}); nothing was changed, "
-                      "the catalog is as it was", str(path))
-
-
 def _rollback(conn: sqlite3.Connection) -> None:
-    """Roll the open transaction back; SQLite may have rolled it back itself (a full disk, an I/O
-    error), and a failing rollback must not hide the error that caused it."""
+    """Roll back unless SQLite did (a full disk); a failing rollback must not hide the first error."""
     import sqlite3
 
     if conn.in_transaction:
@@ -421,8 +402,7 @@ def _rollback(conn: sqlite3.Connection) -> None:
 
 @contextlib.contextmanager
 def immediate_transaction(conn: sqlite3.Connection) -> Iterator[sqlite3.Connection]:
-    """One write transaction on an autocommit connection: all of it is committed, or none of it
-    (a COMMIT that fails, e.g. on a full disk, is rolled back too)."""
+    """One write transaction on an autocommit connection: all of it is committed (or rolled back), or none."""
     conn.execute("BEGIN IMMEDIATE")
     try:
         yield conn
@@ -433,8 +413,7 @@ def immediate_transaction(conn: sqlite3.Connection) -> Iterator[sqlite3.Connecti
 
 
 def _ensure_user_schema(conn: sqlite3.Connection) -> None:
-    conn.execute("BEGIN IMMEDIATE")
-    try:
+    with immediate_transaction(conn):
         has_meta = conn.execute("SELECT 1 FROM sqlite_master WHERE type = 'table' AND name = 'meta'").fetchone()
         if not has_meta:
             for statement in ddl():
@@ -443,10 +422,6 @@ def _ensure_user_schema(conn: sqlite3.Connection) -> None:
                 "INSERT INTO meta VALUES (?, ?)",
                 [("schema_version", str(SCHEMA_VERSION)), ("origin", "user")],
             )
-        conn.execute("COMMIT")
-    except BaseException:
-        _rollback(conn)
-        raise
     _check_user_version(conn, "main")
 
 
@@ -462,8 +437,7 @@ def _upgrade_user(conn: sqlite3.Connection, schema: str) -> None:
     row = conn.execute(f"SELECT value FROM {schema}.meta WHERE key = 'schema_version'").fetchone()
     if row is None or row[0] not in _UPGRADABLE:
         return
-    conn.execute("BEGIN IMMEDIATE")
-    try:
+    with immediate_transaction(conn):
         for spec in ROW_TABLES:
             have = {r[1] for r in conn.execute(f"PRAGMA {schema}.table_info({spec.sql})")}
             for f in spec.fields:
@@ -477,10 +451,6 @@ def _upgrade_user(conn: sqlite3.Connection, schema: str) -> None:
         conn.execute(
             f"UPDATE {schema}.meta SET value = ? WHERE key = 'schema_version'", (str(SCHEMA_VERSION),)
         )
-        conn.execute("COMMIT")
-    except BaseException:
-        _rollback(conn)
-        raise
 
 
 def _check_user_version(conn: sqlite3.Connection, schema: str) -> None:
