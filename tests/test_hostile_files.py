@@ -439,3 +439,23 @@ def test_load_axis_reads_through_the_bounded_reader(tmp_path: Path) -> None:
     path = tmp_path / "a.yaml"
     path.write_text(AXIS.read_text(encoding="utf-8"), encoding="utf-8")
     assert load_axis(path).name == "Yaskawa Sigma-S 30 W example"
+
+
+@pytest.mark.parametrize("python", [False, True], ids=["libyaml events", "PyYAML parser"])
+def test_both_parsers_keep_the_bounds(python: bool, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The bounds hold whichever parser gives the events (PyYAML's own where libyaml is absent)."""
+    from drivetrain.axis import model
+
+    def parse(text: str) -> Any:
+        return model._parse(text, "<text>", model._loader_class(python=python))
+
+    for text in ("{a: " * 5000 + "1" + "}" * 5000, "[" * 5000 + "]" * 5000):
+        with pytest.raises(InputError, match="nested too deeply"):
+            parse(text)
+    with pytest.raises(InputError, match="given twice"):
+        parse("a: {b: 1, b: 2}")
+    monkeypatch.setattr(model, "MAX_NODES", 500)
+    with pytest.raises(InputError, match="holds more than 500 values"):
+        parse("[" + ",".join(["1"] * 600) + "]")
+    text = AXIS.read_text(encoding="utf-8")
+    assert parse(text) == yaml.safe_load(text)
