@@ -383,7 +383,7 @@ def parse_yaml(text: str, source: str = "<text>") -> Any:
     ``MAX_DEPTH`` levels of nesting in block or flow style, ``MAX_NODES`` values, ``MAX_ALIASES``
     aliases and ``MAX_NODES`` values once the aliases are expanded, numbers of ``MAX_DIGITS``
     digits; a key given twice in one mapping is refused naming the key and both lines. The parse
-    time is thus bounded (about 1-3 s for the largest file within the bounds, bench/RESULTS.md).
+    time is thus bounded (under a second for the largest file within the bounds, bench/RESULTS.md).
     """
 
     if len(text) > MAX_FILE_BYTES or len(text.encode("utf-8", "replace")) > MAX_FILE_BYTES:
