@@ -22,7 +22,7 @@ class InputError(ValueError):
 
     @property
     def message(self) -> str:
-        where = f"{_printable(self.field)}: " if self.field else ""
+        where = f"{_short(_printable(self.field), MAX_FIELD_CHARS)}: " if self.field else ""
         if self.has_value:
             return f"{where}{self.rule}, got {format_value(self.value)}"
         return f"{where}{self.rule}"
@@ -45,10 +45,36 @@ class InputErrors(InputError):
 
     @property
     def message(self) -> str:
-        return "\n".join(e.message for e in self.errors)
+        """The first ``MAX_LISTED_ERRORS`` errors, one a line, and how many more there are."""
+        shown = [e.message for e in self.errors[:MAX_LISTED_ERRORS]]
+        more = len(self.errors) - len(shown)
+        if more > 0:
+            shown.append(f"... and {more} more error{'s' if more > 1 else ''}")
+        return "\n".join(shown)
 
     def __str__(self) -> str:
         return self.message
+
+
+MAX_FIELD_CHARS = 200
+"""Longest field path printed (a path may hold a key or a column header of the user's)."""
+MAX_LISTED_ERRORS = 20
+"""Errors of an ``InputErrors`` printed one a line; the rest are counted."""
+MAX_LISTED_ITEMS = 5
+"""User-given items a message names (``listing``); the rest are counted."""
+
+
+def listing(items: Any, first: int = MAX_LISTED_ITEMS) -> str:
+    """``a, b, c, d, e and 12 more``: the first few of ``items`` (each shortened as ``format_value``
+    does) and a count of the rest, so a message stays short however many items the user gave."""
+    items = list(items)
+    shown = ", ".join(format_value(x) for x in items[:first])
+    more = len(items) - first
+    return f"{shown} and {more} more" if more > 0 else shown
+
+
+def _short(text: str, limit: int) -> str:
+    return text if len(text) <= limit else f"{text[:limit - 3]}..."
 
 
 def format_value(value: Any) -> str:
@@ -76,3 +102,22 @@ def _printable(text: str) -> str:
     if text.isprintable():
         return text
     return "".join(c if c.isprintable() else ascii(c)[1:-1] for c in text)
+
+
+def write_failure(field: str, exc: Exception, path: Any, what: str = "the file") -> InputError:
+    """A store that could not be written (``exc`` from SQLite or the file system) as an input error
+    at ``field``: where (``path``) and why, and that the write was rolled back, so ``what`` is as it
+    was before."""
+    text = str(exc)
+    if "readonly" in text or "read-only" in text:
+        why = "the file or its folder is read-only"
+    elif "full" in text or "No space" in text:
+        why = "the disk is full"
+    elif "unable to open" in text:
+        why = "its folder cannot be written (the journal cannot be created)"
+    elif "locked" in text or "busy" in text:
+        why = "another process holds it (try again)"
+    else:
+        why = "the file system refused the write"
+    return InputError(field, f"cannot be written: {why} ({text[:200]}); nothing was changed, {what} is as it "
+                      "was", str(path))

@@ -50,7 +50,7 @@ from drivetrain.catalog.schema import (
     sql_type,
 )
 from drivetrain.catalog.side_tables import merge_brake, merge_electrical, motor_brakes, motor_documents, shipped_text
-from drivetrain.errors import InputError, InputErrors
+from drivetrain.errors import InputError, InputErrors, write_failure
 from drivetrain.files import atomic_target
 
 if TYPE_CHECKING:
@@ -295,29 +295,42 @@ def user_writer(directory: Path | None = None) -> Iterator[sqlite3.Connection]:
         conn.execute("PRAGMA synchronous = FULL")
         try:
             _ensure_user_schema(conn)
+        except sqlite3.OperationalError as exc:
+            raise write_failure("catalog", exc, path, "the catalog") from None
         except sqlite3.DatabaseError as exc:
             raise InputError("catalog", f"is not a drivetrain catalog database ({exc})", str(path)) from None
-        with immediate_transaction(conn):
-            yield conn
+        try:
+            with immediate_transaction(conn):
+                yield conn
+        except sqlite3.OperationalError as exc:  # read-only file or folder, full disk, I/O error: nothing written
+            raise write_failure("catalog", exc, path, "the catalog") from None
     finally:
         conn.close()
 
 
+def _rollback(conn: sqlite3.Connection) -> None:
+    """Roll back unless SQLite did (a full disk); a failing rollback must not hide the first error."""
+    import sqlite3
+
+    if conn.in_transaction:
+        with contextlib.suppress(sqlite3.Error):
+            conn.execute("ROLLBACK")
+
+
 @contextlib.contextmanager
 def immediate_transaction(conn: sqlite3.Connection) -> Iterator[sqlite3.Connection]:
-    """One write transaction on an autocommit connection: all of it is committed, or none of it."""
+    """One write transaction on an autocommit connection: all of it is committed (or rolled back), or none."""
     conn.execute("BEGIN IMMEDIATE")
     try:
         yield conn
+        conn.execute("COMMIT")
     except BaseException:
-        conn.execute("ROLLBACK")
+        _rollback(conn)
         raise
-    conn.execute("COMMIT")
 
 
 def _ensure_user_schema(conn: sqlite3.Connection) -> None:
-    conn.execute("BEGIN IMMEDIATE")
-    try:
+    with immediate_transaction(conn):
         has_meta = conn.execute("SELECT 1 FROM sqlite_master WHERE type = 'table' AND name = 'meta'").fetchone()
         if not has_meta:
             for statement in ddl():
@@ -326,10 +339,6 @@ def _ensure_user_schema(conn: sqlite3.Connection) -> None:
                 "INSERT INTO meta VALUES (?, ?)",
                 [("schema_version", str(SCHEMA_VERSION)), ("origin", "user")],
             )
-        conn.execute("COMMIT")
-    except BaseException:
-        conn.execute("ROLLBACK")
-        raise
     _check_user_version(conn, "main")
 
 
@@ -346,8 +355,7 @@ def _upgrade_user(conn: sqlite3.Connection, schema: str) -> None:
     row = conn.execute(f"SELECT value FROM {schema}.meta WHERE key = 'schema_version'").fetchone()
     if row is None or row[0] not in _UPGRADABLE:
         return
-    conn.execute("BEGIN IMMEDIATE")
-    try:
+    with immediate_transaction(conn):
         for spec in ROW_TABLES:
             have = {r[1] for r in conn.execute(f"PRAGMA {schema}.table_info({spec.sql})")}
             for f in spec.fields:
@@ -361,10 +369,6 @@ def _upgrade_user(conn: sqlite3.Connection, schema: str) -> None:
         conn.execute(
             f"UPDATE {schema}.meta SET value = ? WHERE key = 'schema_version'", (str(SCHEMA_VERSION),)
         )
-        conn.execute("COMMIT")
-    except BaseException:
-        conn.execute("ROLLBACK")
-        raise
 
 
 def _check_user_version(conn: sqlite3.Connection, schema: str) -> None:

@@ -28,7 +28,7 @@ from drivetrain.catalog.derive import complete_row
 from drivetrain.catalog.reading import escape_cell, read_text
 from drivetrain.catalog.records import Parsed, Row, parse_rows
 from drivetrain.catalog.schema import CURVE, DATA_VERSION, MOTOR, TABLES, TableSpec
-from drivetrain.errors import InputError, InputErrors
+from drivetrain.errors import InputError, InputErrors, listing
 from drivetrain.files import write_atomic
 
 FORMATS = ("csv", "json")
@@ -38,6 +38,9 @@ MAX_USER_ROWS = 10_000
 """Rows and curve points the user catalog holds at most: selection stays well under a second."""
 MAX_IMPORT_BYTES = 20_000_000
 """Largest import file [bytes]."""
+MAX_IMPORT_COLUMNS = 200
+"""Columns (CSV headers, JSON keys) an import file may have: about four times the widest table, so
+two columns for one field and unit variants fit; every unknown one is looked up for a suggestion."""
 
 
 @dataclass(frozen=True)
@@ -85,6 +88,10 @@ def import_file(
     filename = os.fspath(path)
     text = _read(filename)
     raw = read_text(text, filename)
+    if len(raw.headers) > MAX_IMPORT_COLUMNS:
+        widest = max(len(t.fields) for t in TABLES.values())
+        raise InputError(filename, f"has {len(raw.headers):,} columns ({listing(raw.headers)}); an import file has "
+                         f"at most {MAX_IMPORT_COLUMNS} (a table has at most {widest} fields)", has_value=False)
     given = len(raw.rows) + sum(len(r.curve) for r in raw.rows)
     if given > MAX_IMPORT_ROWS:
         raise InputError(filename, f"has {given} rows and curve points; an import takes at most {MAX_IMPORT_ROWS} "
@@ -159,20 +166,10 @@ def _default_source(rows: Sequence[Row], source: str) -> None:
 
 
 def _read(filename: str) -> str:
-    try:
-        size = Path(filename).stat().st_size
-        if size > MAX_IMPORT_BYTES:
-            raise InputError(filename, f"is too large ({size} bytes; an import file is at most {MAX_IMPORT_BYTES})",
-                             has_value=False)
-        data = Path(filename).read_bytes()
-    except FileNotFoundError:
-        raise InputError("file", "no such file", filename) from None
-    except OSError as exc:
-        raise InputError("file", f"cannot be read ({exc.strerror})", filename) from None
-    try:
-        return data.decode("utf-8-sig")  # Excel writes a byte-order mark
-    except UnicodeDecodeError as exc:
-        raise InputError(filename, f"is not UTF-8 text (byte {exc.start})", has_value=False) from None
+    """The import file's text: a regular file of at most MAX_IMPORT_BYTES (``drivetrain.userfile``)."""
+    from drivetrain.userfile import read_text as read_user_text
+
+    return read_user_text(filename, "file", MAX_IMPORT_BYTES, "import file", encoding="utf-8-sig")  # Excel's BOM
 
 
 def _table(kind: str | None, declared: str | None, headers: list[str], filename: str) -> TableSpec:

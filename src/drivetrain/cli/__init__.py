@@ -176,6 +176,17 @@ def _import_for_sizing() -> None:
         gc.enable()
 
 
+def _input_of(args: argparse.Namespace) -> str:
+    """The input file a command was given (for a message that cannot name a field)."""
+    for name in ("axis", "machine", "study", "file"):
+        value = getattr(args, name, None)
+        if isinstance(value, str):
+            from drivetrain.errors import format_value
+
+            return format_value(value)
+    return "input"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point: returns the exit status (0 passes, 1 sized but nothing passes, 2 bad input)."""
     words = sys.argv[1:] if argv is None else list(argv)
@@ -204,6 +215,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         return handler(args)
     except InputError as exc:
         print(f"error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except (OverflowError, FloatingPointError) as exc:
+        # the fields bound every value and the ratio chain (docs/limits.md); a product of bounded values
+        # that still leaves the float range is bad input too: one line naming the file, no traceback
+        print(f"error: {_input_of(args)}: its values overflow a number in the computation ({exc}); "
+              "make the largest values of the file smaller", file=sys.stderr)
         return EXIT_INPUT
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)

@@ -16,7 +16,7 @@ from typing import Any
 
 from drivetrain.axis.electrical import check_bus_limits, nominal_bus_voltage
 from drivetrain.axis.model import Axis, parse_axis, read_yaml
-from drivetrain.errors import InputError
+from drivetrain.errors import InputError, format_value, listing
 from drivetrain.physics.motor_electrical import dc_bus_voltage
 from drivetrain.units import parse
 
@@ -185,7 +185,7 @@ def parse_machine(data: Any, base: str | Path | None = None, path: str | None = 
             raise InputError(f"axes[{k}].name", "must be unique in the machine", n)
     for k, a in enumerate(axes):
         if a.after is not None and a.after not in names:
-            raise InputError(f"axes[{k}].after", f"names no axis of this machine (axes: {', '.join(names)})", a.after)
+            raise InputError(f"axes[{k}].after", f"names no axis of this machine (axes: {listing(names)})", a.after)
         if a.after == a.name:
             raise InputError(f"axes[{k}].after", "an axis cannot start after itself", a.after)
         period = a.axis.cycle().period
@@ -250,13 +250,15 @@ def _axis(raw: Any, k: int, root: Path, allow_include: bool = True) -> MachineAx
         inc = d["include"]
         if not isinstance(inc, str) or not inc:
             raise InputError(f"{where}.include", "must be the path of an axis file", inc)
+        if "\x00" in inc:
+            raise InputError(f"{where}.include", "contains a NUL byte, which no file name can hold", inc)
         target = Path(inc) if Path(inc).is_absolute() else root / inc
-        if not target.is_file():
-            raise InputError(f"{where}.include", "names no readable axis file", str(target))
         try:
-            axis_data = read_yaml(target)
+            axis_data = read_yaml(target, f"{where}.include")  # a regular file within the axis-file bounds
             axis = parse_axis(axis_data)
         except InputError as exc:
+            if exc.field == f"{where}.include":  # the file itself (no file, a device, too large, bad YAML)
+                raise
             raise exc.at(f"{where}.include({inc})") from None
         source = inc
     else:
@@ -373,10 +375,13 @@ def _buses(raw: Any, names: list[str]) -> tuple[BusGroup, ...]:
         if not isinstance(members, list) or not members:
             raise InputError(f"{where}.axes", "must list the axes sharing this bus", members)
         for i, m in enumerate(members):
-            if m not in names:
-                raise InputError(f"{where}.axes[{i}]", f"names no axis of this machine (axes: {', '.join(names)})", m)
+            if not isinstance(m, str) or m not in names:
+                raise InputError(f"{where}.axes[{i}]", f"names no axis of this machine (axes: {listing(names)})", m)
+            if m in members[:i]:
+                raise InputError(f"{where}.axes[{i}]", f"lists this axis a second time (first at {where}.axes"
+                                 f"[{members.index(m)}]): an axis is on a bus once", m)
             if m in placed:
-                raise InputError(f"{where}.axes[{i}]", f"is already on bus {placed[m]!r}", m)
+                raise InputError(f"{where}.axes[{i}]", f"is already on bus {format_value(placed[m])!r}", m)
         gname = str(d.get("name", f"bus {g + 1}"))
         for m in members:
             placed[m] = gname

@@ -50,6 +50,14 @@ def sweep(study: str | Path | Study, *, out: str | Path | None = None, scheduler
     """
     s = study if isinstance(study, Study) else load_study(study, yes=yes)
     target = None if out is None else Path(out)
+    if report is not None and s.spec.optimize is None:
+        from drivetrain.study.stream import STREAM_ABOVE
+
+        if s.n_variants() > STREAM_ABOVE:  # its rows are on disk only (drivetrain.study.stream)
+            from drivetrain.errors import InputError
+
+            raise InputError("report", f"a study of more than {STREAM_ABOVE:,} variants has no report: read its "
+                             "table, or narrow the study", str(report))
     if s.spec.optimize is not None:
         from drivetrain.study.optimize import optimize
 

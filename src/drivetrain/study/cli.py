@@ -40,6 +40,13 @@ def run(args: argparse.Namespace) -> int:
 
     study = load_study(args.study, yes=args.yes)  # every check before any work
     out = Path(args.out) if args.out else Path(f"{Path(args.study).stem}_results.parquet")
+    from drivetrain.study.stream import STREAM_ABOVE
+
+    if args.report and study.spec.optimize is None and study.n_variants() > STREAM_ABOVE:
+        from drivetrain.errors import InputError
+
+        raise InputError("--report", f"a study of more than {STREAM_ABOVE:,} variants has no report (its table is "
+                         "written to disk as it runs): read the table, or narrow the study", args.report)
     console = Console(stderr=True)
     try:
         result = sweep(study, out=out, scheduler=args.scheduler, workers=args.workers, batch=args.batch,
@@ -49,8 +56,12 @@ def run(args: argparse.Namespace) -> int:
                       "continue with --resume")
         return 130
     df = result.table
-    n_ok = int(df["ok"].sum()) if "ok" in df else 0
-    console.print(f"{len(df)} variants, {n_ok} pass every check")
+    streamed = df.attrs.get("drivetrain", {})
+    if "streamed" in streamed:  # the rows are on disk only
+        console.print(f"{streamed['rows']} variants, {streamed['passing']} pass every check")
+    else:
+        n_ok = int(df["ok"].sum()) if "ok" in df else 0
+        console.print(f"{len(df)} variants, {n_ok} pass every check")
     if result.best is not None:
         b = result.best
         console.print(f"best: {objective_text(b['objective'], b['value'], args.units)} at " +

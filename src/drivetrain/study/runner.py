@@ -379,6 +379,11 @@ def run(study: Study, *, out: Path | None = None, scheduler: str | None = None, 
         raise InputError("--resume", "needs the output file whose partial result to continue", has_value=False)
     plan = make_plan(study)
     _freeze_at_exit()
+    from drivetrain.study.stream import STREAM_ABOVE, run_streamed
+
+    if study.n_variants() > STREAM_ABOVE:  # never listed in memory: rows go to disk batch by batch
+        return run_streamed(study, plan, out=out, scheduler=scheduler, workers=workers, batch=batch, resume=resume,
+                            progress=progress, on_rows=on_rows)
     variants = study.variants()
     rows: list[dict[str, Any]] = []
     if resume and out is not None:

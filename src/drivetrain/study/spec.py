@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
@@ -27,6 +28,18 @@ VERSION = 1
 """The study-file format this version reads (``study: 1``)."""
 MAX_VARIANTS = 1_000_000
 """More variants than this need ``--yes`` (``yes=True``)."""
+MAX_STUDY_VARIANTS = 10**10
+"""No study has more variants, even with ``--yes`` (at a thousand variants a second, four months)."""
+MAX_PARAMETER_VALUES = 1_000_000
+"""Values one parameter (a list or a gridded range) may take: its values are held in memory."""
+MAX_DESIGN_BYTES = 1 << 30
+"""Memory the points of a sampled design (random, lhs, sobol, saltelli, morris) may take [bytes]:
+they are drawn at once (8 bytes per parameter and point, times ``DESIGN_BYTES_FACTOR``)."""
+DESIGN_BYTES_FACTOR = 4
+"""Copies of the point array a sampler and the values made from it hold at once (a bound, measured
+below 3 for SALib's saltelli and morris samplers)."""
+MAX_SEED = 2**32 - 1
+"""Largest seed: SALib's samplers seed numpy's legacy generator, which takes 0 to 2**32 - 1."""
 DESIGNS = ("grid", "random", "lhs", "sobol", "saltelli", "morris")
 RECORD_GROUPS = ("motor", "gearbox", "margins", "rms", "peak", "energy", "checks")
 OBJECTIVES = {"motor_size": ("rated_power_W", "minimize"), "energy": ("energy_per_cycle_J", "minimize"),
@@ -86,7 +99,7 @@ class StudySpec(_Model):
     parameters: dict[str, ParameterSpec | list[Scalar]]
     design: Literal["grid", "random", "lhs", "sobol", "saltelli", "morris"] = "grid"
     samples: int | None = Field(default=None, ge=1)
-    seed: int = 0
+    seed: int = Field(default=0, ge=0, le=MAX_SEED)
     points: int = Field(default=64, ge=3, le=100_000)
     record: list[str] = Field(default_factory=lambda: list(RECORD_GROUPS))
     report: ReportSpec = Field(default_factory=ReportSpec)
@@ -272,6 +285,9 @@ def build_parameter(path: str, raw: ParameterSpec | list[Any], design: str, opti
         if spec.num is not None and spec.step is not None:
             raise InputError(field, "give num or step, not both", has_value=False)
         if spec.num is not None:
+            if spec.num > MAX_PARAMETER_VALUES:
+                raise InputError(f"{field}.num", f"must be at most {MAX_PARAMETER_VALUES:,} (the values of one "
+                                 "parameter are held in memory)", spec.num)
             values = tuple(np.linspace(start, stop, spec.num).tolist())
             if spec.num > 1 and start == stop:
                 raise InputError(f"{field}.stop", "equals start: the range is empty", spec.stop)
@@ -282,7 +298,12 @@ def build_parameter(path: str, raw: ParameterSpec | list[Any], design: str, opti
                 raise InputError(f"{field}.step", "must be > 0", spec.step)
             if stop < start:
                 raise InputError(f"{field}.stop", f"is below start ({start:g}): the range is empty", spec.stop)
-            n = math.floor((stop - start) / step * (1 + 1e-12) + 1e-9) + 1
+            span = (stop - start) / step
+            if not math.isfinite(span) or span >= MAX_PARAMETER_VALUES:
+                raise InputError(f"{field}.step", f"gives {_count(span + 1)} values from start to stop; one "
+                                 f"parameter takes at most {MAX_PARAMETER_VALUES:,} (the smallest step that fits is "
+                                 f"{(stop - start) / (MAX_PARAMETER_VALUES - 1):.6g})", spec.step)
+            n = math.floor(span * (1 + 1e-12) + 1e-9) + 1
             return Parameter(path, tokens, unit, si, tuple(np.round(start + step * np.arange(n), 12).tolist()),
                              low=start, high=stop)
         if design == "grid" and not optimizing:
@@ -391,11 +412,20 @@ class Study:
 
     def variants(self) -> list[tuple[Any, ...]]:
         """Every variant's parameter values (in each parameter's unit), in design order."""
+        return list(self.iter_variants())
+
+    def iter_variants(self, chunk: int = 10_000) -> Iterator[tuple[Any, ...]]:
+        """``variants`` one at a time: a grid is never held in memory, a sampled design's values are
+        made ``chunk`` points at a time from its unit-cube points (bounded by ``MAX_DESIGN_BYTES``)."""
         if self.spec.design == "grid":
-            return list(itertools.product(*(p.values or () for p in self.parameters)))
+            yield from itertools.product(*(p.values or () for p in self.parameters))
+            return
         u = self.unit_cube()
-        cols = [p.ppf(u[:, j]) for j, p in enumerate(self.parameters)]
-        return [tuple(_plain(c[i]) for c in cols) for i in range(u.shape[0])]
+        for k in range(0, u.shape[0], chunk):
+            part = u[k:k + chunk]
+            cols = [p.ppf(part[:, j]) for j, p in enumerate(self.parameters)]
+            for i in range(part.shape[0]):
+                yield tuple(_plain(c[i]) for c in cols)
 
     def axis_dict(self, values: tuple[Any, ...]) -> dict[str, Any]:
         """The axis mapping of one variant (SI numbers at the parameters' paths)."""
@@ -406,13 +436,20 @@ class Study:
         return out
 
 
+def _count(n: float) -> str:
+    """A count for a message: exact with thousands separators, or its order of magnitude."""
+    if not math.isfinite(n):
+        return "infinitely many"
+    return f"{int(n):,}" if n < 1e15 else f"about {n:.3g}"
+
+
 def _plain(v: Any) -> Any:
     return v.item() if isinstance(v, np.generic) else v
 
 
 def parse_study(text: str, source: str = "<text>", base_dir: Path | None = None, yes: bool = False) -> Study:
     """Validate a study file's text (and its base axis file) into a Study; nothing is sized yet."""
-    from drivetrain.axis.model import parse_axis, parse_yaml, read_yaml
+    from drivetrain.axis.model import parse_axis, parse_yaml, read_yaml_text
 
     data = parse_yaml(text, source)
     if not isinstance(data, dict):
@@ -425,7 +462,7 @@ def parse_study(text: str, source: str = "<text>", base_dir: Path | None = None,
     folder = base_dir if base_dir is not None else (Path(source).parent if not source.startswith("<") else Path())
     base_path = (folder / spec.base) if not Path(spec.base).is_absolute() else Path(spec.base)
     try:
-        base = read_yaml(base_path)
+        base_text, base = read_yaml_text(base_path, "base")
     except InputError as exc:
         raise InputError("base", exc.rule, str(base_path)) from None
     if not isinstance(base, dict):
@@ -444,18 +481,37 @@ def parse_study(text: str, source: str = "<text>", base_dir: Path | None = None,
         for p in params:
             if p.values is None and (p.low is None or p.high is None):
                 raise InputError(f"parameters.{p.path}", "an optimisation needs a range or a list", has_value=False)
-    study = Study(spec=spec, text=text, source=source, base=base, base_text=base_path.read_text(encoding="utf-8"),
+    study = Study(spec=spec, text=text, source=source, base=base, base_text=base_text,
                   parameters=params)
     _check_paths(study)
     if not optimizing:
         n = study.n_variants()
         if n == 0:
             raise InputError("parameters", "the design gives no variant", has_value=False)
+        if n > MAX_STUDY_VARIANTS:
+            raise InputError("design", f"gives {_count(n)} variants; a study has at most {MAX_STUDY_VARIANTS:,}, "
+                             "even with --yes: narrow the parameters", spec.design)
         if n > MAX_VARIANTS and not yes:
             raise InputError("design", f"gives {n:,} variants, more than {MAX_VARIANTS:,}: confirm with --yes "
                              "(yes=True) or narrow the parameters", spec.design)
+        _check_design_memory(study)
     _check_record(study)
     return study
+
+
+def _check_design_memory(study: Study) -> None:
+    """A sampled design's points are drawn at once: refuse, before drawing, a design whose points
+    take more than ``MAX_DESIGN_BYTES``, saying how many samples fit."""
+    if study.spec.design == "grid":
+        return
+    k = max(len(study.parameters), 1)
+    per_sample = study.n_variants() // max(study.spec.samples or 1, 1) * k * 8 * DESIGN_BYTES_FACTOR
+    need = (study.spec.samples or 0) * per_sample
+    if need > MAX_DESIGN_BYTES:
+        fits = MAX_DESIGN_BYTES // per_sample
+        raise InputError("samples", f"the {study.spec.design} design's points would take {need / 2**30:,.1f} GiB "
+                         f"(at most {MAX_DESIGN_BYTES / 2**30:g} GiB): at most {fits:,} samples fit with "
+                         f"{len(study.parameters)} parameter(s)", study.spec.samples)
 
 
 def _check_paths(study: Study) -> None:
@@ -515,15 +571,15 @@ def _check_record(study: Study) -> None:
 
 def load_study(path: str | Path, yes: bool = False) -> Study:
     """Read and validate a study file."""
-    from drivetrain.axis.model import read_yaml  # noqa: F401  (same limits as an axis file)
 
+    from drivetrain.axis.model import MAX_FILE_BYTES
+    from drivetrain.userfile import read_text
+
+    text = read_text(path, "file", MAX_FILE_BYTES, "study file")
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError("file", f"cannot be read ({exc})", str(path)) from None
     return parse_study(text, str(p), p.parent, yes=yes)
 
 
-__all__ = ["DESIGNS", "MAX_VARIANTS", "OBJECTIVES", "RECORD_GROUPS", "VERSION", "Parameter", "Study", "StudySpec",
-           "build_parameter", "load_study", "parse_study"]
+__all__ = ["DESIGNS", "MAX_PARAMETER_VALUES", "MAX_SEED", "MAX_STUDY_VARIANTS", "MAX_VARIANTS", "OBJECTIVES",
+           "RECORD_GROUPS", "VERSION", "Parameter", "Study", "StudySpec", "build_parameter", "load_study",
+           "parse_study"]
