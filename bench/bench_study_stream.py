@@ -14,7 +14,7 @@ from pathlib import Path
 import yaml
 
 from drivetrain.study import load_study
-from drivetrain.study.runner import run
+from drivetrain.study.stream import run
 
 BASE = Path(__file__).resolve().parents[1] / "tests" / "axes" / "yaskawa_es_30w.yaml"
 

@@ -117,7 +117,7 @@ def stop_server(proc: subprocess.Popen[str]) -> None:
 
 
 def load_axis(path: Path, motor: str | None) -> dict[str, Any]:
-    from drivetrain.axis.model import parse_yaml
+    from drivetrain.axis.yaml_text import parse_yaml
 
     axis = parse_yaml(path.read_text(encoding="utf-8"))
     assert isinstance(axis, dict)

@@ -1,6 +1,6 @@
 """Parse time of the largest and deepest YAML texts the input bounds admit or refuse (docs/limits.md).
 
-Each text is parsed by ``drivetrain.axis.model.parse_yaml`` a few times; the table gives the best
+Each text is parsed by ``drivetrain.axis.yaml_text.parse_yaml`` a few times; the table gives the best
 wall time and the outcome (the data, or the bound that refused it). Run: ``python bench/bench_yaml_bounds.py``.
 """
 
@@ -9,7 +9,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
-from drivetrain.axis.model import MAX_DEPTH, MAX_NODES, parse_yaml
+from drivetrain.axis.yaml_text import MAX_DEPTH, MAX_NODES, parse_yaml
 from drivetrain.errors import InputError
 
 

@@ -6,7 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from drivetrain.axis.model import parse_axis, parse_yaml, read_yaml
+from drivetrain.axis.model import parse_axis
+from drivetrain.axis.yaml_text import parse_yaml, read_yaml
 from drivetrain.errors import InputError
 
 GOOD_MECH = {"type": "ball_screw", "lead": "10 mm", "load": {"mass": "25 kg"}}

@@ -133,7 +133,7 @@ def test_catalog_list_marks_unverified_rows(capsys: pytest.CaptureFixture[str]) 
 
 
 def test_the_answer_carries_unverified_and_the_catalog_version() -> None:
-    from drivetrain.axis.model import parse_yaml
+    from drivetrain.axis.yaml_text import parse_yaml
     from drivetrain.sizing.result import size
 
     axis = parse_yaml((Path(__file__).parents[1] / "examples" / "rotary.yaml").read_text())
@@ -357,7 +357,7 @@ def test_a_schema_2_user_catalog_gains_the_new_columns_and_history(tmp_path: Pat
 
 def test_the_report_and_the_size_table_say_the_motor_data_is_unverified(capsys: pytest.CaptureFixture[str]) -> None:
     pytest.importorskip("jinja2")
-    from drivetrain.axis.model import parse_yaml
+    from drivetrain.axis.yaml_text import parse_yaml
     from drivetrain.report.model import build_report
     from drivetrain.sizing.result import size
 

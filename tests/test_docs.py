@@ -12,7 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from drivetrain.axis.model import parse_axis, parse_yaml
+from drivetrain.axis.model import parse_axis
+from drivetrain.axis.yaml_text import parse_yaml
 from drivetrain.duty.cycle import duty_cycle
 from drivetrain.physics.mechanisms import MECHANISM_TYPES
 from drivetrain.physics.transmission import TRANSMISSION_TYPES

@@ -1,13 +1,13 @@
 """examples/z_axis.yaml: a vertical axis whose catalog selection answers motor + drive (issue #13's
 done-when) from the shipped data, end to end: the CLI table, the JSON, the report and the web payload.
 
-``unknown: fail`` makes the selection pass over the smaller motors whose drive cannot be checked, and say so.
-On the file's 400 V supply the 200 V and 100 V class motors are passed over by the voltage-class check
-(docs/checks.md, "Voltage class"), and the answer is the 400 V Siemens chain. The one chain whose every
-electrical check the catalog can judge from vendor pages is the Siemens 1FT7044-5AK7 (Kt, currents, R, L, Ke,
-thermal data from the S120 1FT7 configuration manual 01/2009, Table 4-8, p. 90) with the S120 Motor Module that
-table recommends (9 A / 18 A): the same axis restricted to Siemens (``SIEMENS``) answers it, and the tests of the full electrical
-answer use that variant.
+``unknown: fail`` makes the selection pass over the smaller motors whose drive cannot be checked, and
+say so. On the file's 400 V supply the 200 V and 100 V class motors are passed over by the
+voltage-class check (docs/checks.md, "Voltage class"), and the answer is the 400 V Siemens chain: the
+one whose every electrical check the catalog can judge from vendor pages, the Siemens 1FT7044-5AK7
+(Kt, currents, R, L, Ke, thermal data from the S120 1FT7 configuration manual 01/2009, Table 4-8,
+p. 90) with the S120 Motor Module that table recommends (9 A / 18 A). The same axis restricted to
+Siemens (``SIEMENS``) answers it too, and the tests of the full electrical answer use that variant.
 """
 
 from __future__ import annotations

@@ -15,7 +15,8 @@ from typing import Any
 import pytest
 import yaml
 
-from drivetrain.axis.model import MAX_DEPTH, MAX_TOTAL_RATIO, parse_axis, parse_yaml
+from drivetrain.axis.model import MAX_TOTAL_RATIO, parse_axis
+from drivetrain.axis.yaml_text import MAX_DEPTH, parse_yaml
 from drivetrain.errors import InputError, InputErrors
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -121,7 +122,7 @@ def test_fuzz_nesting_in_block_and_flow_style() -> None:
 def test_fuzz_sizes_near_the_value_bound(monkeypatch: pytest.MonkeyPatch) -> None:
     """Flat and nested lists and mappings around the value bound (lowered to 3000 to stay quick; the
     bound itself is test_hostile_files.py's)."""
-    from drivetrain.axis import model
+    from drivetrain.axis import yaml_text as model
 
     bound = 3000
     monkeypatch.setattr(model, "MAX_NODES", bound)

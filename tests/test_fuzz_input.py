@@ -17,7 +17,8 @@ from typing import Any
 import pytest
 import yaml
 
-from drivetrain.axis.model import parse_axis, parse_yaml
+from drivetrain.axis.model import parse_axis
+from drivetrain.axis.yaml_text import parse_yaml
 from drivetrain.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[1]

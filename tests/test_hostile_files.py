@@ -16,7 +16,8 @@ from typing import Any
 import pytest
 import yaml
 
-from drivetrain.axis.model import MAX_DEPTH, MAX_NODES, load_axis, parse_axis, parse_yaml
+from drivetrain.axis.model import load_axis, parse_axis
+from drivetrain.axis.yaml_text import MAX_DEPTH, MAX_NODES, parse_yaml
 from drivetrain.cli import main
 from drivetrain.errors import InputError, InputErrors
 from drivetrain.userfile import read_bytes
@@ -126,7 +127,7 @@ def test_a_flat_list_is_not_called_an_alias_bomb(monkeypatch: pytest.MonkeyPatch
     with pytest.raises(InputError) as err:  # the issue's flat, alias-free list (1 MB)
         parse_yaml("[" + ",".join(["1"] * 490_000) + "]")
     assert "alias" not in err.value.rule and f"holds more than {MAX_NODES} values" in err.value.rule
-    from drivetrain.axis import model
+    from drivetrain.axis import yaml_text as model
 
     monkeypatch.setattr(model, "MAX_NODES", 1000)  # just below the bound, it is read (quick, at a lower bound)
     assert len(parse_yaml("[" + ",".join(["1"] * 999) + "]")) == 999
@@ -256,7 +257,8 @@ def test_a_billion_variant_study_streams_its_rows_in_bounded_batches(
     import pyarrow.parquet as pq
 
     from drivetrain.study import load_study, stream
-    from drivetrain.study.runner import partial_path, run
+    from drivetrain.study.runner import partial_path
+    from drivetrain.study.stream import run
 
     body = {"parameters": {"mechanism.load.friction_torque": {"start": 0.01, "stop": 0.02, "num": 31_623},
                            "profile[0].time": {"start": 0.5, "stop": 1.5, "num": 31_623}}}
@@ -296,7 +298,7 @@ def test_a_streamed_study_runs_to_its_end(tmp_path: Path, monkeypatch: pytest.Mo
     import pyarrow.parquet as pq
 
     from drivetrain.study import load_study, stream
-    from drivetrain.study.runner import run
+    from drivetrain.study.stream import run
 
     body = {"parameters": {"mechanism.load.friction_torque": {"start": 0.01, "stop": 0.02, "num": 5},
                            "profile[0].time": ["0.5 s", "0.8 s", "-1 s"]}}
@@ -444,7 +446,7 @@ def test_load_axis_reads_through_the_bounded_reader(tmp_path: Path) -> None:
 @pytest.mark.parametrize("python", [False, True], ids=["libyaml events", "PyYAML parser"])
 def test_both_parsers_keep_the_bounds(python: bool, monkeypatch: pytest.MonkeyPatch) -> None:
     """The bounds hold whichever parser gives the events (PyYAML's own where libyaml is absent)."""
-    from drivetrain.axis import model
+    from drivetrain.axis import yaml_text as model
 
     def parse(text: str) -> Any:
         return model._parse(text, "<text>", model._loader_class(python=python))

@@ -17,7 +17,8 @@ import numpy as np
 import pytest
 import yaml
 
-from drivetrain.axis.model import load_axis, parse_axis, parse_yaml
+from drivetrain.axis.model import load_axis, parse_axis
+from drivetrain.axis.yaml_text import parse_yaml
 from drivetrain.cli import main
 from drivetrain.errors import InputError, InputErrors, format_value
 from drivetrain.units import parse

@@ -59,7 +59,8 @@ def test_yaskawa_sigma5_four_quadrant_differs_only_in_the_ramps() -> None:
     """The four-quadrant model also loses efficiency on the inertial torque of the screw and load."""
     lto = size(AXES / "yaskawa_sigma5_geared.yaml").to_dict()
     text = (AXES / "yaskawa_sigma5_geared.yaml").read_text().replace("load_torque_only", "four_quadrant")
-    from drivetrain.axis.model import parse_axis, parse_yaml
+    from drivetrain.axis.model import parse_axis
+    from drivetrain.axis.yaml_text import parse_yaml
 
     axis = parse_axis(parse_yaml(text))
     fq = size(axis).to_dict()

@@ -9,7 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from drivetrain import catalog
-from drivetrain.axis.model import load_axis, parse_axis, parse_yaml
+from drivetrain.axis.model import load_axis, parse_axis
+from drivetrain.axis.yaml_text import parse_yaml
 from drivetrain.errors import InputError
 from drivetrain.physics.stage import Stage, torque_in
 from drivetrain.sizing.result import size

@@ -21,7 +21,7 @@ from typing import Any
 
 import pytest
 
-from drivetrain.axis.model import parse_yaml
+from drivetrain.axis.yaml_text import parse_yaml
 from drivetrain.sizing.result import size
 
 pytestmark = pytest.mark.browser

@@ -20,7 +20,7 @@ pytest.importorskip("httpx")
 
 import httpx
 
-from drivetrain.axis.model import parse_yaml
+from drivetrain.axis.yaml_text import parse_yaml
 from drivetrain.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]

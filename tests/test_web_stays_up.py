@@ -321,7 +321,7 @@ def test_deep_flow_yaml_is_refused_while_the_server_answers(server: Server) -> N
     assert status in (422, 503), body
     if status == 503:  # stopped at the time limit: the parser has no bound on flow nesting yet
         assert f"longer than {LIMIT_S:g} s" in body["detail"]
-        pytest.xfail("the flow-style depth bound of the shared YAML parser (axis.model.parse_yaml, the command "
+        pytest.xfail("the flow-style depth bound of the shared YAML parser (axis.yaml_text.parse_yaml, the command "
                      "line part of issue 30) is not on this branch: the parse ran to the time limit")
     assert body["field"].startswith("yaml"), body  # the parser's own message (its depth bound) at the field
 

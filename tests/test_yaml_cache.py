@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from drivetrain.axis import yaml_cache
-from drivetrain.axis.model import parse_yaml, read_yaml
+from drivetrain.axis.yaml_text import parse_yaml, read_yaml
 from drivetrain.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -119,5 +119,6 @@ def write_failure(field: str, exc: Exception, path: Any, what: str = "the file")
         why = "another process holds it (try again)"
     else:
         why = "the file system refused the write"
+    # the path in the rule, whole: it is where to look (a value would be shortened to 80 characters)
     return InputError(field, f"cannot be written: {why} ({text[:200]}); nothing was changed, {what} is as it "
-                      "was", str(path))
+                      f"was: {_short(_printable(str(path)), 4096)}", has_value=False)

@@ -244,7 +244,7 @@ def selection_axis(path: str, top: int | None = None) -> Any:
     """
     import copy
 
-    from drivetrain.axis.model import read_yaml
+    from drivetrain.axis.yaml_text import read_yaml
 
     data = read_yaml(path)
     if not isinstance(data, dict):

@@ -15,7 +15,8 @@ from pathlib import Path
 from typing import Any
 
 from drivetrain.axis.electrical import check_bus_limits, nominal_bus_voltage
-from drivetrain.axis.model import Axis, parse_axis, read_yaml
+from drivetrain.axis.model import Axis, parse_axis
+from drivetrain.axis.yaml_text import read_yaml
 from drivetrain.errors import InputError, format_value, listing
 from drivetrain.physics.motor_electrical import dc_bus_voltage
 from drivetrain.units import parse

@@ -68,7 +68,7 @@ def sweep(study: str | Path | Study, *, out: str | Path | None = None, scheduler
 
             result.files = write_results(table, target, s)
     else:
-        from drivetrain.study.runner import run
+        from drivetrain.study.stream import run
 
         table = run(s, out=target, scheduler=scheduler, workers=workers, batch=batch, resume=resume,
                     progress=progress)

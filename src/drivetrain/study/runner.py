@@ -100,7 +100,8 @@ def size_variant(plan: Plan, values: tuple[Any, ...]) -> dict[str, Any]:
 
 def variant_axis(plan: Plan, values: tuple[Any, ...]) -> Axis:
     """A variant's axis (InputError naming the field if its values make bad input)."""
-    from drivetrain.axis.model import check_text, parse_axis
+    from drivetrain.axis.model import parse_axis
+    from drivetrain.axis.yaml_text import check_text
 
     # the base's text was checked by make_plan (parse_axis of the base); only the new values need it
     for p, v in zip(plan.parameters, values, strict=True):
@@ -362,6 +363,16 @@ def scheduler_address(scheduler: str | None) -> str | None:
     return scheduler or os.environ.get(ENV_SCHEDULER) or None
 
 
+def check_run(batch: int, workers: int | None, resume: bool, out: Path | None) -> None:
+    """The run's own arguments, checked before anything is sized (both ``run`` and ``stream.run_streamed``)."""
+    if batch < 1:
+        raise InputError("--batch", "must be at least 1", batch)
+    if workers is not None and workers < 0:
+        raise InputError("--workers", "must be 0 (this process) or more", workers)
+    if resume and out is None:
+        raise InputError("--resume", "needs the output file whose partial result to continue", has_value=False)
+
+
 def run(study: Study, *, out: Path | None = None, scheduler: str | None = None, workers: int | None = None,
         batch: int = BATCH, resume: bool = False, progress: bool = False,
         on_rows: Callable[[int], None] | None = None) -> pd.DataFrame:
@@ -371,19 +382,9 @@ def run(study: Study, *, out: Path | None = None, scheduler: str | None = None, 
     ``$DRIVETRAIN_SCHEDULER``) or an embedded ``LocalCluster`` of ``workers`` processes (default:
     every core). Ctrl-C writes the finished rows to ``out``'s partial file and re-raises.
     """
-    if batch < 1:
-        raise InputError("--batch", "must be at least 1", batch)
-    if workers is not None and workers < 0:
-        raise InputError("--workers", "must be 0 (this process) or more", workers)
-    if resume and out is None:
-        raise InputError("--resume", "needs the output file whose partial result to continue", has_value=False)
+    check_run(batch, workers, resume, out)
     plan = make_plan(study)
     _freeze_at_exit()
-    from drivetrain.study.stream import STREAM_ABOVE, run_streamed
-
-    if study.n_variants() > STREAM_ABOVE:  # never listed in memory: rows go to disk batch by batch
-        return run_streamed(study, plan, out=out, scheduler=scheduler, workers=workers, batch=batch, resume=resume,
-                            progress=progress, on_rows=on_rows)
     variants = study.variants()
     rows: list[dict[str, Any]] = []
     if resume and out is not None:

@@ -449,7 +449,8 @@ def _plain(v: Any) -> Any:
 
 def parse_study(text: str, source: str = "<text>", base_dir: Path | None = None, yes: bool = False) -> Study:
     """Validate a study file's text (and its base axis file) into a Study; nothing is sized yet."""
-    from drivetrain.axis.model import parse_axis, parse_yaml, read_yaml_text
+    from drivetrain.axis.model import parse_axis
+    from drivetrain.axis.yaml_text import parse_yaml, read_yaml_text
 
     data = parse_yaml(text, source)
     if not isinstance(data, dict):
@@ -572,7 +573,7 @@ def _check_record(study: Study) -> None:
 def load_study(path: str | Path, yes: bool = False) -> Study:
     """Read and validate a study file."""
 
-    from drivetrain.axis.model import MAX_FILE_BYTES
+    from drivetrain.axis.yaml_text import MAX_FILE_BYTES
     from drivetrain.userfile import read_text
 
     text = read_text(path, "file", MAX_FILE_BYTES, "study file")

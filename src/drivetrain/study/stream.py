@@ -246,3 +246,19 @@ def _dask(plan: Plan, chunks: Iterator[list[tuple[int, tuple[Any, ...]]]], addre
 
 
 __all__ = ["FLUSH_ROWS", "INFLIGHT_PER_WORKER", "STREAM_ABOVE", "RowSink", "columns", "run_streamed"]
+
+
+def run(study: Study, *, out: Path | None = None, scheduler: str | None = None, workers: int | None = None,
+        batch: int = 200, resume: bool = False, progress: bool = False,
+        on_rows: Callable[[int], None] | None = None) -> pd.DataFrame:
+    """Size every variant of the study (``runner.run``), streamed to disk batch by batch above
+    ``STREAM_ABOVE`` variants (``run_streamed``: never listed in memory). The entry point of ``sweep``."""
+    from drivetrain.study.runner import check_run, make_plan
+    from drivetrain.study.runner import run as run_in_memory
+
+    if study.n_variants() > STREAM_ABOVE:
+        check_run(batch, workers, resume, out)
+        return run_streamed(study, make_plan(study), out=out, scheduler=scheduler, workers=workers, batch=batch,
+                            resume=resume, progress=progress, on_rows=on_rows)
+    return run_in_memory(study, out=out, scheduler=scheduler, workers=workers, batch=batch, resume=resume,
+                         progress=progress, on_rows=on_rows)

@@ -179,7 +179,7 @@ def dump_yaml(axis: dict[str, Any]) -> str:
 
 def _yaml_mapping(text: str, field: str, keys: str) -> dict[str, Any]:
     """YAML text to a mapping through the CLI's safe loader and limits; ``keys`` names what it should hold."""
-    from drivetrain.axis.model import parse_yaml
+    from drivetrain.axis.yaml_text import parse_yaml
 
     try:
         data = parse_yaml(text)
@@ -203,7 +203,7 @@ def parse_machine_text(text: str, field: str = "yaml") -> dict[str, Any]:
 
 def parse_text(kind: str, text: str, field: str = "yaml") -> dict[str, Any]:
     """The web's one parse of YAML text from a request (an axis or a machine file): the CLI's parser
-    with its bounds (``drivetrain.axis.model.parse_yaml``). Routes run it in a worker process
+    with its bounds (``drivetrain.axis.yaml_text.parse_yaml``). Routes run it in a worker process
     (``Context.isolated``), so a parse that runs past the request's time limit is killed with it."""
     return parse_machine_text(text, field) if kind == "machine" else parse_axis_text(text, field)
 

@@ -164,7 +164,7 @@ def machine_examples() -> dict[str, Path]:
 
 def inline_example(path: Path) -> dict[str, Any]:
     """A shipped machine file with each ``include:`` replaced by the included axis file's content."""
-    from drivetrain.axis.model import read_yaml
+    from drivetrain.axis.yaml_text import read_yaml
 
     data = read_yaml(path)
     if not isinstance(data, dict):

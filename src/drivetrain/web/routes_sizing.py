@@ -78,7 +78,7 @@ def register(app: FastAPI, ctx: Context) -> None:
     @app.post("/api/yaml/upload", response_model=AxisOut, tags=["axis file"])
     async def yaml_upload(file: Annotated[UploadFile, File(description="an axis YAML file")]) -> dict[str, Any]:
         """Read an uploaded axis file (safe loader, same limits as the CLI)."""
-        from drivetrain.axis.model import MAX_FILE_BYTES
+        from drivetrain.axis.yaml_text import MAX_FILE_BYTES
 
         data = await file.read(MAX_FILE_BYTES + 1)
         if len(data) > MAX_FILE_BYTES:
