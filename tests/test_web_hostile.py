@@ -27,7 +27,7 @@ import pytest
 pytest.importorskip("fastapi")
 uvicorn = pytest.importorskip("uvicorn")
 
-from drivetrain.axis.model import parse_yaml  # noqa: E402
+from drivetrain.axis.yaml_text import parse_yaml  # noqa: E402
 from drivetrain.motion.profiles import MAX_PROFILE_STEPS  # noqa: E402
 from drivetrain.web import app as web_app  # noqa: E402
 from drivetrain.web.payload import size_payload  # noqa: E402
