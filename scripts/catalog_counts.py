@@ -13,38 +13,42 @@ import tempfile
 from collections import Counter
 
 
-def main() -> int:
-    with tempfile.TemporaryDirectory() as folder:
-        os.environ["DRIVETRAIN_DATA_DIR"] = folder
-        os.environ.pop("DRIVETRAIN_CATALOG", None)
-        from drivetrain.catalog import db
-        from drivetrain.catalog.schema import CURVE, DATA_VERSION, ROW_TABLES, trace
+def tables() -> str:
+    """The two Markdown tables (by table and kind, by vendor) of the shipped data the catalog reads now."""
+    from drivetrain.catalog import db
+    from drivetrain.catalog.schema import CURVE, DATA_VERSION, ROW_TABLES, trace
 
-        with db.reader() as rd:
-            tables = {spec.name: rd.rows(spec) for spec in ROW_TABLES}
-            points = rd.count(CURVE)
-    print(f"Shipped catalog, data version {DATA_VERSION}.\n")
-    print("| table | kind | rows | traced | unverified |")
-    print("|---|---|---:|---:|---:|")
-    for name, rows in tables.items():
+    with db.reader() as rd:
+        rows_of = {spec.name: [r for r in rd.rows(spec) if r.get("origin", "builtin") == "builtin"]
+                   for spec in ROW_TABLES}
+        points = rd.count(CURVE)
+    out = [f"Shipped catalog, data version {DATA_VERSION}.", "",
+           "| table | kind | rows | traced | unverified |", "|---|---|---:|---:|---:|"]
+    for name, rows in rows_of.items():
         kinds = Counter(str(r["kind"]) for r in rows)
         for kind in sorted(kinds) or ["-"]:
             of_kind = [r for r in rows if r["kind"] == kind]
             flagged = sum(trace(r)[0] for r in of_kind)
-            print(f"| {name} | {kind} | {len(of_kind)} | {len(of_kind) - flagged} | {flagged} |")
-    print(f"| curve points | - | {points} | - | - |")
-    print()
-    print("| vendor | motors | gearbox rows | drives |")
-    print("|---|---:|---:|---:|")
+            out.append(f"| {name} | {kind} | {len(of_kind)} | {len(of_kind) - flagged} | {flagged} |")
+    out += [f"| curve points | - | {points} | - | - |", "",
+            "| vendor | motors | gearbox rows | drives |", "|---|---:|---:|---:|"]
     by_vendor: dict[str, Counter[str]] = {}
-    for name, rows in tables.items():
+    for name, rows in rows_of.items():
         for r in rows:
             by_vendor.setdefault(str(r["vendor"]), Counter())[name] += 1
     for vendor in sorted(by_vendor, key=str.lower):
         c = by_vendor[vendor]
-        print(f"| {vendor} | {c['motor']} | {c['gearbox']} | {c['drive']} |")
-    print(f"| **{len(by_vendor)} vendors** | {sum(c['motor'] for c in by_vendor.values())} | "
-          f"{sum(c['gearbox'] for c in by_vendor.values())} | {sum(c['drive'] for c in by_vendor.values())} |")
+        out.append(f"| {vendor} | {c['motor']} | {c['gearbox']} | {c['drive']} |")
+    out.append(f"| **{len(by_vendor)} vendors** | {sum(c['motor'] for c in by_vendor.values())} | "
+               f"{sum(c['gearbox'] for c in by_vendor.values())} | {sum(c['drive'] for c in by_vendor.values())} |")
+    return "\n".join(out)
+
+
+def main() -> int:
+    with tempfile.TemporaryDirectory() as folder:
+        os.environ["DRIVETRAIN_DATA_DIR"] = folder
+        os.environ.pop("DRIVETRAIN_CATALOG", None)
+        print(tables())
     return 0
 
 

@@ -39,7 +39,9 @@ GEOMETRY = """(sel) => {
   const pane = document.querySelector(sel.pane);
   return {
     toolbar: box(bar),
-    tools: [...bar.children].filter(shown).filter(e => e.getBoundingClientRect().width > 0 && e.getBoundingClientRect().height > 0).map(e => [e.id || e.tagName, box(e)]),
+    tools: [...bar.children].filter(shown)
+      .filter(e => e.getBoundingClientRect().width > 0 && e.getBoundingClientRect().height > 0)
+      .map(e => [e.id || e.tagName, box(e)]),
     pane: box(pane),
     paneScrolls: pane.scrollWidth > pane.clientWidth,
     items: [...document.querySelectorAll(sel.items)].filter(shown).map(box),
@@ -181,7 +183,8 @@ def test_not_orderable_is_a_short_verdict_with_the_motors_folded(page: Any) -> N
         document.body.append(node);
         R.renderBanner(node, {selection: sel});
         const details = node.querySelector('details');
-        const out = {bad: node.classList.contains('bad'), open: details.open, summary: details.querySelector('summary').innerText,
+        const out = {bad: node.classList.contains('bad'), open: details.open,
+                     summary: details.querySelector('summary').innerText,
                      items: details.querySelectorAll('li').length, visible: node.innerText};
         node.remove();
         return out;
