@@ -7,6 +7,8 @@ Debian's Chromium through the harness of test_web_e2e.py; every wait polls a con
 
 from __future__ import annotations
 
+import contextlib
+import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -194,3 +196,44 @@ def test_not_orderable_is_a_short_verdict_with_the_motors_folded(page: Any) -> N
     assert shown["items"] == 21  # the 20 listed and "... and 3 more"
     assert "M-7" not in shown["visible"]  # folded: the list is not in the visible text
     assert "Not orderable: none of the 23 passing motors tried has a drive" in shown["visible"]
+
+
+def poll(pg: Any, condition: Any, what: str) -> None:
+    """Until ``condition()`` (a Python-side record of the page's events) holds; Playwright delivers the
+    events while the page is waited on."""
+    deadline = time.monotonic() + TIMEOUT_MS / 1000
+    while not condition():
+        if time.monotonic() > deadline:
+            raise AssertionError(f"timed out waiting for {what}")
+        pg.wait_for_timeout(20)
+
+
+def test_an_answer_to_an_earlier_edit_is_never_shown(page: Any) -> None:  # noqa: F811
+    """An edit back to the axis already shown while the answer to another edit is on its way (held here):
+    the page cancels that request, so its answer can never replace the result of the axis as it stands."""
+    from test_web_e2e import metric, sig4
+
+    page.select_option("#example-select", "ball_screw")
+    wait_sized(page)
+    set_field(page, "mechanism.load.mass", "30 kg")
+    wait_sized(page)
+    shown = metric(page, "RMS torque")
+    held: list[Any] = []
+    failed: list[str] = []
+    page.on("requestfailed", lambda r: failed.append(r.url) if r.url.endswith("/api/size") else None)
+    page.route("**/api/size", lambda route: held.append(route))
+    try:
+        set_field(page, "mechanism.load.mass", "40 kg")
+        poll(page, lambda: held, "the 40 kg request to leave the page")
+        set_field(page, "mechanism.load.mass", "30 kg")  # back to the axis whose result is shown
+        wait_sized(page)
+        poll(page, lambda: failed, "the page to cancel the request for 40 kg")
+    finally:
+        page.unroute("**/api/size")
+        for route in held:
+            with contextlib.suppress(Exception):  # a request the page cancelled cannot be continued
+                route.continue_()
+    assert yaml_pane(page)["mechanism"]["load"]["mass"] == "30 kg"
+    assert page.evaluate("() => document.body.dataset.sizing") == "idle"
+    assert metric(page, "RMS torque") == shown
+    assert float(shown.split()[0]) == sig4(size(yaml_pane(page)).metrics["rms_torque_Nm"])
