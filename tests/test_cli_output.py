@@ -136,3 +136,42 @@ def test_the_demand_table_prints_a_zero_average_power_as_zero(capsys: pytest.Cap
     print_sizing(result)
     line = next(ln for ln in capsys.readouterr().out.splitlines() if "peak / average power" in ln)
     assert line.rstrip(" │").endswith(" / 0 W") and "e-" not in line
+
+
+@pytest.mark.skipif(not hasattr(os, "openpty"), reason="no pseudo-terminal")
+def test_on_a_terminal_the_tables_fit_its_width(tmp_path: Path) -> None:
+    import fcntl
+    import struct
+    import termios
+
+    columns = 90
+    main_fd, child_fd = os.openpty()
+    fcntl.ioctl(child_fd, termios.TIOCSWINSZ, struct.pack("HHHH", 50, columns, 0, 0))
+    env = {**_env(tmp_path), "NO_COLOR": "1", "TERM": "dumb"}
+    proc = subprocess.Popen([sys.executable, "-m", "drivetrain.cli", "size", str(ROOT / "examples" / "belt.yaml")],
+                            stdin=subprocess.DEVNULL, stdout=child_fd, stderr=subprocess.PIPE, env=env)
+    os.close(child_fd)
+    chunks = []
+    while True:
+        try:
+            chunk = os.read(main_fd, 65536)
+        except OSError:  # the child closed the terminal
+            break
+        if not chunk:
+            break
+        chunks.append(chunk)
+    proc.wait(timeout=120)
+    os.close(main_fd)
+    text = b"".join(chunks).decode("utf-8", "replace").replace("\r\n", "\n")
+    table = [line for line in text.splitlines() if line[:1] in "┏┃┡│└"]
+    assert table and max(len(line) for line in table) <= columns, max(len(line) for line in table)
+    assert "left out to fit 90 columns" in text
+    answer = json.loads(subprocess.run([sys.executable, "-m", "drivetrain.cli", "size", "--json",
+                                        str(ROOT / "examples" / "belt.yaml")], env=_env(tmp_path),
+                                       capture_output=True, text=True).stdout)
+    for c in answer["candidates"]:
+        checks = {ch["name"]: ch for ch in c["checks"]}
+        for pct in (_pct(checks["peak_torque"]["margin"]), _pct(checks["rms_torque"]["margin"])):
+            assert f"│ {pct}" in text, pct  # a margin is whole on its line
+        for word in c["motor"].split(" "):  # a name may wrap at its spaces, never inside a word
+            assert word in text, c["motor"]

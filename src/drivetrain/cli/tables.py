@@ -43,8 +43,19 @@ def fitted_width() -> int | None:
     if columns.isdigit() and int(columns) > 0:
         return int(columns)
     if sys.stdout.isatty():
-        return os.get_terminal_size(sys.stdout.fileno()).columns
+        try:
+            return os.get_terminal_size(sys.stdout.fileno()).columns
+        except (OSError, ValueError):  # a terminal that does not say its size
+            return 80
     return None
+
+
+def _height() -> int:
+    """The terminal's height in lines (25 where it does not say)."""
+    try:
+        return os.get_terminal_size(sys.stdout.fileno()).lines or 25
+    except (OSError, ValueError):
+        return 25
 
 
 def table_console() -> Any:
@@ -55,8 +66,10 @@ def table_console() -> Any:
     from rich.console import Console
 
     width = fitted_width()
-    # in a pipe: no wrapping of printed lines (soft_wrap) and room for any table
-    kw: dict[str, Any] = {"width": width} if width else {"width": 100_000, "soft_wrap": True}
+    # in a pipe: no wrapping of printed lines (soft_wrap) and room for any table; the height is given
+    # too, as rich keeps a width only with a height (else a TERM=dumb terminal is taken as 80 x 25)
+    kw: dict[str, Any] = ({"width": width, "height": _height()} if width else
+                          {"width": 100_000, "height": 25, "soft_wrap": True})
     console = Console(**kw)
     return console if console.color_system is not None else Console(**kw, highlight=False)
 
@@ -122,12 +135,12 @@ def print_table(console: Any, title: str | None, cols: Sequence[Col], rows: Sequ
         table.add_row(*(Text(r[i]) for i in shown))
     total = _frame(widths)
     if total > console.width:  # cannot fit: print whole, wider than the terminal
-        old = console.width
-        console.width = total
+        old = console.size
+        console.size = (total, old.height)
         try:
             console.print(table)
         finally:
-            console.width = old
+            console.size = old
     else:
         console.print(table)
     left_out = [cols[i].name for i in range(len(cols)) if i not in shown]
