@@ -237,3 +237,14 @@ def test_an_answer_to_an_earlier_edit_is_never_shown(page: Any) -> None:  # noqa
     assert page.evaluate("() => document.body.dataset.sizing") == "idle"
     assert metric(page, "RMS torque") == shown
     assert float(shown.split()[0]) == sig4(size(yaml_pane(page)).metrics["rms_torque_Nm"])
+
+
+def test_a_round_off_residue_shows_as_zero_on_the_page(page: Any) -> None:  # noqa: F811
+    shown = page.evaluate("""() => import('/static/results.js').then(R => {
+        const m = R.snappedMetrics({peak_power_W: 3993, average_power_W: 3.79e-14, peak_torque_Nm: 2,
+                                    run_torque_Nm: -1e-15, rms_torque_Nm: 1.0});
+        return [R.ZERO_TOLERANCE, m.average_power_W, m.run_torque_Nm, m.rms_torque_Nm];
+    })""")
+    from drivetrain.report.display import ZERO_TOLERANCE
+
+    assert shown == [ZERO_TOLERANCE, 0, 0, 1.0]

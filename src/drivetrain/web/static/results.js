@@ -175,8 +175,28 @@ export function renderChecks(node, result, electrical = null) {
   node.replaceChildren(...parts);
 }
 
+// A demand figure within ZERO_TOLERANCE of its scale is the round-off of a sum that is zero: it shows as 0
+// (drivetrain.report.display.snap_zero and METRIC_SCALES, docs/architecture.md "Terminal output").
+export const ZERO_TOLERANCE = 1e-9;
+const METRIC_SCALES = {
+  average_power_W: "peak_power_W", rms_torque_Nm: "peak_torque_Nm", accel_torque_Nm: "peak_torque_Nm",
+  run_torque_Nm: "peak_torque_Nm", decel_torque_Nm: "peak_torque_Nm", holding_torque_Nm: "peak_torque_Nm",
+  mean_speed_rpm: "max_speed_rpm", peak_torque_speed_rpm: "max_speed_rpm",
+};
+
+export function snappedMetrics(result) {
+  const out = { ...result };
+  for (const [key, scale] of Object.entries(METRIC_SCALES)) {
+    const v = result[key];
+    const s = result[scale];
+    if (typeof v === "number" && typeof s === "number" && Number.isFinite(v) && Number.isFinite(s) && s !== 0
+        && Math.abs(v) <= ZERO_TOLERANCE * Math.abs(s)) out[key] = 0;
+  }
+  return out;
+}
+
 export function renderMetrics(node, result, motion) {
-  const m = result;
+  const m = snappedMetrics(result);
   const speedUnit = "rpm";
   const rows = [
     ["cycle time", `${fmt(m.cycle_time_s)} s`],
