@@ -32,12 +32,15 @@ warm: $(STAMP)
 	rm -f $(WARM)
 	$(MAKE) $(WARM)
 
-## Debian's Chromium for the report and web-app browser tests (skipped when present).
+## Debian's Chromium and poppler-utils for the report and web-app browser tests (skipped when present).
+## Installing them needs root or sudo; without either this stops with one line saying what to install.
 browser:
-	@command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1 || \
-	  { if [ "$$(id -u)" = 0 ]; then apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium poppler-utils >/dev/null; \
-	    else sudo apt-get update -qq && sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium poppler-utils >/dev/null; fi; }
-	@command -v pdftoppm >/dev/null 2>&1 || { if [ "$$(id -u)" = 0 ]; then apt-get install -y -qq poppler-utils >/dev/null; else sudo apt-get install -y -qq poppler-utils >/dev/null; fi; }
+	@need=""; command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1 || need=" chromium"; \
+	command -v pdftoppm >/dev/null 2>&1 || need="$$need poppler-utils"; \
+	[ -z "$$need" ] && exit 0; \
+	if [ "$$(id -u)" = 0 ]; then sudo=""; elif command -v sudo >/dev/null 2>&1; then sudo="sudo"; \
+	else echo "make browser: the browser tests need$$need, and installing it needs root or sudo (neither is available here): as an administrator run 'apt-get install$$need', then make test again" >&2; exit 1; fi; \
+	$$sudo apt-get update -qq && $$sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq$$need >/dev/null
 
 run: setup
 	$(VENV)/bin/drivetrain size examples/ball_screw.yaml --report out/ball_screw.html

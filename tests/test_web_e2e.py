@@ -101,8 +101,9 @@ def wait_until(page: Any, js: str, arg: Any = None, timeout_s: float = TIMEOUT_M
 
 
 def wait_sized(page: Any) -> None:
-    """Until the sizing requested by the last edit has answered."""
-    page.wait_for_timeout(400)  # past the debounce
+    """Until the result shown answers the axis as it stands: an edit marks the page "pending" in the same
+    event (app.js scheduleSize), so "idle" can only mean that the last edit's sizing has answered (an
+    answer to an earlier edit is dropped by its sequence number); no wait on the clock."""
     wait_until(page, "() => document.body.dataset.sizing === 'idle'")
 
 

@@ -112,6 +112,17 @@ def _command(argv: Sequence[str]) -> str | None:
     return None
 
 
+def _asks_help(argv: Sequence[str]) -> bool:
+    """Whether the command line asks for help (``-h``/``--help`` before any ``--``): argparse prints it and
+    exits while parsing, so nothing of the sizing stack is imported for it."""
+    for word in argv:
+        if word == "--":
+            return False
+        if word in ("-h", "--help"):
+            return True
+    return False
+
+
 def _optional_parser(sub: Any, module: str) -> None:
     """Register a sub-command group that lives with its subsystem."""
     import importlib
@@ -192,7 +203,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     words = sys.argv[1:] if argv is None else list(argv)
     if argv is None:
         _own_process()
-        if _command(words) in ("size", "select"):
+        if _command(words) in ("size", "select") and not _asks_help(words):
             _import_for_sizing()
     parser = build_parser(optional=_command(words) not in CORE_COMMANDS)
     args = parser.parse_args(words)

@@ -5,41 +5,38 @@ Each takes the command's JSON-ready dictionary (the same one ``--json`` prints) 
 
 from __future__ import annotations
 
-import sys
 from typing import Any
 
 from drivetrain.cli.quantities import TableUnits
+from drivetrain.cli.tables import Col, print_table, table_console
 
 
 def print_machine(out: dict[str, Any]) -> None:
     """The machine: its axes, DC buses, phasing and bill of materials."""
-    from rich.console import Console
-    from rich.table import Table
-
-    console = Console(width=None if sys.stdout.isatty() else 120)
+    console = table_console()
     m = out["machine"]
     console.print(f"[bold]{m['name']}[/]: cycle {m['cycle_time_s']:.4g} s, supply {m['supply_voltage_V']:.0f} V "
                   f"{m['supply_phases']}-phase; " + ("[green]ok[/]" if m["ok"] else "[bold red]FAILS[/]"))
-    t = Table(title="axes")
-    for col in ("axis", "motors", "start", "power basis", "peak power", "regen", "ok"):
-        t.add_column(col)
+    rows: list[tuple[str, ...]] = []
     for a in out["axes"]:
-        t.add_row(a["name"], " + ".join(f"{s * 100:.0f} %" for s in a["load_shares"]) if a["motors"] > 1 else "1",
+        rows.append((a["name"], " + ".join(f"{s * 100:.0f} %" for s in a["load_shares"]) if a["motors"] > 1 else "1",
                   f"{a['offset_s']:.4g} s ({a['phasing']})", a["power_basis"], f"{a['peak_power_W']:.4g} W",
-                  f"{a['regen_energy_J']:.4g} J", "yes" if a["ok"] else "NO")
-    console.print(t)
-    t = Table(title="DC buses")
-    for col in ("bus", "axes", "peak", "RMS", "shared regen", "resistor J/cycle", "resistor peak / avg", "R window",
-                "supply peak / cont."):
-        t.add_column(col)
+                  f"{a['regen_energy_J']:.4g} J", "yes" if a["ok"] else "NO"))
+    print_table(console, "axes", (Col("axis"), Col("motors", number=True), Col("start"), Col("power basis"),
+                                  Col("peak power", number=True), Col("regen", number=True), Col("ok")), rows)
+    rows = []  # the DC buses
     for b in out["buses"]:
         lo, hi = b.get("resistor_min_ohm"), b.get("resistor_max_ohm")
         window = f"{f'{lo:.4g}' if lo is not None else '-'} .. {f'{hi:.4g}' if hi is not None else '-'} ohm"
-        t.add_row(b["name"], ", ".join(b["axes"]), f"{b['bus_peak_power_W']:.4g} W", f"{b['bus_rms_power_W']:.4g} W",
-                  f"{b['regen_shared_J']:.4g} J", f"{b['resistor_energy_per_cycle_J']:.4g} J",
-                  f"{b['resistor_peak_power_W']:.4g} / {b['resistor_average_power_W']:.4g} W", window,
-                  f"{b['supply_peak_power_W']:.4g} / {b['supply_continuous_power_W']:.4g} W")
-    console.print(t)
+        rows.append((b["name"], ", ".join(b["axes"]), f"{b['bus_peak_power_W']:.4g} W",
+                     f"{b['bus_rms_power_W']:.4g} W", f"{b['regen_shared_J']:.4g} J",
+                     f"{b['resistor_energy_per_cycle_J']:.4g} J",
+                     f"{b['resistor_peak_power_W']:.4g} / {b['resistor_average_power_W']:.4g} W", window,
+                     f"{b['supply_peak_power_W']:.4g} / {b['supply_continuous_power_W']:.4g} W"))
+    print_table(console, "DC buses", (
+        Col("bus"), Col("axes"), *(Col(n, number=True) for n in (
+            "peak", "RMS", "shared regen", "resistor J/cycle", "resistor peak / avg", "R window",
+            "supply peak / cont."))), rows)
     ph = out.get("phasing")
     if ph:
         r = ph["random"]
@@ -48,20 +45,15 @@ def print_machine(out: dict[str, Any]) -> None:
                       f" random ({ph['samples']} samples, seed {ph['seed']}) peak p50 "
                       f"{r['bus_peak_power_W']['p50']:.4g} W, p95 {r['bus_peak_power_W']['p95']:.4g} W, max "
                       f"{r['bus_peak_power_W']['p100']:.4g} W")
-    t = Table(title="bill of materials")
-    for col in ("kind", "order code", "vendor", "qty", "used by"):
-        t.add_column(col)
-    for row in out["bill_of_materials"]:
-        t.add_row(row["kind"], str(row["order_code"] or row.get("note", "-")), str(row["vendor"] or "-"),
-                  str(row["quantity"]), ", ".join(row["used_by"]))
-    console.print(t)
+    rows = [(row["kind"], str(row["order_code"] or row.get("note", "-")), str(row["vendor"] or "-"),
+             str(row["quantity"]), ", ".join(row["used_by"])) for row in out["bill_of_materials"]]
+    print_table(console, "bill of materials", (Col("kind"), Col("order code"), Col("vendor", abbreviate=True),
+                                               Col("qty", number=True), Col("used by")), rows)
 
 
 def print_modes(out: dict[str, Any], inertias: int, units: TableUnits | None = None) -> None:
     """Natural frequencies, resonance, critical speeds and the first mode across the stroke."""
-    from rich.console import Console
-
-    console = Console(width=None if sys.stdout.isatty() else 120)
+    console = table_console()
     console.print(f"[bold]{out['axis']}[/] with motor {out['motor']}: {inertias} inertias at the motor shaft")
     if "modes" in out:
         print_modes_across(console, out["modes"], units or TableUnits())
@@ -90,19 +82,16 @@ def _stiffness(k: float, u: TableUnits) -> str:
 
 
 def print_modes_across(console: Any, modes: dict[str, Any], u: TableUnits) -> None:
-    from rich.table import Table
-
     console.print(f"with the mechanism's stiffness: lowest first mode {modes['f1_min_Hz']:.1f} Hz at position "
                   f"{_position(modes['worst_position_m'], u)}; weakest link: {modes['weakest_link']}")
     rows = modes["f1_by_position"]
-    t = Table(title="first natural frequency across the stroke")
-    for col in ("position", "f1", "mechanism stiffness"):
-        t.add_column(col, justify="right")
+    table = []
     for r in rows[:: max(1, len(rows) // 10)] + ([rows[-1]] if (len(rows) - 1) % max(1, len(rows) // 10) else []):
         k = r["axial_stiffness_N_per_m"]
-        t.add_row(_position(r["position_m"], u), f"{r['f1_Hz']:.1f} Hz",
-                  f"{k / 1e6:.3g} N/um" if u.system == "si" else _stiffness(k, u))
-    console.print(t)
+        table.append((_position(r["position_m"], u), f"{r['f1_Hz']:.1f} Hz",
+                      f"{k / 1e6:.3g} N/um" if u.system == "si" else _stiffness(k, u)))
+    print_table(console, "first natural frequency across the stroke",
+                tuple(Col(n, right=True, number=True) for n in ("position", "f1", "mechanism stiffness")), table)
     for c in modes.get("checks", []):
         if c.get("status") == "unknown":
             console.print(f"{c['name']}: f1 {c['available']:.1f} Hz, [yellow]unknown[/]; {c['note']}")
@@ -114,24 +103,22 @@ def print_modes_across(console: Any, modes: dict[str, Any], u: TableUnits) -> No
 
 def print_simulation(out: dict[str, Any], units: TableUnits | None = None) -> None:
     """The closed-loop simulation in one table."""
-    from rich.console import Console
-    from rich.table import Table
-
     u = units or TableUnits()
     torque = u.unit("torque", "N*m")
-
-    t = Table(title=f"{out['axis']}: closed-loop simulation")
-    t.add_column("quantity")
-    t.add_column("value", justify="right")
-    t.add_row("simulated time", f"{out['duration_s']:.3g} s")
-    t.add_row("max following error (motor)", f"{out['max_following_error_rad'] * 1e3:.4g} mrad")
-    t.add_row("max load position error", f"{out['max_load_error_rad'] * 1e3:.4g} mrad")
-    t.add_row("load vibration amplitude", f"{out['load_vibration_amplitude_rad'] * 1e3:.4g} mrad")
+    rows: list[tuple[str, str]] = [
+        ("simulated time", f"{out['duration_s']:.3g} s"),
+        ("max following error (motor)", f"{out['max_following_error_rad'] * 1e3:.4g} mrad"),
+        ("max load position error", f"{out['max_load_error_rad'] * 1e3:.4g} mrad"),
+        ("load vibration amplitude", f"{out['load_vibration_amplitude_rad'] * 1e3:.4g} mrad"),
+    ]
     settle = [f"{v * 1e3:.1f}" if v is not None else "-" for v in out["settling_time_s"]]
-    t.add_row("settling time per stop", ", ".join(settle) + " ms")
-    t.add_row("peak / RMS motor torque",
-              f"{u.num(out['peak_torque_Nm'], 'torque')} / {u.num(out['rms_torque_Nm'], 'torque')} {torque}")
-    t.add_row("peak shaft torque per spring",
-              ", ".join(u.num(v, "torque") for v in out["peak_shaft_torque_Nm"]) + f" {torque}")
-    t.add_row("motor energy", f"{out['energy_J']:.4g} J")
-    Console(width=None if sys.stdout.isatty() else 120).print(t)
+    rows += [
+        ("settling time per stop", ", ".join(settle) + " ms"),
+        ("peak / RMS motor torque",
+         f"{u.num(out['peak_torque_Nm'], 'torque')} / {u.num(out['rms_torque_Nm'], 'torque')} {torque}"),
+        ("peak shaft torque per spring",
+         ", ".join(u.num(v, "torque") for v in out["peak_shaft_torque_Nm"]) + f" {torque}"),
+        ("motor energy", f"{out['energy_J']:.4g} J"),
+    ]
+    print_table(table_console(), f"{out['axis']}: closed-loop simulation",
+                (Col("quantity"), Col("value", right=True, number=True)), rows)

@@ -3,34 +3,22 @@
 from __future__ import annotations
 
 import math
-import sys
 from typing import Any
 
 from drivetrain.cli.quantities import TableUnits
+from drivetrain.cli.tables import Col, print_table, table_console
 
-
-def table_console() -> Any:
-    """rich's console for the tables: the terminal's width, else 120 columns. Where it shows no colour
-    (not a terminal, NO_COLOR ...), without rich's automatic highlighting of numbers and names in
-    printed lines: highlighting only adds colour, so the characters are the same, for less work."""
-    from rich.console import Console
-
-    width = None if sys.stdout.isatty() else 120
-    console = Console(width=width)
-    return console if console.color_system is not None else Console(width=width, highlight=False)
+__all__ = ["CANDIDATE_COLUMNS", "print_sizing", "table_console"]
 
 
 def print_sizing(result: Any, units: TableUnits | None = None) -> None:
     """The demand at the motor shaft, every check block, and the ranked candidates with the selection."""
-    from rich.table import Table
+    from drivetrain.report.display import snapped_metrics
 
     u = units or TableUnits()
     console = table_console()
-    m = result.metrics
+    m = snapped_metrics(result.metrics)  # a figure that is zero to within round-off prints as 0
     torque = u.unit("torque", "N*m")
-    t = Table(title=f"{result.axis.name}: demand at the motor shaft (rotor excluded)")
-    t.add_column("quantity")
-    t.add_column("value", justify="right")
     rows = [
         ("cycle time", f"{m['cycle_time_s']:.4g} s"),
         ("load inertia at motor", u.q(m["load_inertia_kgm2"], "inertia", "kg*cm^2", 1e4)),
@@ -47,9 +35,8 @@ def print_sizing(result: Any, units: TableUnits | None = None) -> None:
     for extra_key, label in (("gearbox_torque", "gearbox output torque"),):
         if extra_key in m:
             rows.append((label, str(m[extra_key])))
-    for k, v in rows:
-        t.add_row(k, v)
-    console.print(t)
+    print_table(console, f"{result.axis.name}: demand at the motor shaft (rotor excluded)",
+                (Col("quantity"), Col("value", right=True, number=True)), rows)
     mech = result.extras.get("mechanism_checks")
     if mech:
         _print_checks(console, f"mechanism {result.axis.mechanism.type}",
@@ -71,19 +58,21 @@ def _pct(margin: float | None) -> str:
     return f"{p:+.2g} %" if p != 0.0 and abs(p) < 0.1 else f"{p:+.1f} %"
 
 
-def _print_checks(console: Any, title: str, block: dict[str, Any], u: TableUnits) -> None:
-    from rich.table import Table
+CHECK_COLUMNS = (Col("check"), Col("required", right=True, number=True), Col("available", right=True, number=True),
+                 Col("margin", right=True, number=True), Col("result", right=True, number=True))
+"""The columns of a check block; none is left out to fit a terminal."""
 
-    t = Table(title=f"{title}: {'OK' if block['ok'] else 'FAILS'}")
-    for col in ("check", "required", "available", "margin", "result"):
-        t.add_column(col, justify="right" if col != "check" else "left")
+
+def _print_checks(console: Any, title: str, block: dict[str, Any], u: TableUnits) -> None:
+    rows: list[tuple[str, ...]] = []
     for c in block["checks"]:
         approx = " (approx. envelope)" if c.get("approximate") else ""
         stage = f" [{c['stage']}]" if c.get("stage") else ""
         status = c.get("status") or ("pass" if c["ok"] else "fail")
-        t.add_row(c["name"] + stage + approx, u.check(c["required"], c["unit"]), u.check(c["available"], c["unit"]),
-                  _pct(c["margin"]), {"pass": "yes", "fail": "NO"}.get(status, status))
-    console.print(t)
+        rows.append((c["name"] + stage + approx, u.check(c["required"], c["unit"]),
+                     u.check(c["available"], c["unit"]), _pct(c["margin"]),
+                     {"pass": "yes", "fail": "NO"}.get(status, status)))
+    print_table(console, f"{title}: {'OK' if block['ok'] else 'FAILS'}", CHECK_COLUMNS, rows)
     for c in block["checks"]:
         if c.get("note"):
             console.print(f"  {c['name']}: {c['note']}")
@@ -174,17 +163,21 @@ def _mounting(c: dict[str, Any], sel: dict[str, Any]) -> str:
     return "direct"
 
 
-def _print_candidates(console: Any, result: Any, u: TableUnits) -> None:
-    from rich.table import Table
+CANDIDATE_COLUMNS = (
+    Col("rank", number=True), Col("motor"), Col("vendor", drop=3, abbreviate=True), Col("power", number=True, drop=2),
+    Col("flange", number=True, drop=1), Col("gearbox"), Col("J_L/J_M", number=True, drop=4),
+    Col("peak margin", number=True), Col("RMS margin", number=True), Col("result / why not"), Col("drive", drop=5))
+"""The candidate table's columns. To fit a narrow terminal the vendor is abbreviated, then flange, power,
+vendor, J_L/J_M and drive are left out in that order (docs/architecture.md, "Terminal output")."""
 
+
+def _print_candidates(console: Any, result: Any, u: TableUnits) -> None:
     sel = result.selection or {}
     per = "every passing pair" if sel.get("listing") == "all_pairs" else "best configuration of each motor"
-    t = Table(title=f"candidates: {sel.get('passing', '?')} of {sel.get('evaluated', '?')} configurations pass, "
-                    f"{sel.get('passing_motors', '?')} motors (ranked by {sel.get('objective', '?')}; {per}; "
-                    "rejected ones below with the reason)")
-    for col in ("rank", "motor", "vendor", "power", "flange", "gearbox", "J_L/J_M", "peak margin", "RMS margin",
-                "result / why not", "drive"):
-        t.add_column(col, no_wrap=col in ("motor", "gearbox"))
+    title = (f"candidates: {sel.get('passing', '?')} of {sel.get('evaluated', '?')} configurations pass, "
+             f"{sel.get('passing_motors', '?')} motors (ranked by {sel.get('objective', '?')}; {per}; "
+             "rejected ones below with the reason)")
+    rows: list[tuple[str, ...]] = []
     for c in result.candidates:
         checks = {ch["name"]: ch for ch in c["checks"]}
         if c["ok"]:
@@ -196,12 +189,12 @@ def _print_candidates(console: Any, result: Any, u: TableUnits) -> None:
         power = c.get("rated_power_W")
         flange = c.get("flange_mm")
         motor = c["motor"] + (" †" if c.get("unverified") else "")
-        t.add_row(str(c["rank"]) if c.get("rank") else "-", motor, c.get("vendor", ""),
-                  "" if power is None or math.isnan(power) else f"{power:.0f} W",
-                  _flange(flange, u), _mounting(c, sel),
-                  f"{c['inertia_ratio']:.3g}", _pct(checks["peak_torque"]["margin"]),
-                  _pct(checks["rms_torque"]["margin"]), why, _drive_label(c.get("drive")))
-    console.print(t)
+        rows.append((str(c["rank"]) if c.get("rank") else "-", motor, c.get("vendor", ""),
+                     "" if power is None or math.isnan(power) else f"{power:.0f} W",
+                     _flange(flange, u), _mounting(c, sel),
+                     f"{c['inertia_ratio']:.3g}", _pct(checks["peak_torque"]["margin"]),
+                     _pct(checks["rms_torque"]["margin"]), why, _drive_label(c.get("drive"))))
+    print_table(console, title, CANDIDATE_COLUMNS, rows)
     if any(c.get("unverified") for c in result.candidates):
         console.print("† unverified catalog data (not traced to a vendor document, or a derived rating): "
                       "see unverified_reason in --json, or `drivetrain catalog show ID`")

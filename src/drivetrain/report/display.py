@@ -21,8 +21,8 @@ from numpy.typing import ArrayLike, NDArray
 from drivetrain.errors import InputError
 from drivetrain.units import IMPERIAL_UNITS, SI_UNITS, UNIT_CHOICES
 
-__all__ = ["DisplayUnits", "UnitsChoice", "display_units", "fmt_number",
-           "fmt_percent", "pretty_unit"]
+__all__ = ["ZERO_TOLERANCE", "DisplayUnits", "UnitsChoice", "display_units", "fmt_number", "fmt_percent",
+           "pretty_unit", "snap_zero", "snapped_metrics"]
 
 if TYPE_CHECKING:
     from matplotlib.ft2font import FT2Font
@@ -75,6 +75,43 @@ def fmt_number(value: float | None, sig: int = 4, signed: bool = False) -> str:
         mantissa = mantissa.rstrip("0").rstrip(".")
         text = f"{mantissa}×10{str(int(exponent)).translate(_SUPERSCRIPT)}"
     return "0" if text in ("-0", "-0.0") else sign + text
+
+
+ZERO_TOLERANCE: Final = 1e-9
+"""Relative tolerance under which a displayed value is zero: a value whose magnitude is at most this
+fraction of its quantity's scale (the largest value of that quantity shown beside it) is the round-off
+of a sum that is zero (an average power of 3.79e-14 W beside a peak of 3993 W), and prints as 0. A double
+carries about 16 digits and the cycle sums a few thousand samples, so the round-off stays below 1e-12
+of the scale; a real value below 1e-9 of the scale is also invisible at the 4 significant digits shown."""
+
+METRIC_SCALES: Final = {
+    "average_power_W": "peak_power_W",
+    "rms_torque_Nm": "peak_torque_Nm",
+    "accel_torque_Nm": "peak_torque_Nm",
+    "run_torque_Nm": "peak_torque_Nm",
+    "decel_torque_Nm": "peak_torque_Nm",
+    "holding_torque_Nm": "peak_torque_Nm",
+    "mean_speed_rpm": "max_speed_rpm",
+    "peak_torque_speed_rpm": "max_speed_rpm",
+}
+"""The scale of each demand figure (``SizingResult.metrics``) for :func:`snap_zero`: the peak of its quantity."""
+
+
+def snap_zero(value: float | None, scale: float | None, rel: float = ZERO_TOLERANCE) -> float | None:
+    """``value``, or 0.0 when ``|value| <= rel * |scale|`` (see ``ZERO_TOLERANCE``); None and non-finite
+    values, and a zero or missing scale, leave it as it is."""
+    if value is None or scale is None or not math.isfinite(value) or not math.isfinite(scale) or scale == 0.0:
+        return value
+    return 0.0 if abs(value) <= rel * abs(scale) else value
+
+
+def snapped_metrics(metrics: Mapping[str, Any]) -> dict[str, Any]:
+    """The demand figures with each one that is zero to within its scale (``METRIC_SCALES``) set to 0.0."""
+    out = dict(metrics)
+    for key, scale in METRIC_SCALES.items():
+        if isinstance(out.get(key), (int, float)) and isinstance(metrics.get(scale), (int, float)):
+            out[key] = snap_zero(float(out[key]), float(metrics[scale]))
+    return out
 
 
 def fmt_percent(margin: float | None) -> str:

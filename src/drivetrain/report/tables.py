@@ -20,6 +20,7 @@ from drivetrain.report.display import (
     pretty_powers,
     pretty_unit,
     quantity_of,
+    snapped_metrics,
 )
 from drivetrain.report.focus import Focus
 from drivetrain.units import quantity_of_key
@@ -158,8 +159,8 @@ def steps_table(result: SizingResult, du: DisplayUnits) -> Table:
 
 
 def demand_table(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> Table:
-    m = result.metrics
-    mo = focus.metrics if focus is not None else None
+    m = snapped_metrics(result.metrics)
+    mo = snapped_metrics(focus.metrics) if focus is not None else None
     rows: list[list[Cell]] = []
 
     def row(label: str, key: str, q: str, signed: bool = False) -> None:

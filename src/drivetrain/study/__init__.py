@@ -14,10 +14,22 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from drivetrain.study.spec import Study, load_study, parse_study
-
 if TYPE_CHECKING:
     import pandas as pd
+
+    from drivetrain.study.spec import Study, load_study, parse_study
+
+_SPEC_NAMES = ("Study", "load_study", "parse_study")
+
+
+def __getattr__(name: str) -> Any:
+    """``Study``, ``load_study`` and ``parse_study`` load the study-file model (numpy, pydantic) when first
+    used, so that ``drivetrain --help`` (which imports ``drivetrain.study.cli`` for its parser) stays light."""
+    if name in _SPEC_NAMES:
+        from drivetrain.study import spec
+
+        return getattr(spec, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 @dataclass
@@ -48,6 +60,8 @@ def sweep(study: str | Path | Study, *, out: str | Path | None = None, scheduler
     result; ``yes``: allow more than a million variants; ``report``: write the study report.
     A study with an ``optimize:`` block runs the optimisation (in this process) instead.
     """
+    from drivetrain.study.spec import Study, load_study
+
     s = study if isinstance(study, Study) else load_study(study, yes=yes)
     target = None if out is None else Path(out)
     if report is not None and s.spec.optimize is None:

@@ -163,6 +163,8 @@ class FacetsOut(BaseModel):
     gearbox_series: list[str]
     gearbox_kinds: list[str]
     motor_voltages: list[float]
+    drive_vendors: list[str] = []
+    drive_voltages: list[float] = []
 
 
 class ImportOut(BaseModel):

@@ -1,4 +1,4 @@
-"""Routes of the catalog: filter and sort motors and gearboxes, one item, a motor's envelope, and
+"""Routes of the catalog: filter and sort motors, gearboxes and drives, one item, a motor's envelope, and
 importing, editing and removing the user's own rows with their history; with the table queries behind them.
 """
 
@@ -32,6 +32,8 @@ MotorSort = Literal["id", "vendor", "series", "rated_power", "rated_torque", "pe
 Origin = Literal["all", "builtin", "user"]
 GearboxSort = Literal["id", "vendor", "series", "ratio", "stages", "rated_output_torque", "max_output_torque",
                       "efficiency", "max_input_speed", "inertia_input", "backlash", "mass"]
+DriveSort = Literal["id", "vendor", "series", "continuous_current", "peak_current", "voltage", "rated_power",
+                    "motor_series"]
 
 
 def _order(table: Any, sort: str, descending: bool) -> np.ndarray:
@@ -92,14 +94,28 @@ def gearboxes_page(vendor: str | None, series: str | None, kind: str | None, rat
     return _page(table, mask, sort, order, offset, limit)
 
 
+def drives_page(vendor: str | None, voltage: str | None, q: str | None, sort: str, order: str, offset: int,
+                limit: int, origin: str = "all") -> dict[str, Any]:
+    """Drives (currents, voltage class, the motor series each runs, source), filtered and sorted."""
+    from drivetrain import catalog
+
+    table = engine(lambda: catalog.drives(vendor=vendor or None, voltage=voltage or None))
+    mask = _text_mask(table, q)
+    if q:  # a drive is also found by the motor series it runs
+        mask |= np.char.find(np.char.lower(table.motor_series.astype(str)), q.strip().lower()) >= 0
+    return _page(table, mask & _origin_mask(table, origin), sort, order, offset, limit)
+
+
 def facets() -> dict[str, Any]:
     from drivetrain import catalog
 
-    m, g = catalog.motors(), catalog.gearboxes()
+    m, g, d = catalog.motors(), catalog.gearboxes(), catalog.drives()
     volts = sorted({float(v) for v in m.voltage if math.isfinite(v)})
     return {"motor_vendors": sorted(set(m.vendor.tolist())), "motor_kinds": sorted(set(m.kind.tolist())),
             "gearbox_vendors": sorted(set(g.vendor.tolist())), "gearbox_series": sorted(set(g.series.tolist()) - {""}),
-            "gearbox_kinds": sorted(set(g.kind.tolist())), "motor_voltages": volts}
+            "gearbox_kinds": sorted(set(g.kind.tolist())), "motor_voltages": volts,
+            "drive_vendors": sorted(set(d.vendor.tolist())),
+            "drive_voltages": sorted({float(v) for v in d.voltage if math.isfinite(v)})}
 
 
 
@@ -175,6 +191,21 @@ def register(app: FastAPI, ctx: Context) -> None:
         need_catalog()
         return await blocking(gearboxes_page, vendor, series, kind, ratio_min, ratio_max, q, sort, order, offset,
                               limit, origin)
+
+    @app.get("/api/catalog/drives", response_model=CatalogPage, tags=["catalog"])
+    async def catalog_drives(
+        vendor: Annotated[str | None, Query(max_length=100)] = None,
+        voltage: Annotated[str | None, Query(max_length=40, description="voltage class, e.g. 400 V")] = None,
+        q: Annotated[str | None, Query(max_length=100, description="text in the id, model or (motor) series")] = None,
+        sort: DriveSort = "continuous_current",
+        order: Literal["asc", "desc"] = "asc",
+        offset: Annotated[int, Query(ge=0, le=1_000_000)] = 0,
+        limit: Annotated[int, Query(ge=1, le=500)] = 50,
+        origin: Annotated[Origin, Query(description="shipped rows (builtin), yours (user) or all")] = "all",
+    ) -> dict[str, Any]:
+        """Servo drives of the shipped and user catalogs (currents, voltage class, motor series, source)."""
+        need_catalog()
+        return await blocking(drives_page, vendor, voltage, q, sort, order, offset, limit, origin)
 
     @app.get("/api/catalog/items/{item_id:path}", tags=["catalog"])
     async def catalog_item(item_id: _CATALOG_ID) -> dict[str, Any]:

@@ -73,6 +73,7 @@ function onFormChange(axis) {
 async function onYamlInput() {
   clearTimeout(state.yamlTimer);
   updateSaveState();
+  document.body.dataset.sizing = "pending";
   state.yamlTimer = setTimeout(async () => {
     const seq = ++state.yamlSeq;
     try {
@@ -86,6 +87,8 @@ async function onYamlInput() {
     } catch (err) {
       if (seq !== state.yamlSeq) return;
       showYamlError(err.message);
+      // the text does not parse: nothing to size, the result shown stays that of the last axis
+      document.body.dataset.sizing = state.sizeAbort ? "busy" : "idle";
     }
   }, YAML_DELAY_MS);
 }
@@ -101,19 +104,47 @@ function loadAxis(axis, text) {
 
 // ---------------------------------------------------------------- sizing
 
+// body[data-sizing]: "pending" from an edit until its sizing is asked for, "busy" while asked, "idle" when
+// the result shown is the answer to the axis as it stands (the browser tests wait for "idle").
 function scheduleSize(delay = SIZE_DELAY_MS) {
   clearTimeout(state.sizeTimer);
+  document.body.dataset.sizing = "pending";
   state.sizeTimer = setTimeout(runSize, delay);
+}
+
+// An axis with nothing entered yet (a new project: a mechanism type, no dimensions, no profile) is not
+// sent: the server could only refuse it, and the page makes no failing request on its own.
+function nothingToSize(axis) {
+  const mechanism = axis && axis.mechanism;
+  const profile = axis && axis.profile;
+  return (!mechanism || Object.keys(mechanism).every((k) => k === "type")) && (!Array.isArray(profile) || !profile.length);
+}
+
+function settle(results) {
+  results.setAttribute("aria-busy", "false");
+  document.body.dataset.sizing = "idle";
 }
 
 async function runSize() {
   const key = JSON.stringify(state.axis);
-  if (key === state.lastSized) return;
+  const results = document.querySelector(".results");
+  if (key === state.lastSized || nothingToSize(state.axis)) {
+    // an answer still on its way was asked for another axis: drop it (a newer sequence number)
+    if (state.sizeAbort) state.sizeAbort.abort();
+    state.sizeAbort = null;
+    state.sizeSeq += 1;
+    if (key !== state.lastSized) {
+      state.lastSized = key;
+      state.payload = null;
+      renderWaiting();
+    }
+    settle(results);
+    return;
+  }
   if (state.sizeAbort) state.sizeAbort.abort();
   const abort = new AbortController();
   state.sizeAbort = abort;
   const seq = ++state.sizeSeq;
-  const results = document.querySelector(".results");
   results.setAttribute("aria-busy", "true");
   document.body.dataset.sizing = "busy";
   try {
@@ -128,11 +159,23 @@ async function runSize() {
     renderError(err);
   } finally {
     if (seq === state.sizeSeq) {
-      results.setAttribute("aria-busy", "false");
-      document.body.dataset.sizing = "idle";
+      state.sizeAbort = null;
+      // an edit made while this answer was on its way keeps the page "pending"
+      if (document.body.dataset.sizing === "busy") settle(results);
+      else results.setAttribute("aria-busy", "false");
       document.body.dataset.sized = String(seq);
     }
   }
+}
+
+function renderWaiting() {
+  const banner = $("result-banner");
+  banner.className = "banner";
+  banner.textContent = "Fill in the mechanism (its type, dimensions and load) and the profile to size the axis.";
+  $("result-warnings").hidden = true;
+  $("error-summary").hidden = true;
+  $("result-body").classList.add("stale");
+  form.clearErrors();
 }
 
 function renderResult(payload) {
@@ -290,11 +333,14 @@ function adopt(detail) {
 }
 
 async function openProject(id) {
+  document.body.dataset.sizing = "pending"; // an axis is on its way (see scheduleSize)
+  let loaded = false;
   try {
     const detail = await api.get(`/api/projects/${id}`);
     adopt(detail);
     if (detail.axis) {
       loadAxis(detail.axis, detail.yaml);
+      loaded = true;
     } else {
       setYaml(detail.yaml);
       showYamlError(detail.yaml_error ? detail.yaml_error.detail : "the saved text does not parse");
@@ -304,6 +350,8 @@ async function openProject(id) {
     setStatus(`opened ${detail.name}`);
   } catch (err) {
     setStatus(err.message, true);
+  } finally {
+    if (!loaded) scheduleSize(0); // settles: the axis sized is still the one shown
   }
 }
 
@@ -457,7 +505,7 @@ async function init() {
   const desc = await api.get("/api/form");
   form = new AxisForm($("axis-form"), desc, onFormChange);
   catalogView = new CatalogView({
-    motors: $("cat-motors"), gearboxes: $("cat-gearboxes"), filters: $("catalog-filters"), table: $("catalog-table"),
+    motors: $("cat-motors"), gearboxes: $("cat-gearboxes"), drives: $("cat-drives"), filters: $("catalog-filters"), table: $("catalog-table"),
     prev: $("cat-prev"), next: $("cat-next"), page: $("cat-page"), envelope: $("plot-envelope"), detail: $("catalog-detail"),
     importForm: $("import-form"), importResult: $("import-result"),
   }, setStatus);
@@ -512,12 +560,14 @@ async function init() {
   $("example-select").addEventListener("change", async (e) => {
     const name = e.target.value;
     if (!name) return;
+    document.body.dataset.sizing = "pending"; // an axis is on its way (see scheduleSize)
     try {
       const ex = await api.get(`/api/examples/${encodeURIComponent(name)}`);
       loadAxis(ex.axis, ex.yaml);
       setStatus(`loaded the ${name} example (not saved)`);
     } catch (err) {
       setStatus(err.message, true);
+      scheduleSize(0); // settles: the axis shown is still the one sized
     }
     e.target.value = "";
   });

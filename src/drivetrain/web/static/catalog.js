@@ -1,4 +1,4 @@
-// The catalog browser: filter and sort motors and gearboxes, a motor's envelope, CSV import, and your
+// The catalog browser: filter and sort motors, gearboxes and drives, a motor's envelope, CSV import, and your
 // own rows edited, removed and their history shown.
 
 import { el } from "./dom.js";
@@ -60,6 +60,19 @@ const GEARBOX_COLUMNS = [
   { key: "origin", label: "origin" },
 ];
 
+const DRIVE_COLUMNS = [
+  { key: "id", sort: "id", label: "id" },
+  { key: "vendor", sort: "vendor", label: "vendor" },
+  { key: "series", sort: "series", label: "series" },
+  { key: "continuous_current_A", sort: "continuous_current", label: "I cont. [A]" },
+  { key: "peak_current_A", sort: "peak_current", label: "I peak [A]" },
+  { key: "voltage_V", sort: "voltage", label: "U [V]" },
+  { key: "rated_power_W", sort: "rated_power", label: "P [W]" },
+  { key: "motor_series", sort: "motor_series", label: "motor series" },
+  { key: "origin", label: "origin" },
+  { key: "source", label: "source", wide: true },
+];
+const COLUMNS = { motors: MOTOR_COLUMNS, gearboxes: GEARBOX_COLUMNS, drives: DRIVE_COLUMNS };
 
 // The motors the browser opens on: industrial AC servos (not the small DC motors).
 const DEFAULT_KIND = "ac_servo";
@@ -86,7 +99,8 @@ export class CatalogView {
     this.n = nodes;
     this.setStatus = setStatus;
     this.table = "motors";
-    this.sort = { motors: { by: "rated_torque", order: "asc" }, gearboxes: { by: "ratio", order: "asc" } };
+    this.sort = { motors: { by: "rated_torque", order: "asc" }, gearboxes: { by: "ratio", order: "asc" },
+      drives: { by: "continuous_current", order: "asc" } };
     this.offset = 0;
     this.limit = 50;
     this.facets = null;
@@ -94,6 +108,7 @@ export class CatalogView {
     this.loaded = false;
     this.n.motors.addEventListener("click", () => this.switchTo("motors"));
     this.n.gearboxes.addEventListener("click", () => this.switchTo("gearboxes"));
+    this.n.drives.addEventListener("click", () => this.switchTo("drives"));
     this.n.prev.addEventListener("click", () => { this.offset = Math.max(0, this.offset - this.limit); this.load(); });
     this.n.next.addEventListener("click", () => { this.offset += this.limit; this.load(); });
     this.n.filters.addEventListener("input", () => this.refilter());
@@ -120,6 +135,7 @@ export class CatalogView {
     this.offset = 0;
     this.n.motors.setAttribute("aria-pressed", String(table === "motors"));
     this.n.gearboxes.setAttribute("aria-pressed", String(table === "gearboxes"));
+    this.n.drives.setAttribute("aria-pressed", String(table === "drives"));
     this.buildFilters();
     this.load();
   }
@@ -135,6 +151,13 @@ export class CatalogView {
           f.motor_kinds.includes(DEFAULT_KIND) ? DEFAULT_KIND : ""),
         selectOf("flt-voltage", "Voltage class", "voltage", f.motor_voltages.map((v) => `${v} V`), "any voltage"),
         inputOf("flt-flange", "Flange", "flange", "e.g. 80 mm"),
+        selectOf("flt-origin", "Rows", "origin", ["builtin", "user"], "shipped and yours"),
+      );
+    } else if (this.table === "drives") {
+      box.replaceChildren(
+        inputOf("flt-q", "Search", "q", "id, series or motor series"),
+        selectOf("flt-vendor", "Vendor", "vendor", f.drive_vendors || [], "all vendors"),
+        selectOf("flt-voltage", "Voltage class", "voltage", (f.drive_voltages || []).map((v) => `${v} V`), "any voltage"),
         selectOf("flt-origin", "Rows", "origin", ["builtin", "user"], "shipped and yours"),
       );
     } else {
@@ -170,7 +193,7 @@ export class CatalogView {
   }
 
   async load() {
-    const columns = this.table === "motors" ? MOTOR_COLUMNS : GEARBOX_COLUMNS;
+    const columns = COLUMNS[this.table];
     let page;
     try {
       page = await api.get(`/api/catalog/${this.table}?${this.params()}`);
@@ -214,7 +237,7 @@ export class CatalogView {
           tr.append(el("th", { scope: "row", class: item.unverified ? "unverified" : undefined,
             title: item.unverified ? `unverified: ${item.unverified_reason}` : undefined }, b));
         } else {
-          tr.append(k === 0 ? el("th", { scope: "row", text, title: text }) : el("td", { text, title: text.length > 14 ? text : undefined }));
+          tr.append(el("td", { class: c.wide ? "wide" : undefined, text, title: text.length > 14 ? text : undefined }));
         }
       });
       body.append(tr);
@@ -253,6 +276,10 @@ export class CatalogView {
         ["ratio, efficiency", `${scaled(item.ratio, 1)}, ${scaled(item.efficiency, 1)}`],
         ["rated / max output torque", `${scaled(item.rated_output_torque_Nm, 1)} / ${scaled(item.max_output_torque_Nm, 1)} N·m`],
         ["input inertia", `${scaled(item.inertia_input_kgm2, 1e4)} kg·cm²`],
+      ] : item.table === "drive" ? [
+        ["continuous / peak current", `${scaled(item.continuous_current_A, 1)} / ${scaled(item.peak_current_A, 1)} A`],
+        ["voltage class", `${scaled(item.voltage_V, 1)} V`],
+        ["motor series", item.motor_series || "–"],
       ] : []);
     } catch (err) {
       this.n.detail.replaceChildren(el("p", { class: "field-error", role: "alert", text: err.message }));

@@ -11,6 +11,9 @@ export { joinPath, parsePath } from "./formkit.js";
 const STEP_ORDER = ["move", "speed", "dwell", "time", "max_speed", "max_accel", "max_jerk", "accel", "decel", "shape", "law",
   "jerk_fraction", "jerk", "thrust", "holding"];
 
+// Keys of motor: that a catalog selection takes beside select (docs/axis-file.md, "Electrical data").
+const SELECTION_SUPPLY = ["supply_voltage", "dc_bus_voltage"];
+
 export class AxisForm {
   constructor(root, desc, onChange) {
     this.root = root;
@@ -286,8 +289,11 @@ export class AxisForm {
     const select = f.fields.find((x) => x.name === "select");
     const margins = f.fields.filter((x) => x.name === "margins");
     const given = f.fields.filter((x) => x.name !== "select" && x.name !== "margins");
-    if (catalog) box.append(this.objectField({ ...select, nullable: false, label: "Selection" }, value.select, joinPath(path, "select")));
-    else box.append(this.objectFields(given, value, path));
+    if (catalog) {
+      box.append(this.objectField({ ...select, nullable: false, label: "Selection" }, value.select, joinPath(path, "select")));
+      // the machine's supply, used for every candidate (the only given keys a selection takes)
+      box.append(this.objectFields(given.filter((x) => SELECTION_SUPPLY.includes(x.name)), value, path));
+    } else box.append(this.objectFields(given, value, path));
     box.append(this.objectFields(margins, value, path));
     return box;
   }

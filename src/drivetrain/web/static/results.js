@@ -70,7 +70,8 @@ export function verdict(result) {
   if (sel && sel.selected) {
     const c = sel.selected;
     // a selection whose passing motors have no orderable drive fails (drive_select.orderable)
-    const failed = sel.drive_advice ? `not orderable: ${sel.drive_advice}` : "";
+    // the verdict is the advice's first clause; the motor it names and the motors passed over fold away
+    const failed = sel.drive_advice ? `not orderable: ${sel.drive_advice.split("; ")[0]}` : "";
     return { who: c.motor + (c.gearbox ? ` + ${c.gearbox}` : ""), ok: !sel.drive_advice, failed, checks: c.checks, kind: "selection", candidate: c };
   }
   if (sel) return { who: null, ok: false, failed: sel.advice || "no candidate passes every check", checks: [], kind: "none-pass" };
@@ -97,13 +98,27 @@ export function renderBanner(node, result) {
       el("strong", { text: `Selected motor: ${c.motor}` }),
       ` (${c.vendor})${c.gearbox ? ` with gearbox ${c.gearbox}, ratio ${fmt(c.ratio)}`
         : s.transmission_gearbox ? `, on the axis's ${s.transmission_gearbox}` : ", direct drive"}: ` +
-        `${s.passing} of ${s.evaluated} combinations pass.` +
-        (s.drive_passed_over ? ` Passed over for the drive: ${s.drive_passed_over.map((p) => p.motor).join(", ")}.` : "") +
-        (v.failed ? ` ${v.failed}` : ""),
+        `${s.passing} of ${s.evaluated} combinations pass.` + (v.failed ? ` ${v.failed[0].toUpperCase()}${v.failed.slice(1)}.` : ""),
     );
+    const folded = passedOver(s);
+    if (folded) node.append(folded);
   } else {
     node.replaceChildren(el("strong", { text: `Motor ${v.who}: ${v.ok ? "OK" : "FAILS"}` }), v.ok ? ": every check passes." : `: ${v.failed}`);
   }
+}
+
+// The motors a selection passed over for their drive, folded: a count in the summary, each motor with
+// its reason inside (selection.drive_passed_over lists the first 20 of drive_passed_over_count).
+export function passedOver(sel) {
+  const over = sel.drive_passed_over || [];
+  if (!over.length) return null;
+  const n = Math.max(sel.drive_passed_over_count || 0, over.length);
+  const list = el("ul", { class: "passed-over-list" }, ...over.map((p) => el("li", { text: `${p.motor}: ${p.reason}` })));
+  if (n > over.length) list.append(el("li", { class: "muted", text: `… and ${n - over.length} more` }));
+  const rest = sel.drive_advice ? sel.drive_advice.split("; ").slice(1).join("; ") : "";
+  return el("details", { class: "passed-over" },
+    el("summary", { text: `${n} passing motor${n === 1 ? "" : "s"} passed over for ${n === 1 ? "its" : "their"} drive` }),
+    ...(rest ? [el("p", { text: rest })] : []), list);
 }
 
 // The drive, the motor's electrical figures and the regen block (payload.electrical, web/payload.py).
@@ -160,8 +175,28 @@ export function renderChecks(node, result, electrical = null) {
   node.replaceChildren(...parts);
 }
 
+// A demand figure within ZERO_TOLERANCE of its scale is the round-off of a sum that is zero: it shows as 0
+// (drivetrain.report.display.snap_zero and METRIC_SCALES, docs/architecture.md "Terminal output").
+export const ZERO_TOLERANCE = 1e-9;
+const METRIC_SCALES = {
+  average_power_W: "peak_power_W", rms_torque_Nm: "peak_torque_Nm", accel_torque_Nm: "peak_torque_Nm",
+  run_torque_Nm: "peak_torque_Nm", decel_torque_Nm: "peak_torque_Nm", holding_torque_Nm: "peak_torque_Nm",
+  mean_speed_rpm: "max_speed_rpm", peak_torque_speed_rpm: "max_speed_rpm",
+};
+
+export function snappedMetrics(result) {
+  const out = { ...result };
+  for (const [key, scale] of Object.entries(METRIC_SCALES)) {
+    const v = result[key];
+    const s = result[scale];
+    if (typeof v === "number" && typeof s === "number" && Number.isFinite(v) && Number.isFinite(s) && s !== 0
+        && Math.abs(v) <= ZERO_TOLERANCE * Math.abs(s)) out[key] = 0;
+  }
+  return out;
+}
+
 export function renderMetrics(node, result, motion) {
-  const m = result;
+  const m = snappedMetrics(result);
   const speedUnit = "rpm";
   const rows = [
     ["cycle time", `${fmt(m.cycle_time_s)} s`],
