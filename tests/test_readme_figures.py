@@ -50,7 +50,7 @@ def test_the_quick_start_names_files_that_exist_and_says_how_to_set_the_supply()
     assert "root or `sudo`" in quick
     import yaml
 
-    from drivetrain.axis.model import parse_yaml
+    from drivetrain.axis.yaml_text import parse_yaml
 
     block = re.search(r"```yaml\n(motor:.*?)```", quick, re.S)
     assert block, "the supply example"
