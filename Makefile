@@ -13,17 +13,15 @@ $(STAMP): pyproject.toml
 	rm -f $(VENV)/.installed-*
 	touch $(STAMP)
 
-## After install: compile the sources to bytecode, build the selection kernel and the hull ahead of
-## time (no numba in a sizing), then run each command once so that the first real run finds numba's
-## compiled kernels, the catalog database and the unit factors already cached. A later source change
-## only makes the next run compile again (a stale build is never used); `make warm` redoes the warm-up.
+## After install: compile the sources to bytecode, then run each command once so that the first real
+## run finds the simulation's numba kernels compiled (numba's cache), the catalog database and the unit
+## factors already cached. A sizing needs no compiled code (its checks are numpy); `make warm` redoes
+## the warm-up.
 WARM := $(VENV)/.warm
 $(WARM): $(STAMP)
 	$(PY) -m compileall -q src >/dev/null
-	$(PY) -m drivetrain.sizing.aot
 	$(VENV)/bin/drivetrain size examples/ball_screw.yaml >/dev/null || [ $$? -eq 1 ]
 	$(VENV)/bin/drivetrain simulate examples/belt.yaml >/dev/null
-	$(PY) -c "import numpy as n; from drivetrain.sizing.hull import chains; chains(n.zeros(3), n.arange(3.0), n.array([0]), n.array([3]))"
 	touch $(WARM)
 
 setup: $(STAMP) $(WARM)
