@@ -58,9 +58,12 @@ FIT_TOLERANCE = 0.5e-3
 N_DETAIL = 3 * N_CHECKS + 3
 D_RMS, D_PEAK, D_INERTIA = 3 * N_CHECKS, 3 * N_CHECKS + 1, 3 * N_CHECKS + 2
 
-BLOCK = 32768
+BLOCK = 65536
 """Candidates checked together: large enough that numpy's per-call cost is small against the work,
 small enough that a block's temporaries (about 40 arrays of 8 bytes each) stay in the cache."""
+
+FULL_SCAN = 1 << 18
+"""Candidates x bins up to which the worst bin is found by a scan of every bin (beyond, by the search)."""
 
 Array = NDArray[np.float64]
 _INF, _NAN = np.inf, np.nan
@@ -117,20 +120,25 @@ def check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np
             _summarise(mar, slow, k, m, q, motor, slot, worst, failed, unknown)
 
 
-def _summarise(mar: Array, slow: NDArray[np.bool_], k: NDArray[np.int64], m: NDArray[np.int64],
+def _summarise(mar: list[Array], slow: NDArray[np.bool_], k: NDArray[np.int64], m: NDArray[np.int64],
                q: NDArray[np.int64], motor: NDArray[np.int32], slot: NDArray[np.int32], worst: Array,
                failed: NDArray[np.uint16], unknown: NDArray[np.uint16]) -> None:
     """Write candidates ``k``: the worst known margin (the first of equal ones; NaN if none is known),
-    the bits of the checks that fail and of those that cannot be judged."""
-    unknown_ = np.isnan(mar)
-    unknown_[PEAK] &= ~slow  # a motor too slow for the top bin is not judged on peak torque: max_speed fails
-    shift = np.arange(N_CHECKS, dtype=np.uint16).reshape((N_CHECKS,) + (1,) * slow.ndim)
-    bits = np.bitwise_or.reduce((mar < 0.0).astype(np.uint16) << shift, axis=0)
-    gaps = np.bitwise_or.reduce(unknown_.astype(np.uint16) << shift, axis=0)
-    w = np.fmin.reduce(mar, axis=0)  # the smallest known margin, NaN if none is known
+    the bits of the checks that fail and of those that cannot be judged. A margin of the gearbox row
+    alone comes as one row over the slots (broadcast over the motors)."""
+    w = np.full(k.shape, _NAN)
+    bits = np.zeros(k.shape, dtype=np.uint16)
+    gaps = np.zeros(k.shape, dtype=np.uint16)
+    for c, x in enumerate(mar):
+        gap = np.isnan(x)
+        if c == PEAK:
+            gap &= ~slow  # a motor too slow for the top bin is not judged on peak torque: max_speed fails
+        bits |= (x < 0.0).astype(np.uint16) << np.uint16(c)
+        gaps |= gap.astype(np.uint16) << np.uint16(c)
+        w = np.fmin(w, x)  # the smallest known margin, NaN if none is known
     zero = np.flatnonzero(w.ravel() == 0.0)
     if len(zero):  # the first of the checks at zero gives the sign (0.0 or -0.0), as a loop over them would
-        flat = mar.reshape(N_CHECKS, -1)[:, zero]
+        flat = np.stack([np.broadcast_to(x, k.shape).ravel()[zero] for x in mar])
         w.ravel()[zero] = flat[np.argmax(flat == 0.0, axis=0), np.arange(len(zero))]
     motor[k] = m
     slot[k] = q
@@ -157,7 +165,8 @@ def _worst_bin(env_full: Array, hull_t: Array, hull_a: Array, pair: NDArray[np.i
     stops at the first bin whose envelope is above (margin + 1) x its whole cycle's peak torque: no bin
     there can lower its margin (a bin's peak torque is at most the cycle's; 1e-12 covers rounding), so
     the result is the full scan's. Groups with a NaN vertex and candidates without a finite, positive
-    cycle peak are scanned in full.
+    cycle peak are scanned in full, and so are all when they are few (``FULL_SCAN``: one pass over every
+    bin costs less than the search's steps then).
     """
     n_bins = env_full.shape[1]
     used = np.flatnonzero(np.bincount(pair, minlength=len(env_full)))  # the rows these candidates need
@@ -166,7 +175,7 @@ def _worst_bin(env_full: Array, hull_t: Array, hull_a: Array, pair: NDArray[np.i
     bound = peak_all * tm * (1.0 + 1e-12)
     req, av, mar = np.empty(len(pair)), np.empty(len(pair)), np.empty(len(pair))
     nan_vertex = np.asarray(np.isnan(hull_t).any(axis=(1, 2)) | np.isnan(hull_a).any(axis=(1, 2)))
-    whole = nan_vertex[g] | ~(np.isfinite(bound) & (bound > 0.0))
+    whole = nan_vertex[g] | ~(np.isfinite(bound) & (bound > 0.0)) | (len(pair) * n_bins <= FULL_SCAN)
     # An unknown envelope (NaN) at a bin where torque is needed is an unknown margin, which wins: the
     # first such bin (a motor without a max speed is judged at every bin, its envelope NaN above its
     # rated speed, typically).
@@ -216,9 +225,10 @@ def _over(num: Array, den: Array) -> Array:
 
 
 def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64], g: NDArray[np.int64],
-           q: NDArray[np.int64], listed: bool) -> tuple[Array, Any]:
-    """Margins (N_CHECKS, n) of candidates (motor m, group g, slot q), and their detail vectors (listed)
-    or whether each motor is too slow for the cycle's top bin (grid)."""
+           q: NDArray[np.int64], listed: bool) -> tuple[Any, Any]:
+    """Candidates (motor m, group g, slot q; listed: 1-D, grid: motors as a column, slots as a row):
+    listed, their margins (N_CHECKS, n) and detail vectors (N_DETAIL, n); grid, each check's margins
+    (broadcast over motors and slots) and whether each motor is too slow for the cycle's top bin."""
     (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, cont_mean, full_row, env_full, g_ratio, g_eff,
      hull_speed, hull_t, hull_a, all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_nmax, gb_nmean, gb_t2n, gb_t2b,
      gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, par) = model
@@ -250,19 +260,22 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     i = g_ratio[g]
     j_m = j_rotor[m]
     j = j_m + r_j
-    # peak motor torque over the cycle: the support function of the cycle's hull
-    peak_all = _support(all_t[g], all_a[g], j)
-    # peak torque against the intermittent envelope, worst bin
+    # peak torque against the intermittent envelope, worst bin; a motor slower than the top bin is not
+    # judged on torque (its required torque, shown in detail, is that of the top bin)
     slow = w_max[m] < hull_speed[g, top]
-    req_p = _support(hull_t[g, top], hull_a[g, top], j) * tm  # a slow motor: not judged on torque
     av_p = np.full(shape, _NAN)
     mar_p = np.full(shape, _NAN)
+    if listed:
+        peak_all = _support(all_t[g], all_a[g], j)  # peak motor torque over the cycle: the cycle hull's support
+        req_p = _support(hull_t[g, top], hull_a[g, top], j) * tm
     fast = np.nonzero(~slow)
     if len(fast[0]):
         gf = np.broadcast_to(g, shape)[fast]
         pair = full_row[gf, np.broadcast_to(m, shape)[fast]]
-        req_p[fast], av_p[fast], mar_p[fast] = _worst_bin(env_full, hull_t, hull_a, pair, gf, j[fast],
-                                                          peak_all[fast], tm)
+        peak_fast = peak_all[fast] if listed else _support(all_t[gf], all_a[gf], j[fast])
+        req_fast, av_p[fast], mar_p[fast] = _worst_bin(env_full, hull_t, hull_a, pair, gf, j[fast], peak_fast, tm)
+        if listed:
+            req_p[fast] = req_fast
     # the other checks, each a closed form in J
     s_tt, s_ta, s_aa = sums[g, 0], sums[g, 1], sums[g, 2]
     cont = cont_mean[m, g] if listed else cont_mean[m[:, 0]][:, g[0]]  # (rows, then columns: the faster way)
@@ -277,27 +290,21 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     # inertia ratio, the gearbox's input inertia on the load side
     ir = (j_l + r_j) / j_m
     mar_i = np.where(ir > 0.0, limit / ir - 1.0, _INF)
-    # mechanical fit (checks.mechanical_fit): known shortfalls first, then unknowns
-    m1 = r_bmax / sh - 1.0
-    m2 = np.where(np.isnan(sh), _NAN, np.where(np.isnan(r_bmin), _INF, sh / r_bmin - 1.0))
-    m3 = _same_size(fl_m, r_fl)
-    m4 = _same_size(pi_m, r_pi)
-    lo = np.full(shape, _INF)
-    gap = np.zeros(shape, dtype=bool)
-    for x in (m1, m2, m3, m4):
-        nan = np.isnan(x)
-        gap |= nan
-        lo = np.where(~nan & (x < lo), x, lo)
-    mar_f = np.where(direct, _INF, np.where((lo < 0.0) | ~gap, lo, _NAN))
+    # mechanical fit: once per distinct motor (shaft, flange, pilot) and gearbox input (bores, flange,
+    # pilot), then looked up: it depends on nothing else
+    motor_dims, at_motor = _distinct(np.stack([x.ravel() for x in (sh, fl_m, pi_m)], axis=1))
+    row_dims, at_row = _distinct(np.stack([x.ravel() for x in (r_bmax, r_bmin, r_fl, r_pi, direct)], axis=1))
+    fits = _fit(*(c[:, None] for c in motor_dims.T), *(c[None, :] for c in row_dims.T))
+    mar_f = fits[at_motor.reshape(sh.shape), at_row.reshape(r_bmax.shape)]
     # gearbox: what passes at the motor's peak against the emergency-stop torque
     req_ge = np.where(direct, 0.0, ((1.0 - j / (j + j_l)) * (t_pk - t_l) + t_l) * i * g_eff[g])
     mar_ge = np.where(np.isnan(r_t2not), _NAN, np.where(direct, _INF, _over(r_t2not, req_ge)))
-    mar = np.empty((N_CHECKS, *shape))
-    for c, x in enumerate((mar_p, mar_r, mar_motor_speed, mar_i, mar_f, r_mar_t2b, r_mar_t2n, mar_ge, r_mar_speed,
-                           r_mar_mean)):
-        mar[c] = x
+    margins = [mar_p, mar_r, mar_motor_speed, mar_i, mar_f, r_mar_t2b, r_mar_t2n, mar_ge, r_mar_speed, r_mar_mean]
     if not listed:
-        return mar, slow
+        return margins, slow
+    mar = np.empty((N_CHECKS, *shape))
+    for c, x in enumerate(margins):
+        mar[c] = x
     out = np.empty((N_DETAIL, *shape))
     for c, x in enumerate((req_p, req_r, req_s * _RPM, ir, np.where(direct, 0.0, sh * _MM), req_t2b, req_t2n,
                            req_ge, req_s * _RPM, req_mean * _RPM,
@@ -307,6 +314,30 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     out[2 * N_CHECKS:3 * N_CHECKS] = mar
     out[D_RMS], out[D_PEAK], out[D_INERTIA] = rms, peak_all, ir
     return mar, out
+
+
+def _distinct(a: Array) -> tuple[Array, NDArray[np.intp]]:
+    """The distinct rows of ``a`` and, for each row of ``a``, its index among them."""
+    found, at = np.unique(a, axis=0, return_inverse=True)
+    return found, np.asarray(at).ravel()
+
+
+def _fit(sh: Array, fl_m: Array, pi_m: Array, r_bmax: Array, r_bmin: Array, r_fl: Array, r_pi: Array,
+         direct: Array) -> Array:
+    """Margin of the mechanical fit (``checks.mechanical_fit``): the motor shaft [m] into the gearbox's
+    input bore range, flange and pilot [m] equal to its adapter's where given; a known shortfall first,
+    NaN where one is unknown and none falls short, infinite for direct drive."""
+    m1 = r_bmax / sh - 1.0
+    m2 = np.where(np.isnan(sh), _NAN, np.where(np.isnan(r_bmin), _INF, sh / r_bmin - 1.0))
+    m3 = _same_size(fl_m, r_fl)
+    m4 = _same_size(pi_m, r_pi)
+    lo = np.full(np.broadcast_shapes(m1.shape, m2.shape, m3.shape, m4.shape), _INF)
+    gap = np.zeros(lo.shape, dtype=bool)
+    for x in (m1, m2, m3, m4):
+        nan = np.isnan(x)
+        gap |= nan
+        lo = np.where(~nan & (x < lo), x, lo)
+    return np.where(direct > 0.0, _INF, np.where((lo < 0.0) | ~gap, lo, _NAN))
 
 
 def _same_size(motor: Array, gearbox: Array) -> Array:
