@@ -72,7 +72,7 @@ def demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: fl
            bins: int = 64) -> Demand:
     """Reduce samples to a Demand: speed bins and the convex hull of (alpha, T) in each."""
     if len(omega) > _COMPILED_FROM:
-        from drivetrain.sizing.hull import fast_demand  # the same bins, vertices and padding, every bin at once
+        from drivetrain.sizing.hull import fast_demand  # the same bins, vertices and padding, compiled
 
         return fast_demand(omega, alpha, torque, weights, period, load_inertia, bins)
     a_s, t_s, starts, stops, speeds = binned_points(omega, alpha, torque, bins)
@@ -113,9 +113,8 @@ def scaled(d: Demand, ratio: float) -> Demand:
 
 
 _COMPILED_FROM = 20_000
-"""Samples above which the hulls are computed by ``hull.fast_demand`` (same vertices), which first drops
-the points inside each bin in numpy; below, the plain-float chain over every point (the threshold was
-chosen for the compiled hull this replaced)."""
+"""Samples above which the hulls are computed by the compiled ``hull.fast_demand`` (same vertices):
+below, the plain-float chain costs less than loading the compiled code."""
 
 _COLLINEAR = 1e-12
 """Relative size of a turn below which three hull points count as collinear (rounding of the samples)."""
