@@ -2,28 +2,29 @@
 PYTHON ?= python3
 VENV := .venv
 PY := $(VENV)/bin/python
-STAMP := $(VENV)/.installed-$(shell cksum pyproject.toml | cut -d' ' -f1)
+STAMP := $(VENV)/.installed-$(shell cat pyproject.toml constraints.txt | cksum | cut -d' ' -f1)
+## The tested versions of every dependency, of pip and of the build backend (constraints.txt): pip reads
+## PIP_CONSTRAINT for the install and for the isolated build of the package alike.
+export PIP_CONSTRAINT := $(CURDIR)/constraints.txt
 
 .PHONY: setup warm run serve test lint bench browser clean
 
-$(STAMP): pyproject.toml
+$(STAMP): pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e '.[dev]'
 	rm -f $(VENV)/.installed-*
 	touch $(STAMP)
 
-## After install: compile the sources to bytecode, build the selection kernel and the hull ahead of
-## time (no numba in a sizing), then run each command once so that the first real run finds numba's
-## compiled kernels, the catalog database and the unit factors already cached. A later source change
-## only makes the next run compile again (a stale build is never used); `make warm` redoes the warm-up.
+## After install: compile the sources to bytecode, then run each command once so that the first real
+## run finds the simulation's numba kernels compiled (numba's cache), the catalog database and the unit
+## factors already cached. A sizing needs no compiled code (its checks are numpy); `make warm` redoes
+## the warm-up.
 WARM := $(VENV)/.warm
 $(WARM): $(STAMP)
 	$(PY) -m compileall -q src >/dev/null
-	$(PY) -m drivetrain.sizing.aot
 	$(VENV)/bin/drivetrain size examples/ball_screw.yaml >/dev/null || [ $$? -eq 1 ]
 	$(VENV)/bin/drivetrain simulate examples/belt.yaml >/dev/null
-	$(PY) -c "import numpy as n; from drivetrain.sizing.hull import chains; chains(n.zeros(3), n.arange(3.0), n.array([0]), n.array([3]))"
 	touch $(WARM)
 
 setup: $(STAMP) $(WARM)

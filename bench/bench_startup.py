@@ -1,12 +1,11 @@
 """Whole-process start-up: ``drivetrain size examples/ball_screw.yaml`` and ``drivetrain simulate
 examples/belt.yaml`` as a user runs them, warm and the first time.
 
-"warm", which is also the first run after ``make setup``: the selection kernel and the hull built
-ahead of time (``python -m drivetrain.sizing.aot``), numba's cache of the other kernels, the catalog
-database and the remembered unit factors exist (make setup's warm-up step builds the kernels and runs
-these commands once). "first run after make setup of a file its warm-up did not run": the caches as
-the warm-up left them (copied afresh for each run), another example (other units to convert, other
-kernel arguments). "first run, no warm-up": a copy of
+"warm", which is also the first run after ``make setup``: numba's cache of the simulation's kernels,
+the catalog database and the remembered unit factors exist (make setup's warm-up step runs these
+commands once; a sizing needs no compiled code). "first run after make setup of a file its warm-up
+did not run": the caches as the warm-up left them (copied afresh for each run), another example
+(other units to convert, other kernel arguments). "first run, no warm-up": a copy of
 the package (its bytecode kept, as pip leaves it) with no compiled-kernel cache, an empty data
 folder and an empty cache folder: what the first command costs when nothing ran before it.
 Each figure is the min over the runs of the child's CPU time (user + system, from
@@ -69,8 +68,6 @@ def main() -> None:
     with tempfile.TemporaryDirectory(prefix="drivetrain-startup-") as tmp:
         warm_env = {**base, "DRIVETRAIN_DATA_DIR": str(Path(tmp) / "warm-data"),
                     "DRIVETRAIN_CACHE_DIR": str(Path(tmp) / "warm-cache")}
-        subprocess.run([sys.executable, "-m", "drivetrain.sizing.aot"], env=warm_env, check=True,
-                       stdout=subprocess.DEVNULL)
         for args in COMMANDS.values():
             _run(args, warm_env)  # the warm-up of make setup
         setup = Path(tmp) / "after-setup"
@@ -101,7 +98,7 @@ def main() -> None:
     print("|---|---|---:|---:|---:|---|")
     label = {"warm": "warm (also its first run after `make setup`, whose warm-up runs it)",
              "after-setup": "first run after `make setup` of a file its warm-up did not run",
-             "first": "first run, no `make setup` (no kernel build, empty caches)"}
+             "first": "first run, no `make setup` (empty caches)"}
     for name, state, cpu, wall in rows:
         target = TARGETS.get((name, state))
         met = "" if target is None else ("yes" if cpu <= target else "NO")

@@ -1,5 +1,5 @@
 """What a `size` loads: only the modules its answer needs (no study, web, report or pint on a run with
-remembered units; numba's absence with the kernel built ahead of time is in test_aot.py), and the
+remembered units; numba's absence is in test_kernel.py), and the
 replacements that keep it so give the values of what they replace."""
 
 import json

@@ -8,7 +8,7 @@ the shipped database is current), the shipped database file and the user catalog
 and SQLite's change counter; absent stays absent), the data and schema versions, the modules that
 define the tables, numpy's and the interpreter's versions, and the query. Anything else, or any error
 reading it, builds the table from the databases as before and stores it again. The files live in the cache folder
-(``unit_cache.cache_dir()``, beside the kernels built ahead of time), one per query and catalog state,
+(``unit_cache.cache_dir()``), one per query and catalog state,
 the newest ``KEEP`` kept. A stored table's arrays are views of its file, mapped copy-on-write: a run
 reads only the pages it uses (a sizing never reads the notes and sources columns, most of the bytes).
 """

@@ -1,15 +1,18 @@
-"""The convex hull of a duty cycle's (acceleration, torque) points per speed bin, compiled:
-``demand.chain`` for every bin in one pass. ``motor_fit.demand`` uses it for cycles of many
-points (importing this module imports numba; a short cycle keeps the plain-float chain, whose
-per-call cost is lower there), and a study (``study/batch.py``) for its many variants, several
-gearbox efficiencies in one pass (``fast_demands``).
+"""The convex hull of a duty cycle's (acceleration, torque) points per speed bin: ``demand.chain``
+for every bin in one pass. ``motor_fit.demand`` uses it for cycles of many points, and a study
+(``study/batch.py``) for its many variants, several gearbox efficiencies in one pass
+(``fast_demands``).
 
-Same algorithm and the same floating-point operations in the same order as ``demand.chain`` (Andrew's
-monotone chain, collinear points within a relative turn of 1e-12 dropped; no fast-math, so no
-fused multiply-add), hence the same vertices, bins and padding as ``motor_fit.demand``:
-``tests/test_hull.py`` and ``tests/test_study_batch.py`` assert equality (hypothesis). Source:
-A. M. Andrew, Another efficient algorithm for convex hulls in two dimensions, Information
-Processing Letters 9 (1979) 216-219.
+Most points of a bin lie well inside its hull. One numpy pass over every bin drops the points strictly
+inside the quadrilateral of the bin's extreme points (leftmost, lowest, rightmost, highest) by a
+relative turn of 1e-9, a thousand times the chain's collinearity tolerance, so no dropped point is a
+hull vertex or within rounding of an edge; the survivors, a handful per bin, go through the same
+monotone chain as ``demand.chain`` (Andrew's, collinear points within a relative turn of 1e-12 dropped; the
+same floating-point operations in the same order), hence the same vertices, bins and padding as
+``motor_fit.demand``: ``tests/test_hull.py`` and ``tests/test_study_batch.py`` assert equality
+(hypothesis). Sources: A. M. Andrew, Another efficient algorithm for convex hulls in two dimensions,
+Information Processing Letters 9 (1979) 216-219; S. G. Akl and G. T. Toussaint, A fast convex hull
+algorithm, Information Processing Letters 7 (1978) 219-222 (the quadrilateral filter).
 """
 
 from __future__ import annotations
@@ -17,31 +20,50 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from drivetrain.jit import njit
 from drivetrain.sizing.demand import COLLINEAR, Demand, binned_points
 
 Array = NDArray[np.float64]
 
+_INSIDE = 1e-9
+"""Relative turn by which a point must be inside the extreme points' quadrilateral to be dropped."""
 
-@njit(cache=True, nogil=True, error_model="numpy")
-def _half(x: Array, y: Array, idx: NDArray[np.int64], out: NDArray[np.int64]) -> int:  # pragma: no cover
-    """One half of Andrew's monotone chain over the points ``idx`` (in order); writes indices to ``out``."""
-    n = 0
+
+def _half(x: list[float], y: list[float], idx: list[int]) -> list[int]:
+    """One half of Andrew's monotone chain over the points ``idx`` (in order), as point indices."""
+    out: list[int] = []
     for p in idx:
-        while n >= 2:
-            x0, y0, x1, y1 = x[out[n - 2]], y[out[n - 2]], x[out[n - 1]], y[out[n - 1]]
+        while len(out) >= 2:
+            x0, y0, x1, y1 = x[out[-2]], y[out[-2]], x[out[-1]], y[out[-1]]
             turn_a, turn_b = (x1 - x0) * (y[p] - y0), (y1 - y0) * (x[p] - x0)
             if turn_a - turn_b > COLLINEAR * (abs(turn_a) + abs(turn_b)):
                 break
-            n -= 1
-        out[n] = p
-        n += 1
-    return n
+            out.pop()
+        out.append(p)
+    return out
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+def _inside(x: Array, y: Array, starts: NDArray[np.int64], stops: NDArray[np.int64]) -> NDArray[np.bool_]:
+    """Points strictly inside their run's quadrilateral of extreme points, by a relative turn of 1e-9."""
+    n_runs = len(starts)
+    run = np.repeat(np.arange(n_runs), stops - starts)
+    corners = [starts, _first_at(y, run, starts, np.minimum), stops - 1, _first_at(y, run, starts, np.maximum)]
+    inside = np.ones(len(x), dtype=bool)
+    for c0, c1 in zip(corners, corners[1:] + corners[:1], strict=True):  # left, bottom, right, top, left
+        x0, y0 = x[c0][run], y[c0][run]
+        turn_a, turn_b = (x[c1][run] - x0) * (y - y0), (y[c1][run] - y0) * (x - x0)
+        inside &= turn_a - turn_b > _INSIDE * (np.abs(turn_a) + np.abs(turn_b))
+    return inside
+
+
+def _first_at(y: Array, run: NDArray[np.int64], starts: NDArray[np.int64], extreme: np.ufunc) -> NDArray[np.int64]:
+    """Index of each run's first point with its smallest (np.minimum) or largest (np.maximum) y."""
+    value = extreme.reduceat(y, starts)
+    hit = np.flatnonzero(y == value[run])
+    return hit[np.searchsorted(run[hit], np.arange(len(starts)))]
+
+
 def _hulls(x: Array, y: Array, starts: NDArray[np.int64], stops: NDArray[np.int64]) -> tuple[
-        NDArray[np.int64], NDArray[np.int64]]:  # pragma: no cover
+        NDArray[np.int64], NDArray[np.int64]]:
     """Hull vertices (as point indices) of each run ``[starts[b], stops[b])`` of points sorted by (x, y).
 
     Returns the vertex indices of all runs one after the other and the count of each run,
@@ -49,39 +71,18 @@ def _hulls(x: Array, y: Array, starts: NDArray[np.int64], stops: NDArray[np.int6
     without its last point; fewer than 3 points are returned as they are; an empty result is
     the first point.
     """
-    nb = starts.shape[0]
-    total = 0
-    for b in range(nb):
-        total += 2 * (stops[b] - starts[b]) + 2
-    verts = np.empty(total, dtype=np.int64)
-    count = np.empty(nb, dtype=np.int64)
-    buf = np.empty(2 * (np.max(stops - starts) if nb else 0) + 2, dtype=np.int64)
-    k = 0
-    for b in range(nb):
-        s, e = starts[b], stops[b]
-        n = e - s
-        if n < 3:
-            for q in range(n):
-                verts[k + q] = s + q
-            count[b] = n
-            k += n
-            continue
-        fwd = np.arange(s, e)
-        n_lo = _half(x, y, fwd, buf)
-        c = 0
-        for q in range(n_lo - 1):
-            verts[k + c] = buf[q]
-            c += 1
-        n_up = _half(x, y, fwd[::-1], buf)
-        for q in range(n_up - 1):
-            verts[k + c] = buf[q]
-            c += 1
-        if c == 0:
-            verts[k] = s
-            c = 1
-        count[b] = c
-        k += c
-    return verts[:k], count
+    keep = np.flatnonzero(~_inside(x, y, starts, stops)) if len(starts) else np.zeros(0, dtype=np.int64)
+    bounds = np.searchsorted(keep, np.stack([starts, stops])).T.tolist()
+    xs, ys, kept = x.tolist(), y.tolist(), keep.tolist()
+    verts: list[int] = []
+    count = np.empty(len(starts), dtype=np.int64)
+    for b, (s, e) in enumerate(bounds):
+        idx = kept[s:e]
+        # (a run of fewer than 3 points has none inside, and is its own hull)
+        chain = idx if len(idx) < 3 else _half(xs, ys, idx)[:-1] + _half(xs, ys, idx[::-1])[:-1] or idx[:1]
+        verts += chain
+        count[b] = len(chain)
+    return np.array(verts, dtype=np.int64), count
 
 
 def chains(alpha: Array, torque: Array, starts: NDArray[np.integer], stops: NDArray[np.integer]) -> tuple[
@@ -100,7 +101,7 @@ def chains(alpha: Array, torque: Array, starts: NDArray[np.integer], stops: NDAr
 
 def fast_demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: float, load_inertia: float,
                 bins: int = 64) -> Demand:
-    """``motor_fit.demand`` with the hulls compiled: the same bins, points, vertices and padding."""
+    """``motor_fit.demand`` with the hulls of every bin in one pass: the same bins, points, vertices and padding."""
     a_s, t_s, starts, stops, speeds = binned_points(omega, alpha, torque, bins)
     verts, count = _hulls(np.ascontiguousarray(a_s), np.ascontiguousarray(t_s), starts.astype(np.int64),
                           stops.astype(np.int64))
@@ -125,7 +126,7 @@ def fast_demand(omega: Array, alpha: Array, torque: Array, weights: Array, perio
 def fast_demands(omega: Array, alpha: Array, torques: list[Array], weights: Array, period: float,
                  load_inertia: float, bins: int = 64) -> list[Demand]:
     """``fast_demand`` of several torque arrays over the same motion (one per gearbox efficiency),
-    with one sort and one compiled pass for all of them (numpy's per-call cost dominates at this size).
+    with one sort and one pass for all of them (numpy's per-call cost dominates at this size).
 
     Each result equals ``motor_fit.demand`` of that torque: the points are sorted by (torque
     array, bin, alpha, T), so each array's points come in demand's own order.

@@ -1,13 +1,13 @@
-"""The compiled candidate loop of the catalog selection (numba). Imported lazily by
-``selection.evaluate``: importing this module imports numba, which ``import drivetrain`` and a
-sizing with a given motor never pay for.
+"""The candidate checks of the catalog selection, in numpy. Imported lazily by ``selection.evaluate``.
 
-One pass over every candidate (gearbox-ratio group x motor x gearbox row) writes all its checks
-into preallocated arrays: no temporaries the size of the candidate set, no per-group Python.
-The physics is that of ``motor_fit.fit_motors``, ``checks.mechanical_fit`` and
-``checks.gearbox_checks`` (their docstrings give the sources); ``tests/test_selection.py``
-asserts that this loop and those reference functions give the same required/available/margin
-for every candidate of the shipped catalog.
+Every candidate (gearbox-ratio group x motor x gearbox row) gets all its checks from whole-array
+operations over blocks of candidates (``BLOCK`` at a time, so the temporaries stay bounded): no
+compiled code, so nothing to build at install and nothing to
+compile on a first run. The physics is that of ``motor_fit.fit_motors``, ``checks.mechanical_fit``
+and ``checks.gearbox_checks`` (their docstrings give the sources); ``tests/test_selection.py``
+asserts that these arrays and those reference functions give the same required/available/margin
+for every candidate of the shipped catalog, and ``tests/test_kernel.py`` that they equal, to the
+bit, the per-candidate loop the checks were first written as (run by the interpreter).
 
 Per candidate k (motor m, group g of ratio i and efficiency eta, gearbox row r or -1 direct):
 
@@ -29,26 +29,24 @@ Per candidate k (motor m, group g of ratio i and efficiency eta, gearbox row r o
 
 A margin is NaN where a rating or dimension it needs is unknown; the candidate's ``unknown``
 bits say which. Envelopes are not computed here: the caller passes them, computed by
-``envelope.py`` at the speeds this loop needs (the mean speed of every group for every motor;
+``envelope.py`` at the speeds these checks need (the mean speed of every group for every motor;
 every bin for the motors fast enough to reach the top bin).
+
+Each quantity is computed with the same floating-point operations in the same order as the
+per-candidate loop (no fused multiply-add), so the results do not depend on the processor or the
+numpy build beyond IEEE 754 arithmetic.
 """
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from drivetrain.jit import njit
-
 # rows of the check arrays, in the order of selection.CHECK_UNITS
 (PEAK, RMS, SPEED, INERTIA, FIT, GB_PEAK, GB_RATED, GB_ESTOP, GB_SPEED, GB_MEAN_SPEED) = range(10)
 N_CHECKS = 10
-
-_OPTIONS: dict[str, Any] = {"cache": True, "error_model": "numpy", "nogil": True, "no_cfunc_wrapper": True,
-                            "fastmath": {"contract", "afn", "nsz"}}
 
 _RPM = 60.0 / (2.0 * np.pi)
 _MM = 1e3
@@ -60,8 +58,18 @@ FIT_TOLERANCE = 0.5e-3
 N_DETAIL = 3 * N_CHECKS + 3
 D_RMS, D_PEAK, D_INERTIA = 3 * N_CHECKS, 3 * N_CHECKS + 1, 3 * N_CHECKS + 2
 
+BLOCK = 65536
+"""Candidates checked together (whole motors of the grid): numpy's per-call cost sets the lower end
+(the selection of examples/ball_screw.yaml, 295,204 candidates: 42 ms CPU at 65,536, 59 ms at 16,384,
+85 ms at 8,192, no faster at 131,072), the temporaries (a few tens of megabytes) the upper."""
 
-@njit(**_OPTIONS)
+FULL_SCAN = 1 << 18
+"""Candidates x bins up to which the worst bin is found by a scan of every bin (beyond, by the search)."""
+
+Array = NDArray[np.float64]
+_INF, _NAN = np.inf, np.nan
+
+
 def check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np.int64],
           pick: NDArray[np.int64], motor: NDArray[np.int32], slot: NDArray[np.int32],
           worst: NDArray[np.float64], failed: NDArray[np.uint16], unknown: NDArray[np.uint16],
@@ -88,222 +96,273 @@ def check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np
     flange and pilot [m]. ``par``: period [s], torque, RMS and speed margins, inertia-ratio limit,
     cubic-mean output torque [N m], running load torque [N m], peak output torque [N m], shock
     factor (NaN where the cycle rate needs one that is not given).
-
-    Work runs per (group, motor) pair over the pair's gearbox rows, each quantity in its own short
-    loop over the rows (which the compiler turns into vector instructions); a listed candidate is a
-    pair of one row. One code path serves both modes, and no helper is called (a call would count
-    references to every array it is passed).
     """
+    listed = pick.shape[1] > 0
+    with np.errstate(all="ignore"):  # inf and NaN are values here (an unknown rating, a zero demand)
+        if listed:
+            for lo in range(0, pick.shape[1], BLOCK):
+                hi = min(lo + BLOCK, pick.shape[1])
+                _, detail[:, lo:hi] = _block(model, rows, pick[0, lo:hi], pick[1, lo:hi], pick[2, lo:hi], True)
+            return
+        # the grid as motors x slots (a slot is one gearbox row, or direct, of one group): whole rows of
+        # motors at a time, each candidate written to its place in group, motor, row order
+        n_motors, n_slots = model[0].shape[0], len(rows)
+        width = np.diff(row_start)
+        group = np.repeat(np.arange(len(width)), width)  # each slot's group
+        first = np.concatenate([[0], np.cumsum(width * n_motors)])[:-1]  # each group's first candidate
+        q = np.arange(n_slots)[None, :]
+        g = group[None, :]
+        at_slot = (first[group] + q[0] - row_start[group])[None, :]
+        step = max(1, BLOCK // max(n_slots, 1))
+        for lo in range(0, n_motors, step):
+            m = np.arange(lo, min(lo + step, n_motors))[:, None]
+            mar, slow = _block(model, rows, m, g, q, False)
+            k = at_slot + m * width[group][None, :]
+            _summarise(mar, slow, k, m, q, motor, slot, worst, failed, unknown)
+
+
+def _summarise(mar: list[Array], slow: NDArray[np.bool_], k: NDArray[np.int64], m: NDArray[np.int64],
+               q: NDArray[np.int64], motor: NDArray[np.int32], slot: NDArray[np.int32], worst: Array,
+               failed: NDArray[np.uint16], unknown: NDArray[np.uint16]) -> None:
+    """Write candidates ``k``: the worst known margin (the first of equal ones; NaN if none is known),
+    the bits of the checks that fail and of those that cannot be judged. A margin of the gearbox row
+    alone comes as one row over the slots (broadcast over the motors)."""
+    w = np.full(k.shape, _NAN)
+    bits = np.zeros(k.shape, dtype=np.uint16)
+    gaps = np.zeros(k.shape, dtype=np.uint16)
+    for c, x in enumerate(mar):
+        gap = np.isnan(x)
+        if c == PEAK:
+            gap &= ~slow  # a motor too slow for the top bin is not judged on peak torque: max_speed fails
+        bits |= (x < 0.0).astype(np.uint16) << np.uint16(c)
+        gaps |= gap.astype(np.uint16) << np.uint16(c)
+        w = np.fmin(w, x)  # the smallest known margin, NaN if none is known
+    zero = np.flatnonzero(w.ravel() == 0.0)
+    if len(zero):  # the first of the checks at zero gives the sign (0.0 or -0.0), as a loop over them would
+        flat = np.stack([np.broadcast_to(x, k.shape).ravel()[zero] for x in mar])
+        w.ravel()[zero] = flat[np.argmax(flat == 0.0, axis=0), np.arange(len(zero))]
+    motor[k] = m
+    slot[k] = q
+    worst[k] = w
+    failed[k] = bits
+    unknown[k] = gaps
+
+
+def _support(t: Array, a: Array, j: Array) -> Array:
+    """max over the vertices (last axis) of |T_v + J alpha_v| [N m]."""
+    s = np.abs(t[..., 0] + j * a[..., 0])
+    for v in range(1, t.shape[-1]):
+        s = np.maximum(s, np.abs(t[..., v] + j * a[..., v]))
+    return s
+
+
+def _worst_bin(env_full: Array, hull_t: Array, hull_a: Array, pair: NDArray[np.int64], g: NDArray[np.int64],
+               j: Array, peak_all: Array, tm: float) -> tuple[Array, Array, Array]:
+    """Required torque, available torque and margin at the worst speed bin of candidates that reach the
+    top bin (pair: their row of ``env_full``): the lowest margin, the first bin on ties, the first NaN
+    margin before any number (numpy's argmin over every bin).
+
+    The bins of each pair are visited from its lowest envelope up, all candidates in step; a candidate
+    stops at the first bin whose envelope is above (margin + 1) x its whole cycle's peak torque: no bin
+    there can lower its margin (a bin's peak torque is at most the cycle's; 1e-12 covers rounding), so
+    the result is the full scan's. Groups with a NaN vertex and candidates without a finite, positive
+    cycle peak are scanned in full, and so are all when they are few (``FULL_SCAN``: one pass over every
+    bin costs less than the search's steps then).
+    """
+    n_bins = env_full.shape[1]
+    used = np.flatnonzero(np.bincount(pair, minlength=len(env_full)))  # the rows these candidates need
+    at = np.searchsorted(used, pair)
+    env = env_full[used]
+    bound = peak_all * tm * (1.0 + 1e-12)
+    req, av, mar = np.empty(len(pair)), np.empty(len(pair)), np.empty(len(pair))
+    nan_vertex = np.asarray(np.isnan(hull_t).any(axis=(1, 2)) | np.isnan(hull_a).any(axis=(1, 2)))
+    whole = nan_vertex[g] | ~(np.isfinite(bound) & (bound > 0.0)) | (len(pair) * n_bins <= FULL_SCAN)
+    # An unknown envelope (NaN) at a bin where torque is needed is an unknown margin, which wins: the
+    # first such bin (a motor without a max speed is judged at every bin, its envelope NaN above its
+    # rated speed, typically).
+    gap = np.isnan(env)
+    has_gap = np.asarray(gap.any(axis=1))[at] & ~whole
+    k = np.flatnonzero(has_gap)
+    if len(k):
+        b = np.argmax(gap, axis=1)[at[k]]
+        rb = _support(hull_t[g[k], b], hull_a[g[k], b], j[k]) * tm
+        req[k], av[k], mar[k] = rb, _NAN, _NAN
+        whole[k[~(rb > 0.0)]] = True  # no torque needed there (an infinite margin): every bin
+    k = np.flatnonzero(whole)
+    if len(k):
+        rb = _support(hull_t[g[k]], hull_a[g[k]], j[k][:, None]) * tm
+        eb = env[at[k]]
+        mb = np.where(rb > 0.0, eb / rb - 1.0, _INF)
+        b = np.argmin(mb, axis=1)[:, None]
+        req[k] = np.take_along_axis(rb, b, axis=1)[:, 0]
+        av[k] = np.take_along_axis(eb, b, axis=1)[:, 0]
+        mar[k] = np.take_along_axis(mb, b, axis=1)[:, 0]
+    order = np.argsort(env, axis=1, kind="stable")
+    best = np.empty(len(pair), dtype=np.int64)
+    k = np.flatnonzero(~whole & ~has_gap)
+    for step in range(n_bins):
+        if not len(k):
+            break
+        b = order[at[k], step]
+        eb = env[at[k], b]
+        if step:
+            go = ~(eb > (mar[k] + 1.0) * bound[k])
+            k, b, eb = k[go], b[go], eb[go]
+        gk = g[k]
+        rb = _support(hull_t[gk, b], hull_a[gk, b], j[k]) * tm
+        mb = np.where(rb > 0.0, eb / rb - 1.0, _INF)
+        if step:
+            take = (mb < mar[k]) | ((mb == mar[k]) & (b < best[k]))
+            k_new, b, eb, rb, mb = k[take], b[take], eb[take], rb[take], mb[take]
+        else:
+            k_new = k
+        req[k_new], av[k_new], mar[k_new], best[k_new] = rb, eb, mb, b
+    return req, av, mar
+
+
+def _over(num: Array, den: Array) -> Array:
+    """num / den - 1, infinite where den is not positive (nothing required)."""
+    return np.where(den > 0.0, num / den - 1.0, _INF)
+
+
+def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64], g: NDArray[np.int64],
+           q: NDArray[np.int64], listed: bool) -> tuple[Any, Any]:
+    """Candidates (motor m, group g, slot q; listed: 1-D, grid: motors as a column, slots as a row):
+    listed, their margins (N_CHECKS, n) and detail vectors (N_DETAIL, n); grid, each check's margins
+    (broadcast over motors and slots) and whether each motor is too slow for the cycle's top bin."""
     (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, cont_mean, full_row, env_full, g_ratio, g_eff,
      hull_speed, hull_t, hull_a, all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_nmax, gb_nmean, gb_t2n, gb_t2b,
      gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, par) = model
     period, tm, rm, sm, limit, out_cubic, run_t = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
     out_peak, fs = par[7], par[8]
-    n_motors, n_bins, n_v, n_all = j_rotor.shape[0], hull_speed.shape[1], hull_t.shape[2], all_t.shape[1]
-    top = n_bins - 1
-    listed = pick.shape[1] > 0
-    n_pairs = pick.shape[1] if listed else (row_start.shape[0] - 1) * n_motors
-    width = 1 if listed else int(np.max(np.diff(row_start)))
-    # per row of the current group, and per row of the current pair
-    r_direct = np.empty(width, dtype=np.bool_)
-    r_j, r_speed, r_mean, r_t2n, r_t2b, r_t2not = (np.empty(width), np.empty(width), np.empty(width),
-                                                   np.empty(width), np.empty(width), np.empty(width))
-    r_bmax, r_bmin, r_fl, r_pi = np.empty(width), np.empty(width), np.empty(width), np.empty(width)
-    # the margins that depend on the row alone
-    r_mar_speed, r_mar_mean, r_mar_t2n, r_mar_t2b = np.empty(width), np.empty(width), np.empty(width), np.empty(width)
-    j, peak_all, s = np.empty(width), np.empty(width), np.empty(width)
-    req_p, av_p, mar_p = np.empty(width), np.empty(width), np.empty(width)
-    mar = np.empty(N_CHECKS)
-    req_t2b = out_peak * tm * (1.0 if math.isnan(fs) else fs)
+    top = hull_speed.shape[1] - 1
+    shape = np.broadcast_shapes(m.shape, q.shape)
+    req_t2b = out_peak * tm * (1.0 if np.isnan(fs) else fs)
     req_t2n = out_cubic * tm
-    k = 0
-    g_loaded = -1
-    for pair in range(n_pairs):
+    # the gearbox row's ratings, the direct drive's (index 0) first: what direct drive never limits
+    r = rows[q] + 1
+    direct = r == 0
+
+    def row(col: Array, none: float) -> Array:
+        return np.concatenate([[none], col])[r]
+
+    r_j, r_speed, r_mean = row(gb_j, 0.0), row(gb_nmax, _INF), row(gb_nmean, _INF)
+    r_t2n, r_t2b, r_t2not = row(gb_t2n, _INF), row(gb_t2b, _INF), row(gb_t2not, _INF)
+    r_bmax, r_bmin, r_fl, r_pi = row(gb_bore_max, _INF), row(gb_bore_min, _NAN), row(gb_flange, _NAN), \
+        row(gb_pilot, _NAN)
+    req_s = g_speed[g, 0] * sm
+    req_mean = g_speed[g, 1]
+    # margins of the row alone; an unknown rating leaves its check unknown, whatever is required
+    r_mar_speed = np.where(np.isnan(r_speed), _NAN, _over(r_speed, req_s))
+    r_mar_mean = np.where(np.isnan(r_mean), _NAN, _over(r_mean, req_mean))
+    r_mar_t2n = np.where(np.isnan(r_t2n), _NAN, r_t2n / req_t2n - 1.0 if req_t2n > 0.0 else _INF)
+    r_mar_t2b = np.where(np.isnan(r_t2b) | (~direct & bool(np.isnan(fs))), _NAN,
+                         r_t2b / req_t2b - 1.0 if req_t2b > 0.0 else _INF)  # or a shock factor is missing
+    i = g_ratio[g]
+    j_m = j_rotor[m]
+    j = j_m + r_j
+    # peak torque against the intermittent envelope, worst bin; a motor slower than the top bin is not
+    # judged on torque (its required torque, shown in detail, is that of the top bin)
+    slow = w_max[m] < hull_speed[g, top]
+    av_p = np.full(shape, _NAN)
+    mar_p = np.full(shape, _NAN)
+    if listed:
+        peak_all = _support(all_t[g], all_a[g], j)  # peak motor torque over the cycle: the cycle hull's support
+        req_p = _support(hull_t[g, top], hull_a[g, top], j) * tm
+    fast = np.nonzero(~slow)
+    if len(fast[0]):
+        gf = np.broadcast_to(g, shape)[fast]
+        pair = full_row[gf, np.broadcast_to(m, shape)[fast]]
+        peak_fast = peak_all[fast] if listed else _support(all_t[gf], all_a[gf], j[fast])
+        req_fast, av_p[fast], mar_p[fast] = _worst_bin(env_full, hull_t, hull_a, pair, gf, j[fast], peak_fast, tm)
         if listed:
-            m, g, q0, q1 = pick[0, pair], pick[1, pair], pick[2, pair], pick[2, pair] + 1
-        else:
-            g, m = pair // n_motors, pair % n_motors
-            q0, q1 = row_start[g], row_start[g + 1]
-        n = q1 - q0
-        req_s = g_speed[g, 0] * sm
-        req_mean = g_speed[g, 1]
-        if listed or g != g_loaded:
-            for q in range(n):
-                r = rows[q0 + q]
-                d = r < 0
-                r_direct[q] = d
-                r_j[q] = 0.0 if d else gb_j[r]
-                r_speed[q] = math.inf if d else gb_nmax[r]
-                r_mean[q] = math.inf if d else gb_nmean[r]
-                r_t2n[q] = math.inf if d else gb_t2n[r]
-                r_t2b[q] = math.inf if d else gb_t2b[r]
-                r_t2not[q] = math.inf if d else gb_t2not[r]
-                r_bmax[q] = math.inf if d else gb_bore_max[r]
-                r_bmin[q] = math.nan if d else gb_bore_min[r]
-                r_fl[q] = math.nan if d else gb_flange[r]
-                r_pi[q] = math.nan if d else gb_pilot[r]
-                r_mar_speed[q] = r_speed[q] / req_s - 1.0 if req_s > 0.0 else math.inf
-                r_mar_mean[q] = r_mean[q] / req_mean - 1.0 if req_mean > 0.0 else math.inf
-                r_mar_t2n[q] = r_t2n[q] / req_t2n - 1.0 if req_t2n > 0.0 else math.inf
-                r_mar_t2b[q] = r_t2b[q] / req_t2b - 1.0 if req_t2b > 0.0 else math.inf
-                # an unknown rating leaves its check unknown, whatever is required
-                r_mar_speed[q] = math.nan if math.isnan(r_speed[q]) else r_mar_speed[q]
-                r_mar_mean[q] = math.nan if math.isnan(r_mean[q]) else r_mar_mean[q]
-                r_mar_t2n[q] = math.nan if math.isnan(r_t2n[q]) else r_mar_t2n[q]
-                if math.isnan(r_t2b[q]) or (not d and math.isnan(fs)):
-                    r_mar_t2b[q] = math.nan  # or the cycle rate needs a shock factor that is not given
-            g_loaded = g
-        i = g_ratio[g]
-        j_m = j_rotor[m]
-        for q in range(n):
-            j[q] = j_m + r_j[q]
-        # peak motor torque over the cycle: the support function of the cycle's hull
-        for q in range(n):
-            peak_all[q] = abs(all_t[g, 0] + j[q] * all_a[g, 0])
-        for v in range(1, n_all):
-            for q in range(n):
-                peak_all[q] = max(peak_all[q], abs(all_t[g, v] + j[q] * all_a[g, v]))
-        # peak torque against the intermittent envelope
-        slow = w_max[m] < hull_speed[g, top]
-        if slow:
-            # slower than the cycle's top speed: not judged on torque (max_speed fails instead)
-            for q in range(n):
-                s[q] = abs(hull_t[g, top, 0] + j[q] * hull_a[g, top, 0])
-            for v in range(1, n_v):
-                for q in range(n):
-                    s[q] = max(s[q], abs(hull_t[g, top, v] + j[q] * hull_a[g, top, v]))
-            for q in range(n):
-                req_p[q], av_p[q], mar_p[q] = s[q] * tm, math.nan, math.nan
-        else:
-            # Worst bin, the first on ties and a NaN margin the worst (numpy's argmin over the
-            # bins). From the top speed down (where the envelope is usually lowest) with "<=", so
-            # the lowest index wins a tie; a bin is skipped when even the whole cycle's peak
-            # torque there could not lower the margin (a bound: env_b / (peak tm) - 1 > margin).
-            row = full_row[g, m]
-            for q in range(n):
-                bound = peak_all[q] * tm * (1.0 + 1e-12)
-                rq, aq, mq = 0.0, 0.0, math.inf
-                for b in range(top, -1, -1):
-                    eb = env_full[row, b]
-                    if math.isnan(mq):
-                        if not math.isnan(eb):
-                            continue  # only a NaN margin at a lower bin can replace a NaN one
-                    elif b != top and eb > (mq + 1.0) * bound:
-                        continue
-                    sb = abs(hull_t[g, b, 0] + j[q] * hull_a[g, b, 0])
-                    for v in range(1, n_v):
-                        sb = max(sb, abs(hull_t[g, b, v] + j[q] * hull_a[g, b, v]))
-                    rb = sb * tm
-                    mb = eb / rb - 1.0 if rb > 0.0 else math.inf
-                    if b == top or mb <= mq or math.isnan(mb):
-                        rq, aq, mq = rb, eb, mb
-                req_p[q], av_p[q], mar_p[q] = rq, aq, mq
-        # the other checks, each a closed form in J
-        s_tt, s_ta, s_aa = sums[g, 0], sums[g, 1], sums[g, 2]
-        cont, w_m, j_l, t_pk = cont_mean[m, g], w_max[m], g_j_load[g], t_peak[m]
-        sh, fl_m, pi_m = m_shaft[m], m_flange[m], m_pilot[m]
-        mar_motor_speed = w_m / req_s - 1.0 if req_s > 0.0 else math.inf
-        t_l = run_t / i
-        for q in range(n):
-            jq = j[q]
-            direct = r_direct[q]
-            # RMS torque against the continuous torque at the mean speed
-            rms = math.sqrt(max(s_tt + 2.0 * jq * s_ta + jq * jq * s_aa, 0.0) / period)
-            req_r = rms * rm
-            mar_r = cont / req_r - 1.0 if req_r > 0.0 else math.inf
-            # inertia ratio, the gearbox's input inertia on the load side
-            ir = (j_l + r_j[q]) / j_m
-            mar_i = limit / ir - 1.0 if ir > 0.0 else math.inf
-            # mechanical fit (checks.mechanical_fit): known shortfalls first, then unknowns
-            mar_f = math.inf
-            if not direct:
-                m1 = r_bmax[q] / sh - 1.0
-                m2 = sh / r_bmin[q] - 1.0 if not math.isnan(r_bmin[q]) else math.inf
-                if math.isnan(sh):
-                    m2 = math.nan
-                m3 = math.inf
-                if not math.isnan(r_fl[q]):
-                    m3 = math.nan if math.isnan(fl_m) else (
-                        math.inf if abs(fl_m - r_fl[q]) <= FIT_TOLERANCE else -abs(fl_m / r_fl[q] - 1.0))
-                m4 = math.inf
-                if not math.isnan(r_pi[q]):
-                    m4 = math.nan if math.isnan(pi_m) else (
-                        math.inf if abs(pi_m - r_pi[q]) <= FIT_TOLERANCE else -abs(pi_m / r_pi[q] - 1.0))
-                lo, gap = math.inf, False
-                for x in (m1, m2, m3, m4):
-                    if math.isnan(x):
-                        gap = True
-                    elif x < lo:
-                        lo = x
-                mar_f = lo if (lo < 0.0 or not gap) else math.nan
-            # gearbox: what passes at the motor's peak against the emergency-stop torque
-            req_ge = 0.0 if direct else ((1.0 - jq / (jq + j_l)) * (t_pk - t_l) + t_l) * i * g_eff[g]
-            mar_ge = math.inf if direct else (r_t2not[q] / req_ge - 1.0 if req_ge > 0.0 else math.inf)
-            if math.isnan(r_t2not[q]):
-                mar_ge = math.nan
-            mar[PEAK], mar[RMS], mar[SPEED], mar[INERTIA], mar[FIT] = mar_p[q], mar_r, mar_motor_speed, mar_i, mar_f
-            mar[GB_PEAK], mar[GB_RATED], mar[GB_ESTOP] = r_mar_t2b[q], r_mar_t2n[q], mar_ge
-            mar[GB_SPEED], mar[GB_MEAN_SPEED] = r_mar_speed[q], r_mar_mean[q]
-            if listed:
-                detail[PEAK, k], detail[RMS, k], detail[SPEED, k] = req_p[q], req_r, req_s * _RPM
-                detail[INERTIA, k], detail[FIT, k] = ir, (0.0 if direct else sh * _MM)
-                detail[GB_PEAK, k], detail[GB_RATED, k], detail[GB_ESTOP, k] = req_t2b, req_t2n, req_ge
-                detail[GB_SPEED, k], detail[GB_MEAN_SPEED, k] = req_s * _RPM, req_mean * _RPM
-                a = N_CHECKS
-                detail[a + PEAK, k], detail[a + RMS, k], detail[a + SPEED, k] = av_p[q], cont, w_m * _RPM
-                detail[a + INERTIA, k], detail[a + FIT, k] = limit, r_bmax[q] * _MM
-                detail[a + GB_PEAK, k], detail[a + GB_RATED, k] = r_t2b[q], r_t2n[q]
-                detail[a + GB_ESTOP, k] = r_t2not[q]
-                detail[a + GB_SPEED, k], detail[a + GB_MEAN_SPEED, k] = r_speed[q] * _RPM, r_mean[q] * _RPM
-                for c in range(N_CHECKS):
-                    detail[2 * N_CHECKS + c, k] = mar[c]
-                detail[D_RMS, k], detail[D_PEAK, k], detail[D_INERTIA, k] = rms, peak_all[q], ir
-            else:
-                # worst known margin (NaN if none is known), the bits of the checks that fail and
-                # of those that cannot be judged
-                w = math.nan
-                bits, gaps = 0, 0
-                for c in range(N_CHECKS):
-                    x = mar[c]
-                    if math.isnan(x):
-                        if not (c == PEAK and slow):  # not judged, not unknown: max_speed fails instead
-                            gaps |= 1 << c
-                    else:
-                        if x < 0.0:
-                            bits |= 1 << c
-                        if not x >= w:
-                            w = x
-                motor[k], slot[k], worst[k], failed[k], unknown[k] = m, q0 + q, w, bits, gaps
-            k += 1
+            req_p[fast] = req_fast
+    # the other checks, each a closed form in J
+    s_tt, s_ta, s_aa = sums[g, 0], sums[g, 1], sums[g, 2]
+    cont = cont_mean[m, g] if listed else cont_mean[m[:, 0]][:, g[0]]  # (rows, then columns: the faster way)
+    w_m, j_l, t_pk = w_max[m], g_j_load[g], t_peak[m]
+    sh, fl_m, pi_m = m_shaft[m], m_flange[m], m_pilot[m]
+    mar_motor_speed = _over(w_m, req_s)
+    t_l = run_t / i
+    # RMS torque against the continuous torque at the mean speed
+    rms = np.sqrt(np.maximum(s_tt + 2.0 * j * s_ta + j * j * s_aa, 0.0) / period)
+    req_r = rms * rm
+    mar_r = _over(cont, req_r)
+    # inertia ratio, the gearbox's input inertia on the load side
+    ir = (j_l + r_j) / j_m
+    mar_i = np.where(ir > 0.0, limit / ir - 1.0, _INF)
+    # mechanical fit: once per distinct motor (shaft, flange, pilot) and gearbox input (bores, flange,
+    # pilot), then looked up: it depends on nothing else
+    motor_dims, at_motor = _distinct(np.stack([x.ravel() for x in (sh, fl_m, pi_m)], axis=1))
+    row_dims, at_row = _distinct(np.stack([x.ravel() for x in (r_bmax, r_bmin, r_fl, r_pi, direct)], axis=1))
+    fits = _fit(*(c[:, None] for c in motor_dims.T), *(c[None, :] for c in row_dims.T))
+    mar_f = fits[at_motor.reshape(sh.shape), at_row.reshape(r_bmax.shape)]
+    # gearbox: what passes at the motor's peak against the emergency-stop torque
+    req_ge = np.where(direct, 0.0, ((1.0 - j / (j + j_l)) * (t_pk - t_l) + t_l) * i * g_eff[g])
+    mar_ge = np.where(np.isnan(r_t2not), _NAN, np.where(direct, _INF, _over(r_t2not, req_ge)))
+    margins = [mar_p, mar_r, mar_motor_speed, mar_i, mar_f, r_mar_t2b, r_mar_t2n, mar_ge, r_mar_speed, r_mar_mean]
+    if not listed:
+        return margins, slow
+    mar = np.empty((N_CHECKS, *shape))
+    for c, x in enumerate(margins):
+        mar[c] = x
+    out = np.empty((N_DETAIL, *shape))
+    for c, x in enumerate((req_p, req_r, req_s * _RPM, ir, np.where(direct, 0.0, sh * _MM), req_t2b, req_t2n,
+                           req_ge, req_s * _RPM, req_mean * _RPM,
+                           av_p, cont, w_m * _RPM, limit, r_bmax * _MM, r_t2b, r_t2n, r_t2not, r_speed * _RPM,
+                           r_mean * _RPM)):
+        out[c] = x
+    out[2 * N_CHECKS:3 * N_CHECKS] = mar
+    out[D_RMS], out[D_PEAK], out[D_INERTIA] = rms, peak_all, ir
+    return mar, out
 
 
-@njit(**_OPTIONS)
+def _distinct(a: Array) -> tuple[Array, NDArray[np.intp]]:
+    """The distinct rows of ``a`` and, for each row of ``a``, its index among them."""
+    found, at = np.unique(a, axis=0, return_inverse=True)
+    return found, np.asarray(at).ravel()
+
+
+def _fit(sh: Array, fl_m: Array, pi_m: Array, r_bmax: Array, r_bmin: Array, r_fl: Array, r_pi: Array,
+         direct: Array) -> Array:
+    """Margin of the mechanical fit (``checks.mechanical_fit``): the motor shaft [m] into the gearbox's
+    input bore range, flange and pilot [m] equal to its adapter's where given; a known shortfall first,
+    NaN where one is unknown and none falls short, infinite for direct drive."""
+    m1 = r_bmax / sh - 1.0
+    m2 = np.where(np.isnan(sh), _NAN, np.where(np.isnan(r_bmin), _INF, sh / r_bmin - 1.0))
+    m3 = _same_size(fl_m, r_fl)
+    m4 = _same_size(pi_m, r_pi)
+    lo = np.full(np.broadcast_shapes(m1.shape, m2.shape, m3.shape, m4.shape), _INF)
+    gap = np.zeros(lo.shape, dtype=bool)
+    for x in (m1, m2, m3, m4):
+        nan = np.isnan(x)
+        gap |= nan
+        lo = np.where(~nan & (x < lo), x, lo)
+    return np.where(direct > 0.0, _INF, np.where((lo < 0.0) | ~gap, lo, _NAN))
+
+
+def _same_size(motor: Array, gearbox: Array) -> Array:
+    """Margin of a motor flange or pilot against the gearbox adapter's: infinite where the gearbox gives
+    none or they are equal within FIT_TOLERANCE, NaN where only the motor's is unknown, else the
+    relative difference, negative."""
+    differ = np.where(np.abs(motor - gearbox) <= FIT_TOLERANCE, _INF, -np.abs(motor / gearbox - 1.0))
+    return np.where(np.isnan(gearbox), _INF, np.where(np.isnan(motor), _NAN, differ))
+
+
 def closest_failing(worst: NDArray[np.float64], failed: NDArray[Any], n: int) -> NDArray[np.int64]:
     """Indices of the ``n`` failing candidates with the largest worst margin, best first: ties in index
-    order, NaN margins after every number (a stable sort of the failures, in one pass)."""
-    best = np.empty(max(n, 0), dtype=np.int64)
-    key = np.empty(max(n, 0))
-    count = 0
+    order, NaN margins after every number (a stable sort of the failures, without sorting them all)."""
     if n <= 0:
-        return best
-    for k in range(worst.shape[0]):
-        if failed[k] == 0:
-            continue
-        x = -math.inf if math.isnan(worst[k]) else worst[k]
-        if count == n and not x > key[n - 1]:
-            continue  # not better than the last kept (a tie keeps the earlier index)
-        # insert before the first kept key that is smaller
-        pos = count if count < n else n - 1
-        while pos > 0 and key[pos - 1] < x:
-            pos -= 1
-        last = count if count < n else n - 1
-        for t in range(last, pos, -1):
-            key[t], best[t] = key[t - 1], best[t - 1]
-        key[pos], best[pos] = x, k
-        count = min(count + 1, n)
-    return best[:count]
+        return np.empty(0, dtype=np.int64)
+    failing = np.flatnonzero(failed != 0)
+    key = np.where(np.isnan(worst[failing]), -np.inf, worst[failing])
+    if len(failing) > n:
+        nth = np.partition(key, len(key) - n)[len(key) - n]  # the n-th largest key: no later one can be better
+        keep = key >= nth
+        failing, key = failing[keep], key[keep]
+    return failing[np.argsort(-key, kind="stable")[:n]].astype(np.int64)
 
 
-__all__ = ["D_INERTIA", "D_PEAK", "D_RMS", "FIT", "FIT_TOLERANCE", "GB_ESTOP", "GB_MEAN_SPEED", "GB_PEAK",
+__all__ = ["BLOCK", "D_INERTIA", "D_PEAK", "D_RMS", "FIT", "FIT_TOLERANCE", "GB_ESTOP", "GB_MEAN_SPEED", "GB_PEAK",
            "GB_RATED", "GB_SPEED", "INERTIA", "N_CHECKS", "N_DETAIL", "PEAK", "RMS", "SPEED", "check",
            "closest_failing"]
