@@ -26,7 +26,7 @@ def demand(omega: Array, alpha: Array, torque: Array, weights: Array, period: fl
            bins: int = 64) -> Demand:
     """Reduce samples to a Demand: speed bins and the convex hull of (alpha, T) in each."""
     if len(omega) > _COMPILED_FROM:
-        from drivetrain.sizing.hull import fast_demand  # the same bins, vertices and padding, compiled
+        from drivetrain.sizing.hull import fast_demand  # the same bins, vertices and padding, one numpy pass
 
         return fast_demand(omega, alpha, torque, weights, period, load_inertia, bins)
     a_s, t_s, starts, stops, speeds = binned_points(omega, alpha, torque, bins)
@@ -67,8 +67,8 @@ def scaled(d: Demand, ratio: float) -> Demand:
 
 
 _COMPILED_FROM = 20_000
-"""Samples above which the hulls are computed by the compiled ``hull.fast_demand`` (same vertices):
-below, the plain-float chain costs less than loading the compiled code."""
+"""Samples above which the hulls are computed by ``hull.fast_demand`` (every bin in one numpy pass, same
+vertices): below, the plain-float chain per bin costs less."""
 
 @dataclass(frozen=True)
 class MotorArrays:
