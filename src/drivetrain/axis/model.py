@@ -28,6 +28,7 @@ from drivetrain.axis.electrical import (
     motor_electrical,
     nominal_bus_voltage,
 )
+from drivetrain.axis.requirements import Requirements, RequirementsSpec, requirements
 from drivetrain.axis.resolve import resolve_transmission
 from drivetrain.errors import InputError
 from drivetrain.fields import (
@@ -183,6 +184,7 @@ class AxisSpec(Spec):
     extra_inertia: ComponentInertia = 0.0
     drive: DriveSpec | None = None
     environment: EnvironmentSpec | None = None
+    requirements: RequirementsSpec | None = None
 
 
 @dataclass(frozen=True)
@@ -231,6 +233,11 @@ class Axis:
         return math.prod(s.ratio for s in self.stages)
 
     @property
+    def requirements(self) -> Requirements | None:
+        """The dynamic requirements in SI at the load (``requirements:``; None when absent)."""
+        return requirements(self.spec.requirements, self.mechanism.motion)
+
+    @property
     def load_inertia(self) -> float:
         """Everything but the motor, at the motor shaft [kg m^2]."""
         return chain_inertia(list(self.stages)) + self.spec.extra_inertia
@@ -269,6 +276,7 @@ def parse_axis(data: Any, *, text_checked: bool = False) -> Axis:
         stages = tuple(t.build(k) for k, t in enumerate(resolve_transmission(spec.transmission)))
     except InputError as exc:
         raise exc.at("") from None
+    requirements(spec.requirements, mechanism.motion)  # its windows' units depend on the mechanism: checked here
     motor = _motor_data(spec.motor) if spec.motor is not None else None
     electrical = None
     if spec.motor is not None and spec.motor.select is None:
