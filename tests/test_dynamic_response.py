@@ -172,3 +172,34 @@ def test_requirements_in_si_at_the_load() -> None:
     assert req.settling_window == pytest.approx(50e-6) and req.settling_time == pytest.approx(0.06)
     assert req.phase_margin_deg == pytest.approx(30.0) and req.gain_margin_db == 6.0
     assert parse_axis(copy.deepcopy(BELT)).requirements is None
+
+
+def test_simulate_judges_settling_at_the_load_and_says_when_a_stop_never_settles(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The belt's gearbox backlash (5 arcmin, about 44 um at the carriage) keeps the load outside the
+    default 10 um window: 'not settled', never '0.0 ms'; a 1 mm window is reached."""
+    import json
+
+    from drivetrain import cli
+
+    path = tmp_path / "belt.yaml"
+    path.write_text(yaml.safe_dump(BELT))
+    assert cli.main(["simulate", str(path)]) == 0
+    text = capsys.readouterr().out
+    assert "load into 10 um, default" in text and "not settled" in text
+    data = copy.deepcopy(BELT)
+    data["requirements"] = {"settling": {"window": "1 mm"}}
+    path.write_text(yaml.safe_dump(data))
+    assert cli.main(["simulate", str(path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["settling_window_m"] == pytest.approx(1e-3) and out["settling_window_source"] != "default"
+    assert all(v is not None for v in out["settling_time_s"])
+
+
+def test_modes_names_both_models(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from drivetrain import cli
+
+    assert cli.main(["modes", str(ROOT / "examples" / "belt.yaml")]) == 0
+    text = capsys.readouterr().out
+    assert "the mechanism rigid: natural frequencies: 433.1 Hz" in text
+    assert "weakest position (1200 mm): natural frequencies: 154.9 Hz" in text

@@ -133,14 +133,21 @@ def _position(value: Any, motion: str, field: str) -> float:
     return x
 
 
+def settling_window(spec: RequirementsSpec | None, motion: str) -> float:
+    """The settling window at the load [m or rad]: ``requirements.settling.window``, else the default
+    (10 um for a linear load, one arcminute for a rotary one)."""
+    window = None if spec is None or spec.settling is None else spec.settling.window
+    if window is None:
+        return DEFAULT_WINDOW_LINEAR if motion == "linear" else DEFAULT_WINDOW_ROTARY
+    return _position(window, motion, "requirements.settling.window")
+
+
 def requirements(spec: RequirementsSpec | None, motion: str) -> Requirements | None:
     """The SI requirements of ``spec`` for a load moving ``motion`` ("linear" or "rotary"); None if absent."""
     if spec is None:
         return None
     settling = spec.settling or SettlingSpec()
-    default = DEFAULT_WINDOW_LINEAR if motion == "linear" else DEFAULT_WINDOW_ROTARY
-    window = default if settling.window is None else _position(settling.window, motion,
-                                                              "requirements.settling.window")
+    window = settling_window(spec, motion)
     follow = None if spec.following_error is None else _position(spec.following_error, motion,
                                                                   "requirements.following_error")
     gm = spec.stability.gain_margin

@@ -311,6 +311,7 @@ def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None =
     The mechanism's spring follows the load's position (``with_mechanism_spring``) where the
     axis file gives its stiffness data; the loop is tuned on the chain at the start position.
     """
+    from drivetrain.axis.requirements import settling_window
     from drivetrain.dynamics.simulation import (
         MAX_SIMULATION_BYTES,
         Reference,
@@ -360,8 +361,10 @@ def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None =
         x = x + np.floor(t / cycle.period) * float(cycle.evaluate(np.array([cycle.period])).x[0])
     ratio = math.prod(s.ratio for s in dyn.stages)
     ref = Reference.from_load(t, x, kin.v, kin.a, ratio)
+    # settling is judged at the load against its window (requirements.settling.window or the default)
+    window = settling_window(axis.spec.requirements, axis.mechanism.motion) * ratio
     try:
-        return simulate(chain, loop, ref, load_torque=load_torque, step=h)
+        return simulate(chain, loop, ref, load_torque=load_torque, step=h, settle_tolerance=window)
     except InputError as exc:
         # The step is the user's dynamics.step (or the automatic one): name the key of the file.
         if "step" in block and step is None and exc.field == "simulation.step":
