@@ -64,6 +64,7 @@ class Response:
             before the next move or the cycle's end).
         window: the settling window at the load [m or rad].
         rigid: parts taken rigid for want of data, each with what to give.
+        stable: the tuned closed loop is stable (False: nothing was simulated; every check fails).
         checks: the dynamic checks (name, required, available, unit, margin, ok, status, note, source).
     """
 
@@ -81,6 +82,7 @@ class Response:
     settling_time: FloatArray
     window: float
     rigid: tuple[str, ...]
+    stable: bool = True
     checks: list[dict[str, Any]] = field(default_factory=list)
 
     @property
@@ -102,7 +104,7 @@ class Response:
             "velocity_bandwidth_Hz": self.velocity_bandwidth_hz, "bandwidth_limit": self.bandwidth_limit,
             "phase_margin_deg": self.phase_margin_deg, "gain_margin_dB": self.gain_margin_db,
             "resonance_Hz": _none(self.resonance_hz), "anti_resonance_Hz": _none(self.anti_resonance_hz),
-            "notch": self.notch, "weakest_position_m": _none(self.weakest_position),
+            "notch": self.notch, "stable": self.stable, "weakest_position_m": _none(self.weakest_position),
             "following_error_per_move": [float(v) for v in self.following_error],
             "settling_time_per_stop_s": [_none(float(v)) for v in self.settling_time],
             "settling_window": self.window, "rigid_for_want_of_data": list(self.rigid),
@@ -157,6 +159,23 @@ def candidate_response(axis: Axis, motor: str, motor_inertia: float, torque_limi
     f_r = float(natural_frequencies(weak)[0]) if weak.n >= 2 else math.nan
     f_ar = float(anti_resonance_frequencies(weak)[0]) if weak.n >= 2 else math.nan
 
+    # what set the bandwidth: the rule's limit, or the step down for a stable loop (not the notch's note)
+    note = next((n for n in reversed(loop.notes) if "bandwidth" in n or "lowered" in n), "")
+    base = Response(motor=motor, gearbox=gearbox, velocity_bandwidth_hz=float(analysis.velocity_bandwidth_hz),
+                    bandwidth_limit=note, phase_margin_deg=float(analysis.velocity_margins.phase_margin_deg),
+                    gain_margin_db=float(analysis.velocity_margins.gain_margin_db), resonance_hz=f_r,
+                    anti_resonance_hz=f_ar, notch=loop.notch is not None, weakest_position=x_weak,
+                    following_error=np.zeros(0), settling_time=np.zeros(0), window=req.settling_window,
+                    rigid=tuple(missing))
+    if not analysis.stable:
+        # no gain set of the rule holds the resonance: nothing to simulate; every check fails with why
+        pole = analysis.poles[int(np.argmax(analysis.poles.real))]
+        why = (f"no stable tuning: a closed-loop pole at {abs(pole.imag) / (2 * math.pi):.1f} Hz grows even at "
+               f"{analysis.velocity_bandwidth_hz:.1f} Hz of bandwidth" + ("" if req.notch else "; allow a notch"))
+        unstable = replace(base, bandwidth_limit=why, stable=False, following_error=np.array([math.inf]),
+                           settling_time=np.array([math.nan]))
+        return replace(unstable, checks=dynamic_checks(unstable, req))
+
     # The simulation: the chain with the mechanism's spring following the load over one cycle.
     dyn = AxisDynamics(model_from_stages(motor_inertia, stages, 0.0), motor, motor_inertia, stages)
     cycle = axis.cycle()
@@ -173,16 +192,9 @@ def candidate_response(axis: Axis, motor: str, motor_inertia: float, torque_limi
     ratio = math.prod(s.ratio for s in stages)
     ref = Reference.from_load(t, x, kin.v, kin.a, ratio)
     sim = simulate(chain, loop, ref, load_torque=load_torque, step=default_step(chain, loop),
-                   settle_tolerance=req.settling_window * ratio)
+                   settle_tolerance=req.settling_window * ratio, check_stability=False)  # judged above
     follow = _per_move_error(sim.states["reference_speed"], sim.load_error) / ratio
-    # what set the bandwidth: the rule's limit, or the step down for a stable loop (not the notch's note)
-    note = next((n for n in reversed(loop.notes) if "bandwidth" in n or "lowered" in n), "")
-    resp = Response(motor=motor, gearbox=gearbox, velocity_bandwidth_hz=float(analysis.velocity_bandwidth_hz),
-                    bandwidth_limit=note, phase_margin_deg=float(analysis.velocity_margins.phase_margin_deg),
-                    gain_margin_db=float(analysis.velocity_margins.gain_margin_db), resonance_hz=f_r,
-                    anti_resonance_hz=f_ar, notch=loop.notch is not None, weakest_position=x_weak,
-                    following_error=follow, settling_time=np.asarray(sim.settling_time, dtype=float),
-                    window=req.settling_window, rigid=tuple(missing))
+    resp = replace(base, following_error=follow, settling_time=np.asarray(sim.settling_time, dtype=float))
     return replace(resp, checks=dynamic_checks(resp, req))
 
 
@@ -237,9 +249,11 @@ def dynamic_checks(resp: Response, req: Requirements) -> list[dict[str, Any]]:
             f"tuned velocity loop reaches {resp.velocity_bandwidth_hz:.1f} Hz: {why}", SRC_SETTLING)
     pm = resp.phase_margin_deg / req.phase_margin_deg - 1.0
     gm = resp.gain_margin_db / req.gain_margin_db - 1.0 if math.isfinite(resp.gain_margin_db) else math.inf
-    add("stability_margin", req.phase_margin_deg, resp.phase_margin_deg, "deg", min(pm, gm),
-        f"velocity loop phase margin {resp.phase_margin_deg:.1f} deg (>= {req.phase_margin_deg:g}), gain margin "
-        f"{resp.gain_margin_db:.1f} dB (>= {req.gain_margin_db:g})", SRC_MARGINS)
+    text = (f"velocity loop phase margin {resp.phase_margin_deg:.1f} deg (>= {req.phase_margin_deg:g}), gain margin "
+            f"{resp.gain_margin_db:.1f} dB (>= {req.gain_margin_db:g})")
+    if not resp.stable:
+        pm, gm, text = -1.0, -1.0, why
+    add("stability_margin", req.phase_margin_deg, resp.phase_margin_deg, "deg", min(pm, gm), text, SRC_MARGINS)
     return checks
 
 
