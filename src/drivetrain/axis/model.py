@@ -27,6 +27,7 @@ from drivetrain.axis.electrical import (
     motor_electrical,
     nominal_bus_voltage,
 )
+from drivetrain.axis.requirements import Requirements, RequirementsSpec, requirements
 from drivetrain.axis.resolve import resolve_transmission
 from drivetrain.axis.yaml_text import check_text, read_yaml
 from drivetrain.errors import InputError
@@ -176,6 +177,7 @@ class AxisSpec(Spec):
     extra_inertia: ComponentInertia = 0.0
     drive: DriveSpec | None = None
     environment: EnvironmentSpec | None = None
+    requirements: RequirementsSpec | None = None
 
 
 @dataclass(frozen=True)
@@ -224,6 +226,11 @@ class Axis:
         return math.prod(s.ratio for s in self.stages)
 
     @property
+    def requirements(self) -> Requirements | None:
+        """The dynamic requirements in SI at the load (``requirements:``; None when absent)."""
+        return requirements(self.spec.requirements, self.mechanism.motion)
+
+    @property
     def load_inertia(self) -> float:
         """Everything but the motor, at the motor shaft [kg m^2]."""
         return chain_inertia(list(self.stages)) + self.spec.extra_inertia
@@ -263,6 +270,7 @@ def parse_axis(data: Any, *, text_checked: bool = False) -> Axis:
     except InputError as exc:
         raise exc.at("") from None
     check_ratio_chain([*stages, mechanism.stage], len(stages))
+    requirements(spec.requirements, mechanism.motion)  # its windows' units depend on the mechanism: checked here
     motor = _motor_data(spec.motor) if spec.motor is not None else None
     electrical = None
     if spec.motor is not None and spec.motor.select is None:

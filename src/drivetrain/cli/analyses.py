@@ -54,15 +54,23 @@ def print_machine(out: dict[str, Any]) -> None:
 def print_modes(out: dict[str, Any], inertias: int, units: TableUnits | None = None) -> None:
     """Natural frequencies, resonance, critical speeds and the first mode across the stroke."""
     console = table_console()
+    u = units or TableUnits()
     console.print(f"[bold]{out['axis']}[/] with motor {out['motor']}: {inertias} inertias at the motor shaft")
     if "modes" in out:
-        print_modes_across(console, out["modes"], units or TableUnits())
+        print_modes_across(console, out["modes"], u)
     if not out["natural_frequencies_Hz"]:
         console.print("rigid drive train: no stiffness given (add stiffness to a coupling, gearbox or belt, or "
                       "a dynamics.chain), so there is no resonance to report")
         return
-    console.print("natural frequencies: " + ", ".join(f"{f:.1f} Hz" for f in out["natural_frequencies_Hz"]))
-    console.print(f"two-mass resonance {out['resonance_Hz']:.1f} Hz, anti-resonance {out['anti_resonance_Hz']:.1f} Hz")
+    # Two models when the mechanism has stiffness data: name each (the table above has the mechanism's spring)
+    rigid = "motor and transmission, the mechanism rigid: " if "modes" in out else ""
+    console.print(f"{rigid}natural frequencies: " + ", ".join(f"{f:.1f} Hz" for f in out["natural_frequencies_Hz"]))
+    console.print(f"{rigid}two-mass resonance {out['resonance_Hz']:.1f} Hz, anti-resonance "
+                  f"{out['anti_resonance_Hz']:.1f} Hz")
+    if "modes" in out:
+        m = out["modes"]
+        console.print(f"with the mechanism's spring at its weakest position ({_position(m['worst_position_m'], u)}): "
+                      "natural frequencies: " + ", ".join(f"{f:.1f} Hz" for f in m["natural_frequencies_at_worst_Hz"]))
     for c in out.get("critical_speeds", []):
         console.print(f"critical speed: {c['excitation']} crosses {c['natural_frequency_Hz']:.1f} Hz at "
                       f"{c['speed_rpm']:.0f} rpm")
@@ -111,9 +119,14 @@ def print_simulation(out: dict[str, Any], units: TableUnits | None = None) -> No
         ("max load position error", f"{out['max_load_error_rad'] * 1e3:.4g} mrad"),
         ("load vibration amplitude", f"{out['load_vibration_amplitude_rad'] * 1e3:.4g} mrad"),
     ]
-    settle = [f"{v * 1e3:.1f}" if v is not None else "-" for v in out["settling_time_s"]]
+    settle = [f"{v * 1e3:.1f} ms" if v is not None else "not settled" for v in out["settling_time_s"]]
+    if "settling_window_m" in out:
+        window = f"{out['settling_window_m'] * 1e6:.4g} um"
+    else:
+        window = f"{out['settling_window_rad'] * 180 / 3.141592653589793 * 60:.4g} arcmin"
+    source = "" if out.get("settling_window_source") != "default" else ", default"
     rows += [
-        ("settling time per stop", ", ".join(settle) + " ms"),
+        (f"settling time per stop (load into {window}{source})", ", ".join(settle) or "no stop"),
         ("peak / RMS motor torque",
          f"{u.num(out['peak_torque_Nm'], 'torque')} / {u.num(out['rms_torque_Nm'], 'torque')} {torque}"),
         ("peak shaft torque per spring",

@@ -173,6 +173,7 @@ def modes(args: argparse.Namespace) -> int:
         across = modes_across_stroke(axis, dyn.stages, dyn.motor_inertia)
         if across is not None:
             out["modes"] = across
+            out["natural_frequencies_model"] = "motor and transmission, the mechanism rigid (modes: with its spring)"
     if args.json:
         print(json.dumps(jsonable(out), indent=2))
         return 0
@@ -183,6 +184,17 @@ def modes(args: argparse.Namespace) -> int:
     return 0
 
 
+def settling_at_load(axis: Any) -> dict[str, Any]:
+    """The settling window at the load as ``simulate --json`` states it (m or rad, and where it came from)."""
+    from drivetrain.axis.requirements import settling_window
+
+    spec = axis.spec.requirements
+    given = spec is not None and spec.settling is not None and spec.settling.window is not None
+    unit = "m" if axis.mechanism.motion == "linear" else "rad"
+    return {f"settling_window_{unit}": settling_window(spec, axis.mechanism.motion),
+            "settling_window_source": "requirements.settling.window" if given else "default"}
+
+
 def simulate(args: argparse.Namespace) -> int:
     from drivetrain.axis.model import load_axis
     from drivetrain.dynamics.axis_model import simulate_axis
@@ -190,7 +202,7 @@ def simulate(args: argparse.Namespace) -> int:
     _check_outputs(args)
     axis = load_axis(args.axis)
     res = simulate_axis(axis, cycles=args.cycles, velocity_bandwidth_hz=args.bandwidth)
-    out = {"axis": axis.name, **res.to_dict()}
+    out = {"axis": axis.name, **res.to_dict(), **settling_at_load(axis)}
     if args.csv:
         import io
 

@@ -208,10 +208,19 @@ def _print_candidates(console: Any, result: Any, u: TableUnits) -> None:
             console.print(f"[bold red]not orderable: {sel['drive_advice']}[/]")
         else:
             for over in sel.get("drive_passed_over", [])[:5]:
-                console.print(f"  passed over for its drive: {over['motor']}: {over['reason']}")
+                what = {"dynamics": "how it moves"}.get(over.get("drive_status", ""), "its drive")
+                if over["reason"].startswith("voltage_class:"):
+                    what = "its voltage class"
+                console.print(f"  passed over for {what}: {over['motor']}: {over['reason']}")
             more = int(sel.get("drive_passed_over_count", 0)) - 5
             if more > 0:
                 console.print(f"  ... and {more} more passed over for their drive (selection.drive_passed_over)")
+        dyn = sel.get("dynamics")
+        if dyn and dyn.get("chosen"):
+            console.print(f"dynamics of {dyn['chosen']['motor']} ({dyn['judged']} candidate(s) simulated): "
+                          + "; ".join(f"{ch['name']} {ch['status']}: {ch['note']}" for ch in dyn["chosen"]["checks"]))
+        elif dyn:
+            console.print(f"[bold red]dynamics: none of the {dyn['judged']} candidates simulated passes[/]")
         _print_selected_electrical(console, pick, u)
         if pick.get("unknown"):
             console.print("  not judged (the catalog lacks the data): "

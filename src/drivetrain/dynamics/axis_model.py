@@ -38,6 +38,7 @@ if TYPE_CHECKING:
     from drivetrain.axis.model import Axis
     from drivetrain.dynamics.chain import Chain
     from drivetrain.dynamics.control import ServoLoop
+    from drivetrain.dynamics.mechanism_stiffness import MechanismStiffness
     from drivetrain.dynamics.simulation_result import SimulationResult
     from drivetrain.sizing.result import SizingResult
 
@@ -124,17 +125,25 @@ def _motor(axis: Axis, sized: SizingResult | None = None) -> tuple[str, float, t
             raise InputError("motor.select", "no catalog motor passes, so there is no motor to simulate; "
                              + str((res.selection or {}).get("advice", "")), has_value=False)
         m = catalog.get(chosen["motor"])
-        stages = axis.stages
-        if chosen.get("gearbox"):
-            g = catalog.get(chosen["gearbox"])
-            i = float(g["ratio"])
-            k_out = g.get("torsional_stiffness_Nm_per_rad")
-            stages = (Stage(name=str(g["id"]), kind="gearbox", ratio=i, inertia_in=g.get("inertia_input_kgm2") or 0.0,
-                            efficiency=g.get("efficiency") or 1.0, back_efficiency=g.get("efficiency") or 1.0,
-                            stiffness=None if not k_out else float(k_out) / i**2,
-                            backlash=(g.get("backlash_rad") or 0.0) * i if k_out else 0.0), *stages)
+        stages = stages_with_gearbox(axis, catalog.get(chosen["gearbox"]) if chosen.get("gearbox") else None)
         return str(chosen["motor"]), float(m["rotor_inertia_kgm2"]), stages
     raise InputError("motor", "dynamics need a motor: name one or select one from the catalog", has_value=False)
+
+
+def stages_with_gearbox(axis: Axis, gearbox: dict[str, Any] | None) -> tuple[Stage, ...]:
+    """The axis's stages with a catalog gearbox row (``catalog.get``) in front of them (None: as they are).
+
+    The row's output stiffness K_out enters at its input as K_out / i^2 and its backlash at the
+    input as backlash x i (``model_from_stages`` takes both at the stage's input); a row without
+    stiffness is rigid, backlash included."""
+    if gearbox is None:
+        return axis.stages
+    i = float(gearbox["ratio"])
+    k_out = gearbox.get("torsional_stiffness_Nm_per_rad")
+    return (Stage(name=str(gearbox["id"]), kind="gearbox", ratio=i, inertia_in=gearbox.get("inertia_input_kgm2") or 0.0,
+                  efficiency=gearbox.get("efficiency") or 1.0, back_efficiency=gearbox.get("efficiency") or 1.0,
+                  stiffness=None if not k_out else float(k_out) / i**2,
+                  backlash=(gearbox.get("backlash_rad") or 0.0) * i if k_out else 0.0), *axis.stages)
 
 
 def model(axis: Axis, sized: SizingResult | None = None) -> AxisDynamics:
@@ -154,7 +163,7 @@ def model(axis: Axis, sized: SizingResult | None = None) -> AxisDynamics:
     return AxisDynamics(chain, name, j_m, stages)
 
 
-def _friction(axis: Axis, stages: tuple[Stage, ...], block: dict[str, Any]) -> tuple[Any, float]:
+def load_friction(axis: Axis, stages: tuple[Stage, ...], block: dict[str, Any]) -> tuple[Any, float]:
     """Load friction (Coulomb, breakaway) and constant load torque at the motor shaft, from the axis."""
     from drivetrain.dynamics.friction import Friction
 
@@ -260,7 +269,8 @@ TABLE_POINTS = 201
 """Positions across the stroke at which the mechanism's stiffness is tabulated for ``simulate``."""
 
 
-def with_mechanism_spring(axis: Axis, dyn: AxisDynamics, start: float = 0.0) -> AxisDynamics:
+def with_mechanism_spring(axis: Axis, dyn: AxisDynamics, start: float = 0.0,
+                          stiffness: MechanismStiffness | None = None) -> AxisDynamics:
     """``dyn`` with the mechanism's own spring, following the load along the stroke.
 
     Where the axis file gives the mechanism's stiffness data (``mechanism.screw``/``nut``,
@@ -269,7 +279,8 @@ def with_mechanism_spring(axis: Axis, dyn: AxisDynamics, start: float = 0.0) -> 
     ``spring_table`` carries the stiffness at the motor shaft, k_x(x) r^2 / i^2 (i the ratio of
     the stages before the mechanism), against the load's angle at the motor shaft, x times the
     total ratio: ``simulate`` then updates the spring as the load moves. Unchanged otherwise
-    (no data, or an explicit ``dynamics.chain``).
+    (no data, or an explicit ``dynamics.chain``). ``stiffness``: the mechanism's stiffness across
+    the stroke when the caller has it (else computed here at ``TABLE_POINTS`` positions).
     """
     from dataclasses import replace
 
@@ -278,7 +289,7 @@ def with_mechanism_spring(axis: Axis, dyn: AxisDynamics, start: float = 0.0) -> 
 
     if "chain" in _block(axis) or not dyn.stages:
         return dyn
-    stiff = mechanism_stiffness_of(axis, TABLE_POINTS)
+    stiff = stiffness if stiffness is not None else mechanism_stiffness_of(axis, TABLE_POINTS)
     if stiff is None:
         return dyn
     head, mech = dyn.stages[:-1], dyn.stages[-1]
@@ -300,6 +311,7 @@ def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None =
     The mechanism's spring follows the load's position (``with_mechanism_spring``) where the
     axis file gives its stiffness data; the loop is tuned on the chain at the start position.
     """
+    from drivetrain.axis.requirements import settling_window
     from drivetrain.dynamics.kernel_io import MAX_SIMULATION_BYTES, default_step, estimate_bytes, max_steps
     from drivetrain.dynamics.reference import Reference
     from drivetrain.dynamics.simulation import simulate
@@ -312,7 +324,7 @@ def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None =
     if velocity_bandwidth_hz is not None:
         block = {**block, "loop": {**(block.get("loop") or {}), "velocity_bandwidth": velocity_bandwidth_hz}}
     loop = servo_loop(dyn.chain, block)
-    friction, load_torque = _friction(axis, dyn.stages, block)
+    friction, load_torque = load_friction(axis, dyn.stages, block)
     chain = dyn.chain
     if friction is not None:
         frictions = list(chain.friction) if chain.friction else [None] * chain.n
@@ -344,8 +356,10 @@ def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None =
         x = x + np.floor(t / cycle.period) * float(cycle.evaluate(np.array([cycle.period])).x[0])
     ratio = math.prod(s.ratio for s in dyn.stages)
     ref = Reference.from_load(t, x, kin.v, kin.a, ratio)
+    # settling is judged at the load against its window (requirements.settling.window or the default)
+    window = settling_window(axis.spec.requirements, axis.mechanism.motion) * ratio
     try:
-        return simulate(chain, loop, ref, load_torque=load_torque, step=h)
+        return simulate(chain, loop, ref, load_torque=load_torque, step=h, settle_tolerance=window)
     except InputError as exc:
         # The step is the user's dynamics.step (or the automatic one): name the key of the file.
         if "step" in block and step is None and exc.field == "simulation.step":

@@ -172,12 +172,11 @@ def frequency_response(chain: Chain, freq_hz: ArrayLike, input: str = "motor_tor
     j, i = _io_index(chain, input, output)
     m = state_space_matrices(chain)
     f = np.atleast_1d(np.asarray(freq_hz, dtype=float))
-    eye = np.eye(m.A.shape[0])
-    out = np.empty(f.size, dtype=complex)
-    for k, fk in enumerate(f):
-        x = np.linalg.solve(2j * math.pi * fk * eye - m.A, m.B[:, j])
-        out[k] = x[i]
-    return out
+    n = m.A.shape[0]
+    # one batched solve over the frequencies: (F, n, n) systems (j w I - A) x = B_j
+    mats = (2j * math.pi * f)[:, None, None] * np.eye(n) - m.A
+    rhs = np.broadcast_to(m.B[:, j].astype(complex), (f.size, n))[..., None]
+    return np.asarray(np.linalg.solve(mats, rhs)[:, i, 0], dtype=complex)
 
 
 def modes(chain: Chain) -> tuple[FloatArray, FloatArray]:

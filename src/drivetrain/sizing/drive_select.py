@@ -257,8 +257,13 @@ def _motor_prospect(motors: MotorTable, m: int, given: DriveData | None) -> dict
     return memo[key]
 
 
+Judge = Callable[[str, str | None], tuple[bool, str]]
+"""A further rule a candidate must pass once its drive can be ordered: (motor id, catalog gearbox id or
+None) -> (accepted, why not). The dynamic selection is one (``dynamics.dynamic_selection.Judge``)."""
+
+
 def _walk(axis: Axis, duty: DutyCycle, sel: dict[str, Any], motors: MotorTable,
-          strict: bool) -> tuple[int | None, list[dict[str, Any]]]:
+          strict: bool, judge: Judge | None = None) -> tuple[int | None, list[dict[str, Any]]]:
     """The first passing motor (best configuration, ranked order) whose drive can be ordered.
 
     A drive is an answer when it passes its current checks (``ok``); under ``unknown: flag`` a drive
@@ -282,7 +287,15 @@ def _walk(axis: Axis, duty: DutyCycle, sel: dict[str, Any], motors: MotorTable,
         if "status" not in block:  # checkable: its current decides
             block, _ = _candidate_drive(axis, duty, sel, motors, int(k))
         if block["status"] == "ok" or (not strict and block["status"] != "fails"):
-            return int(k), passed
+            if judge is None:
+                return int(k), passed
+            gb = sel["_tables"][1]
+            g = int(c.gearbox(int(k)))
+            ok, why = judge(str(motors.ids[m]), str(gb.ids[g]) if g >= 0 and gb is not None else None)
+            if ok:
+                return int(k), passed
+            passed.append({"motor": str(motors.ids[m]), "drive_status": "dynamics", "reason": why})
+            continue
         passed.append({"motor": str(motors.ids[m]), "drive_status": block["status"], "reason": _drive_reason(block)})
     return None, passed
 
@@ -303,7 +316,7 @@ def _needs_walk(axis: Axis, duty: DutyCycle, sel: dict[str, Any], strict: bool) 
 
 
 def orderable(axis: Axis, duty: DutyCycle, chosen: dict[str, Any],
-              reselect: Callable[[], dict[str, Any]] | None = None) -> dict[str, Any]:
+              reselect: Callable[[], dict[str, Any]] | None = None, judge: Judge | None = None) -> dict[str, Any]:
     """The selection with an orderable drive (docs/checks.md, "Drive selection"), in place.
 
     The selected motor becomes the best-ranked passing one whose drive can be ordered (``_walk``);
@@ -317,17 +330,18 @@ def orderable(axis: Axis, duty: DutyCycle, chosen: dict[str, Any],
         return chosen
     spec = axis.spec.motor.select if axis.spec.motor is not None else None
     strict = spec is not None and spec.unknown == "fail"
-    if not _needs_walk(axis, duty, sel, strict):
+    if judge is None and not _needs_walk(axis, duty, sel, strict):
         return chosen
     if reselect is not None:
         chosen = reselect()
         sel = chosen["selection"]
     motors, gb = sel["_tables"]
-    best, passed = _walk(axis, duty, sel, motors, strict)
+    best, passed = _walk(axis, duty, sel, motors, strict, judge)
     if passed:  # the first ones, and how many in all
         sel["drive_passed_over"], sel["drive_passed_over_count"] = passed[:20], len(passed)
     if best is None:  # keep the best-ranked motor and say why it cannot be ordered
-        rule = "passes its current checks" + (" (unknown: fail)" if strict else "")
+        rule = "passes its current checks" + (" (unknown: fail)" if strict else "") + (
+            " and passes the dynamic requirements" if judge is not None else "")
         sel["drive_advice"] = (f"none of the {len(passed)} passing motors tried has a drive that {rule}; "
                                f"the best-ranked, {passed[0]['motor']}: {passed[0]['reason']}")
     elif best != int(sel["_best"]):
@@ -389,7 +403,9 @@ def _reselect(axis: Axis, duty: DutyCycle, sel: dict[str, Any], motors: MotorTab
     sel["selected"] = candidate_dict(c, best, motors, gb, order.index(best) + 1)
     last = order[order.index(best) - 1]
     nxt = candidate_dict(c, last, motors, gb, None)
-    why = f"drive: {passed[-1]['reason']}"
+    last_why = passed[-1]
+    why = last_why["reason"] if last_why["drive_status"] == "dynamics" or last_why["reason"].startswith(
+        "voltage_class:") else f"drive: {last_why['reason']}"
     nxt.update({"failed": why, "failures": [why]})
     sel["next_smaller"] = nxt
     sel["optimal_ratio"] = optimal_ratio(axis, duty, motors, int(c.motor[best]), gb)

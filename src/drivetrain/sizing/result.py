@@ -391,8 +391,17 @@ def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64,
 
         spec, margins = axis.spec.motor.select, axis.spec.motor.margins
         chosen = (selector or select)(axis, duty, spec, margins, all_pairs=all_pairs)
+        judge = None
+        if axis.requirements is not None:
+            # the dynamic rule lives in the dynamics layer, above this one: looked up by name
+            # (docs/architecture.md), the pattern of the report's lookup
+            import importlib
+
+            judge = importlib.import_module("drivetrain.dynamics.dynamic_selection").Judge(axis)
         chosen = orderable(axis, duty, chosen, None if selector is None else  # the whole ranking, if needed
-                           lambda: select(axis, duty, spec, margins, all_pairs=all_pairs))
+                           lambda: select(axis, duty, spec, margins, all_pairs=all_pairs), judge)
+        if judge is not None:
+            chosen["selection"]["dynamics"] = judge.to_dict()
         if drives:
             attach_drives(axis, duty, chosen, axis.spec.motor.margins)  # the electrical post-pass
         result.candidates = chosen["candidates"]

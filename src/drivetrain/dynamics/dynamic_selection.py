@@ -1,0 +1,154 @@
+"""The selection that knows how the axis will move: walk the static passes best first and keep the
+first that also passes its dynamic checks (``response.candidate_response``), or, for the objective
+``fastest_settling``, the one that settles fastest among those judged.
+
+Input is the ranked list of static passes as (motor id, catalog gearbox id or None); the answer says
+which was chosen, every candidate judged with its checks, and the static picks passed over with why.
+Candidates whose dynamic answer is ``unknown`` (a part taken rigid for want of data) are accepted
+under ``select.unknown: flag`` and passed over under ``fail``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from drivetrain.axis.model import Axis
+    from drivetrain.dynamics.response import Response
+
+
+@dataclass
+class DynamicSelection:
+    """The dynamic walk's answer.
+
+    Attributes:
+        chosen: index into the ranked list of the candidate chosen (None: none judged passes).
+        responses: every candidate judged, in ranked order (up to ``requirements.candidates``).
+        passed_over: the static picks before the chosen one, each {motor, gearbox, status, reason}.
+        judged: how many candidates were simulated; stopped_early: the walk stopped at the first pass.
+        objective: "first_passing" or "fastest_settling".
+    """
+
+    chosen: int | None
+    responses: list[Response] = field(default_factory=list)
+    passed_over: list[dict[str, Any]] = field(default_factory=list)
+    judged: int = 0
+    stopped_early: bool = False
+    objective: str = "first_passing"
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready (the ``dynamics`` block of a selection)."""
+        return {"objective": self.objective, "judged": self.judged, "stopped_early": self.stopped_early,
+                "chosen": None if self.chosen is None else self.responses[self.chosen].to_dict(),
+                "passed_over": list(self.passed_over),
+                "candidates": [r.to_dict() for r in self.responses]}
+
+
+def reason(resp: Response) -> str:
+    """One line: the first failing (else unknown) dynamic check's note, with its name."""
+    for state in ("fail", "unknown"):
+        for c in resp.checks:
+            if c["status"] == state:
+                return f"{c['name']}: {c['note']}"
+    return "passes"
+
+
+def judge(axis: Axis, ranked: Sequence[tuple[str, str | None]], *, accept_unknown: bool = True,
+          objective: str = "first_passing") -> DynamicSelection:
+    """Judge the static passes ``ranked`` (best first) dynamically against ``axis.requirements``.
+
+    ``first_passing`` stops at the first candidate that passes (or is unknown, when
+    ``accept_unknown``); ``fastest_settling`` judges the first ``requirements.candidates`` and keeps
+    the one with the shortest worst settling time among those that do not fail.
+    """
+    from drivetrain import catalog
+    from drivetrain.dynamics.axis_model import TABLE_POINTS, stages_with_gearbox
+    from drivetrain.dynamics.axis_stiffness import mechanism_stiffness_of
+    from drivetrain.dynamics.response import candidate_response
+
+    req = axis.requirements
+    if req is None:
+        raise ValueError("judge needs an axis with requirements")
+    stiffness = mechanism_stiffness_of(axis, TABLE_POINTS)
+    out = DynamicSelection(chosen=None, objective=objective)
+    best_time = math.inf
+    for k, (motor_id, gearbox_id) in enumerate(ranked[: req.candidates]):
+        m = catalog.get(motor_id)
+        g = catalog.get(gearbox_id) if gearbox_id else None
+        rigid: tuple[str, ...] = ()
+        if g is not None and not g.get("torsional_stiffness_Nm_per_rad"):
+            rigid = (f"gearbox {gearbox_id} (the catalog has no torsional stiffness: give it, and its backlash)",)
+        resp = candidate_response(axis, motor_id, float(m["rotor_inertia_kgm2"]), float(m["peak_torque_Nm"]),
+                                  stages_with_gearbox(axis, g), req, gearbox=gearbox_id, stiffness=stiffness,
+                                  rigid=rigid)
+        out.responses.append(resp)
+        out.judged = k + 1
+        ok = resp.status == "pass" or (accept_unknown and resp.status == "unknown")
+        if objective == "fastest_settling":
+            if ok and resp.worst_settling < best_time:
+                best_time, out.chosen = resp.worst_settling, k
+            continue
+        if ok:
+            out.chosen, out.stopped_early = k, k + 1 < min(len(ranked), req.candidates)
+            break
+    last = len(out.responses) if out.chosen is None else out.chosen
+    out.passed_over = [{"motor": r.motor, "gearbox": r.gearbox, "status": r.status, "reason": reason(r)}
+                       for r in out.responses[:last]]
+    return out
+
+
+class Judge:
+    """The dynamic rule of the selection's walk (``drive_select.orderable``): called with each candidate
+    the walk would answer, best first, it simulates the candidate (``candidate_response``) and accepts
+    it when its dynamic checks pass (or are unknown, under ``select.unknown: flag``). At most
+    ``requirements.candidates`` are simulated; past them a candidate is refused as not judged. What it
+    judged is the answer's ``selection.dynamics`` block (``to_dict``)."""
+
+    def __init__(self, axis: Axis) -> None:
+        from drivetrain.dynamics.axis_model import TABLE_POINTS
+        from drivetrain.dynamics.axis_stiffness import mechanism_stiffness_of
+
+        if axis.requirements is None:
+            raise ValueError("the dynamic rule needs an axis with requirements")
+        self.axis = axis
+        self.req = axis.requirements
+        spec = axis.spec.motor.select if axis.spec.motor is not None else None
+        self.accept_unknown = spec is None or spec.unknown == "flag"
+        self.stiffness = mechanism_stiffness_of(axis, TABLE_POINTS)
+        self.answer = DynamicSelection(chosen=None)
+
+    def __call__(self, motor_id: str, gearbox_id: str | None) -> tuple[bool, str]:
+        from drivetrain import catalog
+        from drivetrain.dynamics.axis_model import stages_with_gearbox
+        from drivetrain.dynamics.response import candidate_response
+
+        out = self.answer
+        if out.judged >= self.req.candidates:
+            return False, (f"dynamics: not judged (requirements.candidates = {self.req.candidates} candidates "
+                           "simulated before it)")
+        m = catalog.get(motor_id)
+        g = catalog.get(gearbox_id) if gearbox_id else None
+        rigid: tuple[str, ...] = ()
+        if g is not None and not g.get("torsional_stiffness_Nm_per_rad"):
+            rigid = (f"gearbox {gearbox_id} (the catalog has no torsional stiffness: give it, and its backlash)",)
+        resp = candidate_response(self.axis, motor_id, float(m["rotor_inertia_kgm2"]), float(m["peak_torque_Nm"]),
+                                  stages_with_gearbox(self.axis, g), self.req, gearbox=gearbox_id,
+                                  stiffness=self.stiffness, rigid=rigid)
+        out.responses.append(resp)
+        out.judged += 1
+        ok = resp.status == "pass" or (self.accept_unknown and resp.status == "unknown")
+        if ok:
+            out.chosen = len(out.responses) - 1
+        else:
+            out.passed_over.append({"motor": resp.motor, "gearbox": resp.gearbox, "status": resp.status,
+                                    "reason": reason(resp)})
+        return ok, reason(resp)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``selection.dynamics`` block: the requirements in SI and every candidate judged."""
+        from dataclasses import asdict
+
+        return {"requirements": asdict(self.req), **self.answer.to_dict()}
