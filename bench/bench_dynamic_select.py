@@ -1,0 +1,63 @@
+"""Benchmark: `drivetrain size` of examples/belt_dynamic.yaml with its dynamic requirements against the same
+axis without them, whole process, alternated in one run.
+
+Three commands, each a fresh `drivetrain` process (warm: bytecode, catalog and the simulation's compiled
+kernels cached by a first run): the axis without `requirements:` (the static selection), with them as
+shipped (the walk simulates candidates until one passes: 2 here), and with a 80 deg phase margin no
+candidate meets and `candidates: 20` (20 candidates simulated). Reported: the median CPU time of each and
+the ratios to the static one; the target is at most 1.5 for 20 candidates.
+Run: ``.venv/bin/python bench/bench_dynamic_select.py``.
+"""
+
+from __future__ import annotations
+
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLE = ROOT / "examples" / "belt_dynamic.yaml"
+RUNS = 5
+
+
+def _cpu(cmd: list[str]) -> float:
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run(cmd, check=False, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def main() -> None:
+    exe = str(Path(sys.executable).with_name("drivetrain"))
+    data = yaml.safe_load(EXAMPLE.read_text(encoding="utf-8"))
+    with tempfile.TemporaryDirectory() as folder:
+        static = dict(data)
+        static.pop("requirements")
+        twenty = yaml.safe_load(EXAMPLE.read_text(encoding="utf-8"))
+        twenty["requirements"].update({"candidates": 20, "stability": {"phase_margin": "80 deg"}})
+        files = {"static": Path(folder, "static.yaml"), "shipped": EXAMPLE, "20 simulated": Path(folder, "twenty.yaml")}
+        files["static"].write_text(yaml.safe_dump(static), encoding="utf-8")
+        files["20 simulated"].write_text(yaml.safe_dump(twenty), encoding="utf-8")
+        env = dict(os.environ)
+        cmds = {k: [exe, "size", str(p)] for k, p in files.items()}
+        for c in cmds.values():  # warm-up
+            subprocess.run(c, check=False, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
+        times: dict[str, list[float]] = {k: [] for k in cmds}
+        for _ in range(RUNS):  # alternated, so a drift of the machine's speed hits all alike
+            for k, c in cmds.items():
+                times[k].append(_cpu(c))
+    base = statistics.median(times["static"])
+    print(f"drivetrain size, whole process, warm, CPU median of {RUNS} (alternated):")
+    for k, t in times.items():
+        m = statistics.median(t)
+        print(f"  {k:14s} {m:.3f} s  ratio {m / base:.2f}")
+
+
+if __name__ == "__main__":
+    main()
