@@ -24,7 +24,7 @@ COMPARE = textwrap.dedent("""
     from drivetrain.axis.model import Margins, load_axis
     from drivetrain.duty.cycle import duty_cycle
     from drivetrain.sizing import kernel, selection
-    from drivetrain.sizing.result import size
+    from drivetrain.sizing.pipeline import size
     out = {"kernel": type(kernel.check).__name__, "numba_after_size": None, "examples": {}}
     size(load_axis(sys.argv[1] + "/ball_screw.yaml"))
     out["numba_after_size"] = "numba" in sys.modules

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from drivetrain.duty.cycle import cubic_mean, fanuc_accel_torque, fanuc_speed_at_peak_torque
-from drivetrain.sizing.result import size
+from drivetrain.sizing.pipeline import size
 
 HERE = Path(__file__).parent
 AXES = HERE / "axes"

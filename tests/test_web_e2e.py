@@ -22,7 +22,7 @@ from typing import Any
 import pytest
 
 from drivetrain.axis.model import parse_yaml
-from drivetrain.sizing.result import size
+from drivetrain.sizing.pipeline import size
 
 pytestmark = pytest.mark.browser
 

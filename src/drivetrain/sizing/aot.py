@@ -52,7 +52,7 @@ def _representative_runs() -> None:
     from drivetrain.axis.model import parse_axis
     from drivetrain.duty.cycle import duty_cycle
     from drivetrain.sizing import hull
-    from drivetrain.sizing.result import size
+    from drivetrain.sizing.pipeline import size
 
     axis = parse_axis(AXIS)
     size(axis)  # the selection kernel (evaluate, closest failing, details)

@@ -31,7 +31,7 @@ def register(app: FastAPI, ctx: Context) -> None:
         path = temp_path(suffix)
 
         def write() -> None:
-            from drivetrain.sizing.result import size
+            from drivetrain import size
 
             module.write_report(engine(size, axis), str(path), units=units)
 
