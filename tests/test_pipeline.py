@@ -79,3 +79,32 @@ def test_no_hidden_state_in_the_sizing_layer() -> None:
     for needle in ('"_best"', '"_candidates"', '"_ranked"', '"_tables"', '"_shown"', '"_drive"', '"_regen"',
                    "duty.__dict__", "[id(", "WeakKeyDictionary"):
         assert needle not in text, needle
+
+
+def test_the_answer_reads_like_the_table() -> None:
+    """The selected motor's own peak and RMS torque with its rotor, beside the demand and its ratings, and
+    the cycle with load-side and motor-side columns."""
+    res = size(ROOT / "examples" / "ball_screw.yaml")
+    assert res.selection is not None
+    pick = res.selection["selected"]
+    table = res.torques()
+    assert table.attrs["motor"] == pick["motor"]
+    assert table.loc["peak_torque_Nm", "demand"] == res.metrics["peak_torque_Nm"]
+    assert table.loc["peak_torque_Nm", "motor"] == pytest.approx(pick["peak_torque_Nm"], rel=1e-12)
+    assert table.loc["rms_torque_Nm", "motor"] == pytest.approx(pick["rms_torque_Nm"], rel=1e-12)
+    assert table.loc["rms_torque_Nm", "motor"] > table.loc["rms_torque_Nm", "demand"]  # the rotor adds torque
+    df = res.to_pandas()
+    assert {"load_x", "load_v", "shaft_torque_Nm", "motor_speed_rad_s", "motor_torque_Nm"} <= set(df.columns)
+    assert float(abs(df["motor_torque_Nm"]).max()) == pytest.approx(pick["peak_torque_Nm"], rel=1e-12)
+    given = size(ROOT / "examples" / "belt_gantry_3m.yaml")
+    assert given.motor is not None
+    assert given.torques().loc["rms_torque_Nm", "motor"] == pytest.approx(given.motor["rms_torque_Nm"], rel=1e-12)
+
+
+def test_a_study_result_is_its_table_as_pandas() -> None:
+    import pandas as pd
+
+    from drivetrain.study import StudyResult
+
+    table = pd.DataFrame({"variant": [0, 1], "ok": [True, False]})
+    assert StudyResult(study=None, table=table).to_pandas() is table  # type: ignore[arg-type]

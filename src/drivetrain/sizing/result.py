@@ -125,11 +125,73 @@ class SizingResult:
             cols["torque_motor_Nm"] = self.duty.motor_torque(self.axis.motor.inertia)
         return cols
 
-    def to_pandas(self) -> pd.DataFrame:
-        """The sampled cycle as a pandas DataFrame (pandas imported on demand)."""
+    def motor_cycle(self) -> tuple[DutyCycle, float, str] | None:
+        """The motor's own cycle: the given motor's (the axis's duty cycle), or the selected candidate's
+        (the axis's cycle behind its catalog gearbox, as the selection checked it); with its rotor inertia
+        [kg m^2] and its name. None without a given or selected motor."""
+        if self.axis.motor is not None:
+            return self.duty, self.axis.motor.inertia, self.axis.motor.name
+        if self.ranking is not None and self.ranking.best is not None:
+            from drivetrain.sizing.selection import candidate_cycle
+
+            cycle, rotor = candidate_cycle(self.axis, self.duty, self.ranking)
+            return cycle, rotor, str(self.ranking.motors.ids[self.ranking.candidates.motor[self.ranking.best]])
+        return None
+
+    def torques(self) -> pd.DataFrame:
+        """The answer as the report's table reads it: the demand at the motor shaft without the rotor
+        (``demand``), the given or selected motor's own figures with its rotor inertia (``motor``) and
+        what the motor offers (``rating``: peak and rated torque [N m], max speed [rpm], rotor inertia
+        [kg m^2]); one row per quantity, its unit in its name."""
         import pandas as pd
 
-        return pd.DataFrame(self.series())
+        rows = ("peak_torque_Nm", "rms_torque_Nm", "accel_torque_Nm", "run_torque_Nm", "decel_torque_Nm",
+                "holding_torque_Nm", "max_speed_rpm", "peak_power_W", "regen_energy_J", "load_inertia_kgm2",
+                "rotor_inertia_kgm2")
+        demand = {k: self.metrics.get(k) for k in rows}
+        motor: dict[str, Any] = dict.fromkeys(rows)
+        rating: dict[str, Any] = dict.fromkeys(rows)
+        own = self.motor_cycle()
+        name = "motor"
+        if own is not None:
+            cycle, rotor, name = own
+            with_rotor = load_metrics(cycle, cycle.motor_torque(rotor))
+            motor.update({k: with_rotor.get(k) for k in rows})
+            motor["rotor_inertia_kgm2"] = rotor
+            motor["load_inertia_kgm2"] = cycle.load_inertia
+            data = self.axis.motor if self.axis.motor is not None else self._selected_motor()
+            if data is not None:
+                rating.update({"peak_torque_Nm": data.peak_torque, "rms_torque_Nm": data.rated_torque,
+                               "max_speed_rpm": data.max_speed * 60.0 / (2.0 * math.pi),
+                               "rotor_inertia_kgm2": data.inertia})
+        frame = pd.DataFrame({"demand": demand, "motor": motor, "rating": rating}, index=list(rows))
+        frame.attrs["motor"] = name
+        return frame
+
+    def _selected_motor(self) -> MotorData | None:
+        return None if self.ranking is None else selected_motor(self.ranking)
+
+    def to_pandas(self) -> pd.DataFrame:
+        """The sampled cycle as a pandas DataFrame (pandas imported on demand), in SI: time ``t_s``; the
+        load side (``load_x``, ``load_v``, ``load_a``: the load's position, speed and acceleration, m or
+        rad); the demand at the axis input without a rotor (``shaft_speed_rad_s``,
+        ``shaft_acceleration_rad_s2``, ``shaft_torque_Nm``); and the motor side of the given or selected
+        motor, behind its catalog gearbox where it has one (``motor_speed_rad_s``,
+        ``motor_acceleration_rad_s2``, ``motor_torque_Nm`` with its rotor)."""
+        import pandas as pd
+
+        s = self.duty.samples
+        cols: dict[str, Any] = {"t_s": self.duty.t, "load_x": np.asarray(s.x), "load_v": np.asarray(s.v),
+                                "load_a": np.asarray(s.a), "shaft_speed_rad_s": self.duty.omega,
+                                "shaft_acceleration_rad_s2": self.duty.alpha, "shaft_torque_Nm": self.duty.torque}
+        own = self.motor_cycle()
+        if own is not None:
+            cycle, rotor, _ = own
+            cols.update({"motor_speed_rad_s": cycle.omega, "motor_acceleration_rad_s2": cycle.alpha,
+                         "motor_torque_Nm": cycle.motor_torque(rotor)})
+        frame = pd.DataFrame(cols)
+        frame.attrs["motor"] = None if own is None else own[2]
+        return frame
 
     def plot(self) -> Figure:
         """Matplotlib figure: load position and speed, motor-shaft torque over the cycle."""
