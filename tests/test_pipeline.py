@@ -108,3 +108,15 @@ def test_a_study_result_is_its_table_as_pandas() -> None:
 
     table = pd.DataFrame({"variant": [0, 1], "ok": [True, False]})
     assert StudyResult(study=None, table=table).to_pandas() is table  # type: ignore[arg-type]
+
+
+def test_machine_size_json_is_to_dict_of_size_machine(capsys: pytest.CaptureFixture[str],
+                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    """``drivetrain machine size M --json`` prints ``drivetrain.size_machine(M).to_dict()``."""
+    monkeypatch.chdir(ROOT / "examples" / "machine")
+    code = cli.main(["machine", "size", "pick_and_place.yaml", "--json"])
+    printed = json.loads(capsys.readouterr().out)
+    result = drivetrain.size_machine("pick_and_place.yaml")
+    assert code in (0, 1)
+    assert printed == json.loads(json.dumps(jsonable(result.to_dict())))
+    assert not [k for k in _keys(printed) if k.rsplit(".", 1)[-1].startswith("_")]
