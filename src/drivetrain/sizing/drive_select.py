@@ -111,12 +111,14 @@ def _prefixes(text: object) -> tuple[str, ...]:
     return tuple(p.casefold() for p in re.split(r"[\s,]+", str(text or "")) if p)
 
 
-def _pool(motor_id: str, vendor: str, voltage: float, memo: DriveMemo) -> tuple[list[DriveData], str, str]:
+def _pool(motor_id: str, vendor: str, voltage: float,
+          memo: DriveMemo | None = None) -> tuple[list[DriveData], str, str]:
     """The drives a motor may use, the basis and, when the series rule left none, why: the pairing
     table's, else its vendor's at its voltage whose ``motor_series`` (where a drive states one) holds
     the motor's series as a prefix (case-insensitive)."""
     from drivetrain import catalog
 
+    memo = DriveMemo() if memo is None else memo
     pairs = catalog.drive_pairs().get(motor_id)
     if pairs:
         return list(memo.drive_data(catalog.drives(ids=pairs))), "vendor pairing table", ""
@@ -161,7 +163,7 @@ def prospect(motor_id: str, vendor: str, voltage: float, given: DriveData | None
     if given is not None:
         pool, basis, why = [given], "given in the axis file", ""
     else:
-        pool, basis, why = _pool(motor_id, vendor, voltage, DriveMemo() if memo is None else memo)
+        pool, basis, why = _pool(motor_id, vendor, voltage, memo)
     base: dict[str, Any] = {"basis": basis, "candidates": [d.name for d in pool]}
     first = pool[0].name if len(pool) == 1 else None
     runs = () if given is None else _prefixes(given.motor_series)
