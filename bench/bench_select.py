@@ -27,7 +27,7 @@ from drivetrain.axis.model import Margins, load_axis, parse_axis
 from drivetrain.duty.cycle import duty_from_samples
 from drivetrain.physics.stage import Stage
 from drivetrain.sizing.envelope import continuous_torque, intermittent_torque
-from drivetrain.sizing.result import size
+from drivetrain.sizing.pipeline import size
 from drivetrain.sizing.selection import evaluate
 
 AXIS: dict[str, Any] = {

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from drivetrain.axis.model import parse_axis
-from drivetrain.sizing.result import size
+from drivetrain.sizing.pipeline import size
 
 AXIS: dict[str, Any] = {
     "axis": "bench 10 moves",

@@ -137,7 +137,7 @@ def main() -> None:
         prepare = mc.prepare_many
         times: dict[str, tuple[float, float]] = {}
         for mode in ("axis by axis", "batched"):
-            mc.prepare_many = prepare if mode == "batched" else (lambda pairs: 0)  # type: ignore[assignment]
+            mc.prepare_many = prepare if mode == "batched" else (lambda pairs: [None] * len(pairs))  # type: ignore[assignment]
             t0, c0 = time.perf_counter(), time.process_time()
             rows = [r for k in range(0, n, BATCH) for r in run_batch(plan, items[k:k + BATCH])]
             times[mode] = (time.perf_counter() - t0, time.process_time() - c0)

@@ -134,7 +134,7 @@ def test_catalog_list_marks_unverified_rows(capsys: pytest.CaptureFixture[str]) 
 
 def test_the_answer_carries_unverified_and_the_catalog_version() -> None:
     from drivetrain.axis.yaml_text import parse_yaml
-    from drivetrain.sizing.result import size
+    from drivetrain.sizing.pipeline import size
 
     axis = parse_yaml((Path(__file__).parents[1] / "examples" / "rotary.yaml").read_text())
     axis["motor"] = {"select": {"vendor": "fanuc"}}
@@ -359,7 +359,7 @@ def test_the_report_and_the_size_table_say_the_motor_data_is_unverified(capsys: 
     pytest.importorskip("jinja2")
     from drivetrain.axis.yaml_text import parse_yaml
     from drivetrain.report.model import build_report
-    from drivetrain.sizing.result import size
+    from drivetrain.sizing.pipeline import size
 
     axis = parse_yaml((Path(__file__).parents[1] / "examples" / "rotary.yaml").read_text())
     axis["motor"] = {"id": "HG-KR43"}

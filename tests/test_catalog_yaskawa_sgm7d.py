@@ -109,12 +109,12 @@ def test_a_direct_drive_motor_too_slow_for_the_cycle_is_not_judged_on_torque() -
     import numpy as np
 
     from drivetrain.axis.model import load_axis
+    from drivetrain.sizing.pipeline import size
     from drivetrain.sizing.reasons import candidate_dict
-    from drivetrain.sizing.result import size
 
     res = size(load_axis(Path(__file__).parents[1] / "examples" / "belt_gantry.yaml"))
-    c = res.selection["_candidates"]
-    motors, gb = res.selection["_tables"]
+    c = res.ranking.candidates
+    motors, gb = res.ranking.motors, res.ranking.gearboxes
     ids = np.asarray(motors.ids).astype(str)
     direct = [int(k) for k in c.of_motors(np.flatnonzero(np.char.startswith(ids, "SGM7D-"))) if c.gearbox(int(k)) < 0]
     assert direct

@@ -14,7 +14,7 @@ import pytest
 
 from drivetrain import catalog, cli
 from drivetrain.sizing import drive_select
-from drivetrain.sizing.result import size
+from drivetrain.sizing.pipeline import size
 from test_drive_select import USER_MOTORS, axis, import_catalog
 
 SERIES_RULE = "vendor, voltage and motor series"

@@ -18,7 +18,7 @@ import yaml
 from drivetrain import catalog, cli
 from drivetrain.axis.electrical import DriveSpec, drive_data, electrical_from_catalog_row, shipped_electrical
 from drivetrain.errors import InputError
-from drivetrain.sizing.result import size
+from drivetrain.sizing.pipeline import size
 
 Z_AXIS: dict[str, Any] = yaml.safe_load(textwrap.dedent("""\
     axis: Z lift
@@ -396,3 +396,26 @@ def test_results_verdict_fails_a_selection_without_an_orderable_drive() -> None:
       console.log(JSON.stringify([ok.ok, bad.ok, bad.failed]));
     """)
     assert json.loads(out) == [True, False, "not orderable: none of the 2 ..."]
+
+
+def test_each_gantry_share_obeys_the_drive_rule(walk_catalog: None) -> None:
+    """A gantry's motors are each sized for their share through the sizing pipeline: the share's selected
+    motor has an orderable drive, as ``size`` of the whole axis does (TC-02, the smallest, draws more
+    current than any Testco drive gives for its share)."""
+    from drivetrain.machine.result import size_machine
+
+    select = {"select": {"vendor": "testco", "gearbox": "none", "max_inertia_ratio": 100}}
+    heavy = axis(motor=select)
+    heavy["mechanism"]["load"]["mass"] = "50 kg"  # each motor carries 25 kg, the load of the tests above
+    gantry = {"name": "Y", "motors": 2, "split": ["50 %", "50 %"], "axis": heavy}
+    m = size_machine({"version": 1, "machine": "gantry", "cycle_time": "2 s",
+                      "supply": {"voltage": "200 V", "phases": 3}, "axes": [gantry]})
+    shares = m.axes["Y"].results
+    assert len(shares) == 2
+    for share in shares:
+        assert share.selection is not None
+        assert next(c["motor"] for c in share.candidates if c["rank"] is not None) == "TC-02"
+        assert share.selection["selected"]["motor"] == "TC-08"
+        assert share.selection["selected"]["drive"]["status"] == "ok"
+        assert [p["motor"] for p in share.selection["drive_passed_over"]] == ["TC-02"]
+        assert share.ok

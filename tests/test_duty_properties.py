@@ -110,7 +110,7 @@ def test_losses_only_consume_energy() -> None:
 def test_conveyor_slip_limit_check() -> None:
     """Lecture: a_max < mu_0 g cos(alpha) (about 1 m/s^2 for mu_0 = 0.1); up the slope the weight's
     component g sin(alpha) must also be held, so the limit there is mu_0 g cos(alpha) - g sin(alpha)."""
-    from drivetrain.sizing.result import size
+    from drivetrain.sizing.pipeline import size
 
     base = {"mechanism": {"type": "conveyor", "diameter": "100 mm", "carrier_friction": 0.1, "incline": "2 deg",
                           "load": {"mass": 10}}}
@@ -123,7 +123,7 @@ def test_conveyor_slip_limit_check() -> None:
 
 def test_guide_moments_and_rms_force() -> None:
     """Horizontal carriage: M_p = F_z l_x + F_x (l_z + d_p); F_T,RMS from the lecture's formula."""
-    from drivetrain.sizing.result import size
+    from drivetrain.sizing.pipeline import size
 
     out = size({
         "mechanism": {"type": "belt", "diameter": "50 mm", "load": {"mass": 10, "thrust": 20}},
@@ -139,7 +139,7 @@ def test_guide_moments_and_rms_force() -> None:
 
 
 def test_brake_holds_the_gravity_torque_at_its_shaft() -> None:
-    from drivetrain.sizing.result import size
+    from drivetrain.sizing.pipeline import size
 
     prof = [{"move": 0.1, "time": 0.5, "accel": 0.1}, {"dwell": 1.0, "holding": "brake"}]
     ax = screw_axis(prof, incline="90 deg", mass=20.0, eta=0.9)

@@ -186,7 +186,7 @@ SCREW = {"screw_buckling", "screw_tensile_compressive", "screw_critical_speed", 
 ])
 def test_shipped_examples_report_modes_across_the_stroke(example: str, weakest: str, checks: set[str]) -> None:
     from drivetrain.dynamics.mechanism_modes import modes_of_result
-    from drivetrain.sizing.result import size
+    from drivetrain.sizing.pipeline import size
 
     res = size(ROOT / "examples" / example)
     assert {c["name"] for c in res.extras.get("mechanism_checks", [])} == checks

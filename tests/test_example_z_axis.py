@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 from drivetrain import cli
-from drivetrain.sizing.result import size
+from drivetrain.sizing.pipeline import size
 
 EXAMPLE = Path(__file__).parents[1] / "examples" / "z_axis.yaml"
 SIEMENS_TEXT = EXAMPLE.read_text(encoding="utf-8").replace(

@@ -86,7 +86,7 @@ def _check(exc: InputError) -> None:
 
 
 def _size_or_error(data: Any) -> None:
-    from drivetrain.sizing.result import size
+    from drivetrain.sizing.pipeline import size
 
     try:
         axis = parse_axis(data)

@@ -569,7 +569,7 @@ def test_a_profile_that_only_dwells_explains_its_slip_margin() -> None:
 
 
 def test_dwell_only_conveyor_sizes_without_nan(tmp_path: Path) -> None:
-    from drivetrain.sizing.result import size
+    from drivetrain.sizing.pipeline import size
 
     data = yaml.safe_load((ROOT / "examples" / "conveyor.yaml").read_text(encoding="utf-8"))
     data["profile"] = [{"dwell": "1 s"}]

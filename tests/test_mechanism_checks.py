@@ -24,7 +24,7 @@ from drivetrain.dynamics.mechanism_modes import modes_across_stroke
 from drivetrain.errors import InputError
 from drivetrain.physics import belt_rack, rolling_life, screw_limits
 from drivetrain.sizing.mechanism_checks import axial_force
-from drivetrain.sizing.result import size
+from drivetrain.sizing.pipeline import size
 
 ROOT = Path(__file__).parents[1]
 GANTRY = ROOT / "examples" / "belt_gantry_3m.yaml"

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from drivetrain.axis.model import parse_axis
 from drivetrain.duty.cycle import duty_cycle, load_metrics
 from drivetrain.errors import InputError
-from drivetrain.sizing.result import size
+from drivetrain.sizing.pipeline import size
 
 G = 9.80665
 

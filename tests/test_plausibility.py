@@ -16,7 +16,7 @@ import yaml
 from drivetrain.axis.model import parse_axis
 from drivetrain.errors import InputError
 from drivetrain.fields import PLAUSIBLE, plausibility
-from drivetrain.sizing.result import size
+from drivetrain.sizing.pipeline import size
 
 SCREW: dict[str, Any] = {
     "mechanism": {"type": "ball_screw", "lead": "10 mm", "diameter": "16 mm", "length": "0.5 m",

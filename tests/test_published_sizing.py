@@ -15,7 +15,7 @@ import pytest
 
 from drivetrain.physics.acceleration import fanuc_accel_torque, fanuc_speed_at_peak_torque
 from drivetrain.physics.averages import cubic_mean
-from drivetrain.sizing.result import size
+from drivetrain.sizing.pipeline import size
 
 HERE = Path(__file__).parent
 AXES = HERE / "axes"

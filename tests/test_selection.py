@@ -13,7 +13,7 @@ from drivetrain.axis.model import load_axis, parse_axis
 from drivetrain.axis.yaml_text import parse_yaml
 from drivetrain.errors import InputError
 from drivetrain.physics.stage import Stage, torque_in
-from drivetrain.sizing.result import size
+from drivetrain.sizing.pipeline import size
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
 FAMILIES = ["ball_screw", "belt", "rack_pinion", "rotary", "hoist", "chain", "conveyor", "roll", "lead_screw",
@@ -284,14 +284,14 @@ def test_closest_failing_equals_a_stable_sort_of_every_failure(worst: list, n: i
     """Ranking the closest failures without sorting them all gives what the stable sort gives."""
     from types import SimpleNamespace
 
-    from drivetrain.sizing.selection import _closest_failing
+    from drivetrain.sizing.selection import closest_failing
 
     w = np.array(worst)
     ok = w >= 0.0
     c = SimpleNamespace(worst_margin=w, ok=ok, rejected=(~ok).astype(np.uint8))
     failing = np.flatnonzero(~ok)
     want = failing[np.argsort(-w[failing], kind="stable")][:n]
-    np.testing.assert_array_equal(_closest_failing(c, n), want)  # type: ignore[arg-type]
+    np.testing.assert_array_equal(closest_failing(c, n), want)  # type: ignore[arg-type]
 
 
 def test_closed_form_optimal_ratio_is_the_minimum_of_the_sampled_rms() -> None:
@@ -332,7 +332,7 @@ def test_passing_candidates_are_ranked_by_the_objective(objective: str) -> None:
     assert sel is not None and sel["passing"] >= 3
     ranked = [c for c in res.candidates if c["ok"]]
     assert [c["rank"] for c in ranked] == list(range(1, len(ranked) + 1))
-    c_all = sel["_candidates"]
+    c_all = res.ranking.candidates
 
     def score(c: dict) -> float:
         check = {ch["name"]: ch for ch in c["checks"]}
@@ -341,12 +341,12 @@ def test_passing_candidates_are_ranked_by_the_objective(objective: str) -> None:
         if objective == "inertia_match":
             return abs(np.log(c["inertia_ratio"]))
         if objective == "energy":
-            motors, gb = sel["_tables"]
+            motors, gb = res.ranking.motors, res.ranking.gearboxes
             m = int(np.flatnonzero(np.asarray(motors.ids) == c["motor"])[0])
             rows = c_all.of_motors(np.array([m]))
             g = -1 if c["gearbox"] is None else int(np.flatnonzero(np.asarray(gb.ids) == c["gearbox"])[0])
             k = int(rows[np.flatnonzero(c_all.gearbox(rows) == g)[0]])
-            cycle, rotor = candidate_cycle(res.axis, res.duty, sel, k)
+            cycle, rotor = candidate_cycle(res.axis, res.duty, res.ranking, k)
             power = cycle.motor_torque(rotor) * cycle.omega
             return float(np.sum(cycle.weights * np.maximum(power, 0.0)))
         return c["rated_power_W"]

@@ -20,7 +20,8 @@ from drivetrain.cli import main
 from drivetrain.cli.commands import EXIT_FAILS, EXIT_INPUT, EXIT_OK
 from drivetrain.physics.averages import cubic_mean
 from drivetrain.sizing.checks import gearbox_ratings, mechanical_fit, shock_factor
-from drivetrain.sizing.result import SizingResult, size
+from drivetrain.sizing.pipeline import size
+from drivetrain.sizing.result import SizingResult
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
 
@@ -73,10 +74,9 @@ def test_selected_pair_can_be_assembled(sized: dict[str, SizingResult], name: st
 def test_no_passing_pair_is_known_not_to_assemble(sized: dict[str, SizingResult], name: str) -> None:
     """Over every evaluated candidate: a passing geared pair never has a shaft larger than its bore, and a
     pair whose shaft or bore the catalog lacks is flagged unknown, never passed as judged."""
-    sel = sized[name].selection
-    assert sel is not None
-    c = sel["_candidates"]
-    motors, gb = sel["_tables"]
+    sel, ranking = sized[name].selection, sized[name].ranking
+    assert sel is not None and ranking is not None
+    c, motors, gb = ranking.candidates, ranking.motors, ranking.gearboxes
     rows = c.gearbox(np.arange(len(c.motor)))
     geared = rows >= 0
     shaft = motors.shaft_diameter[c.motor[geared]]
@@ -188,8 +188,7 @@ def test_motor_too_slow_fails_max_speed_first() -> None:
     not judged where it cannot go (never 'available 0 N*m, -100 %')."""
     res = size(_axes()["gantry"])
     sel = res.selection
-    c = sel["_candidates"]
-    motors, gb = sel["_tables"]
+    c, motors, gb = res.ranking.candidates, res.ranking.motors, res.ranking.gearboxes
     from drivetrain.sizing.reasons import candidate_dict
 
     slow = np.flatnonzero(c.failed & (1 << 2))[:200]
@@ -224,7 +223,7 @@ def test_unknown_fail_policy_rejects_what_cannot_be_judged() -> None:
     data = load_axis(EXAMPLES / "belt_gantry.yaml").raw
     strict = {**data, "motor": {"select": {**data["motor"]["select"], "unknown": "fail"}}}
     res = size(parse_axis(strict))
-    c = res.selection["_candidates"]
+    c = res.ranking.candidates
     assert np.all(c.unknown[c.ok] == 0)
     for cand in res.candidates:
         assert cand["ok"] == (not cand["failures"])

@@ -15,7 +15,7 @@ from drivetrain import cli
 from drivetrain.cli import commands
 from drivetrain.errors import InputError
 from drivetrain.physics import motor_electrical, regen
-from drivetrain.sizing.result import size
+from drivetrain.sizing.pipeline import size
 
 RPM = 2 * math.pi / 60
 

@@ -72,7 +72,7 @@ def test_the_tables_without_highlighting_are_the_same_characters(capsys: pytest.
 
     from drivetrain.cli import sizing
     from drivetrain.cli.quantities import TableUnits
-    from drivetrain.sizing.result import size
+    from drivetrain.sizing.pipeline import size
 
     result = size(ROOT / "examples" / "ball_screw.yaml")
     assert sizing.table_console().color_system is None  # captured: no colour, no highlighting

@@ -157,8 +157,8 @@ def test_rows_of_both_paths_agree(engine: Engine) -> None:
 def test_shared_kinematics_equal_fresh(engine: Engine) -> None:
     """Two axes with the same profile share sampled kinematics; the duty cycle equals a fresh one."""
     a, b = parse_axis(_variant(10.0, 0.01, 0.5)), parse_axis(_variant(33.0, 0.01, 0.5))
-    engine.duty(a)
-    shared = engine.duty(b)
+    engine.context.duty(a)
+    shared = engine.context.duty(b)
     fresh = duty_cycle(b, engine.points)
     assert np.array_equal(shared.torque, fresh.torque)
     assert np.array_equal(shared.omega, fresh.omega)
@@ -245,8 +245,8 @@ def test_search_bounds_hold_for_every_candidate(mass: float, lead: float, time: 
                                                 limit: float) -> None:
     """What the search leaves out fails, and no candidate's worst margin is above its bound: checked
     against every candidate of the catalog (selection.evaluate)."""
+    from drivetrain.sizing.search import load_tables, search_bounds
     from drivetrain.sizing.selection import evaluate
-    from drivetrain.study.batch import load_tables, search_bounds
 
     axis = parse_axis(_variant(mass, lead, time, torque=torque, inertia_ratio=limit))
     spec, margins = axis.spec.motor.select, axis.spec.motor.margins
@@ -265,7 +265,7 @@ def test_search_bounds_hold_for_every_candidate(mass: float, lead: float, time: 
 
 def test_drives_left_out_change_nothing_else() -> None:
     """size(drives=False) is size() without the drive post-pass's blocks."""
-    from drivetrain.sizing.result import size
+    from drivetrain.sizing.pipeline import size
 
     data = _variant(25.0, 0.010, 0.5)
     a, b = size(data).to_dict(), size(data, drives=False).to_dict()

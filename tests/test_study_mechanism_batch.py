@@ -74,8 +74,8 @@ def test_prepared_checks_equal_each_axis_alone(slice_: int, monkeypatch: pytest.
     axes = [parse_axis(d) for d in _mixed()]
     duties = [duty_cycle(a, 64) for a in axes]
     alone = [mechanism_checks(a, d) for a, d in zip(axes, duties, strict=True)]
-    assert prepare_many(list(zip(axes, duties, strict=True))) == len(axes)
-    together = [mechanism_checks(a, d) for a, d in zip(axes, duties, strict=True)]
+    together = prepare_many(list(zip(axes, duties, strict=True)))
+    assert all(checks is not None for checks in together)
     assert together == alone  # every entry to the bit, notes included
     names = {c["name"] for checks in alone for c in checks}
     assert {"screw_buckling", "screw_dn_speed", "nut_life", "nut_static_safety", "guide_life",
@@ -83,12 +83,14 @@ def test_prepared_checks_equal_each_axis_alone(slice_: int, monkeypatch: pytest.
     assert any("moments without moment_factors" in c["note"] for checks in alone for c in checks)
 
 
-def test_a_prepared_duty_cycle_serves_only_its_own_axis() -> None:
+def test_prepared_checks_are_returned_not_kept_on_the_duty_cycle() -> None:
     a, b = parse_axis(_variant(10.0, 0.01, 0.5)), parse_axis(_variant(35.0, 0.01, 0.5))
     da = duty_cycle(a, 32)
-    prepare_many([(a, da)])
-    assert mechanism_checks(b, da) != mechanism_checks(a, da)  # computed for b, not the prepared a's
-    assert mechanism_checks(b, da) == mechanism_checks(b, duty_cycle(a, 32))
+    fresh = duty_cycle(a, 32)
+    assert prepare_many([(a, da)]) == [mechanism_checks(a, fresh)]
+    assert set(vars(da)) == set(vars(fresh))  # nothing stashed on the duty cycle
+    assert mechanism_checks(b, da) != mechanism_checks(a, da)  # computed for b
+    assert mechanism_checks(b, da) == mechanism_checks(b, fresh)
 
 
 def test_a_group_that_would_raise_is_left_to_each_axis() -> None:
@@ -97,7 +99,8 @@ def test_a_group_that_would_raise_is_left_to_each_axis() -> None:
     good = _variant(20.0, 0.01, 0.5)
     axes = [parse_axis(bad), parse_axis(good)]
     duties = [duty_cycle(a, 32) for a in axes]
-    assert prepare_many(list(zip(axes, duties, strict=True))) == 1
+    got = prepare_many(list(zip(axes, duties, strict=True)))
+    assert got[0] is None and got[1] is not None
     with pytest.raises(InputError, match="home_position"):
         mechanism_checks(axes[0], duties[0])
 
@@ -172,16 +175,15 @@ def test_hulls_of_one_motion_equal_each_variant_alone() -> None:
     """The hulls ``size_many`` computes for the variants of one motion together equal, array for
     array, those of each variant alone (``fast_demands``), the load inertia its own."""
     from drivetrain.sizing.hull import fast_demands
+    from drivetrain.sizing.search import prepare_hulls
     from drivetrain.sizing.selection import lossy_torque
 
     engine = Engine()
     axes = [parse_axis(d) for d in _one_motion()]
-    pairs = [(a, engine.duty(a)) for a in axes]
-    engine._prepare_hulls(pairs)
+    pairs = [(a, engine.context.duty(a)) for a in axes]
     checked = 0
-    for axis, duty in pairs:
-        prepared = engine._prepared.get(id(duty))
-        for eff, dem in ({} if prepared is None else prepared[2]).items():
+    for (axis, duty), prepared in zip(pairs, prepare_hulls(engine.context.tables, pairs), strict=True):
+        for eff, dem in ({} if prepared is None else prepared.demands).items():
             [alone] = fast_demands(duty.omega, duty.alpha, [lossy_torque(axis, duty, eff)], duty.weights, duty.period,
                                    duty.load_inertia)
             for name in ("omega", "alpha", "torque", "weights", "hull_speed", "hull_torque", "hull_alpha",
@@ -189,7 +191,6 @@ def test_hulls_of_one_motion_equal_each_variant_alone() -> None:
                 assert np.array_equal(getattr(dem, name), getattr(alone, name)), name
             assert (dem.period, dem.load_inertia) == (alone.period, alone.load_inertia)
             checked += 1
-    engine._prepared.clear()
     assert checked >= 8
 
 

@@ -20,8 +20,9 @@ import pytest
 import yaml
 
 from drivetrain.axis.model import load_axis
+from drivetrain.sizing.search import search_bounds, selection_tables
 from drivetrain.study import sweep
-from drivetrain.study.batch import Engine, search_bounds
+from drivetrain.study.batch import Engine
 
 BASE = Path(__file__).parents[1] / "examples" / "ball_screw.yaml"
 GRID = {"study": 1, "name": "runtime grid", "base": str(BASE),
@@ -64,13 +65,13 @@ def test_search_bounds_kept_halves_equal_fresh(mass: float, lead: str | None) ->
     from drivetrain.axis.model import parse_axis
 
     axis = parse_axis(data)
-    tb = engine.tables(axis, spec.select)
+    tb = selection_tables(engine.context.tables, axis, spec.select)
     # the halves kept from another variant of the same motion (the base axis's load)
-    search_bounds(tb, engine.duty(base), spec.margins, spec.select)
+    search_bounds(tb, engine.context.duty(base), spec.margins, spec.select)
     assert tb._speed
-    kept = search_bounds(tb, engine.duty(axis), spec.margins, spec.select)
+    kept = search_bounds(tb, engine.context.duty(axis), spec.margins, spec.select)
     tb._speed.clear()
-    fresh = search_bounds(tb, engine.duty(axis), spec.margins, spec.select)
+    fresh = search_bounds(tb, engine.context.duty(axis), spec.margins, spec.select)
     np.testing.assert_array_equal(kept.pair, fresh.pair)
     np.testing.assert_array_equal(kept.row, fresh.row)
     assert kept.pair.dtype == fresh.pair.dtype and kept.row.shape == fresh.row.shape

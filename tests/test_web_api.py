@@ -20,7 +20,7 @@ pytest.importorskip("httpx")
 from fastapi.testclient import TestClient
 
 from drivetrain.axis.yaml_text import parse_yaml
-from drivetrain.sizing.result import size
+from drivetrain.sizing.pipeline import size
 from drivetrain.web import app as web_app
 from drivetrain.web.app import create_app
 from drivetrain.web.common import ResultCache

@@ -22,7 +22,7 @@ from typing import Any
 import pytest
 
 from drivetrain.axis.yaml_text import parse_yaml
-from drivetrain.sizing.result import size
+from drivetrain.sizing.pipeline import size
 
 pytestmark = pytest.mark.browser
 

@@ -24,11 +24,20 @@ def load_axis(path: str) -> Axis:
     return _load(path)
 
 
-def size(axis: Any, points_per_phase: int = 64) -> SizingResult:
-    """Size an axis (an ``Axis``, a mapping of the axis file, or a path to one)."""
-    from drivetrain.sizing.result import size as _size
+def size_many(axes: Any, points_per_phase: int = 64, all_pairs: bool = False, **kwargs: Any) -> list[SizingResult]:
+    """Size axes (each an ``Axis``, a mapping of the axis file, or a path to one): the sizing pipeline
+    (``sizing.pipeline.size_many``) with its modes stage, f1 across the stroke
+    (``dynamics.mechanism_modes.modes_of_result``); each answer is the one the axis gets alone."""
+    from drivetrain.dynamics.mechanism_modes import modes_of_result
+    from drivetrain.sizing.pipeline import size_many as _size_many
 
-    return _size(axis, points_per_phase)
+    return _size_many(list(axes), points_per_phase, all_pairs, modes=modes_of_result, **kwargs)
+
+
+def size(axis: Any, points_per_phase: int = 64, all_pairs: bool = False, **kwargs: Any) -> SizingResult:
+    """Size an axis (an ``Axis``, a mapping of the axis file, or a path to one): ``size_many([axis])[0]``,
+    the answer of ``drivetrain size`` (``to_dict()`` is its ``--json``)."""
+    return size_many([axis], points_per_phase, all_pairs, **kwargs)[0]
 
 
 def simulate(axis: Any, **kwargs: Any) -> Any:
@@ -56,4 +65,4 @@ def size_machine(machine: Any, **kwargs: Any) -> MachineResult:
     return _size_machine(machine, **kwargs)
 
 
-__all__ = ["__version__", "load_axis", "simulate", "size", "size_machine", "sweep"]
+__all__ = ["__version__", "load_axis", "simulate", "size", "size_machine", "size_many", "sweep"]

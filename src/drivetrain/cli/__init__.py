@@ -181,7 +181,7 @@ def _import_for_sizing() -> None:
         return
     gc.disable()
     try:
-        import drivetrain.sizing.result  # noqa: F401
+        import drivetrain.sizing.pipeline  # noqa: F401
     finally:
         gc.freeze()
         gc.enable()

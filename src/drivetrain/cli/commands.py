@@ -56,8 +56,8 @@ def _check_outputs(args: argparse.Namespace) -> None:
 
 def size(args: argparse.Namespace, axis: str | dict[str, Any] | None = None) -> int:
     """``size``: the axis file (or ``axis``, its mapping as ``select`` rewrote it) sized and printed."""
+    from drivetrain import size
     from drivetrain.errors import InputError
-    from drivetrain.sizing.result import size
 
     if args.points < 3 or args.points > 100_000:
         raise InputError("--points", "must be between 3 and 100000", args.points)
@@ -69,7 +69,7 @@ def size(args: argparse.Namespace, axis: str | dict[str, Any] | None = None) -> 
             raise InputError("--points", exc.rule, args.points) from None
         raise
     explanation = result.explain(args.explain) if args.explain else ""
-    modes = _size_modes(result)
+    modes = result.modes  # attached by the pipeline's modes stage
     if args.csv:
         _write_csv(args.csv, result.series())
     if args.report:
@@ -81,10 +81,7 @@ def size(args: argparse.Namespace, axis: str | dict[str, Any] | None = None) -> 
 
         _write_text(args.aas, json.dumps(axis_aas(jsonable(result.to_dict())), indent=2), "--aas")
     if args.json:
-        out = result.to_dict()
-        if modes is not None:
-            out["modes"] = modes
-        print(json.dumps(jsonable(out), indent=2))
+        print(json.dumps(jsonable(result.to_dict()), indent=2))
         return _exit_code(result)
     from drivetrain.cli.quantities import TableUnits
     from drivetrain.cli.sizing import print_sizing
@@ -93,7 +90,7 @@ def size(args: argparse.Namespace, axis: str | dict[str, Any] | None = None) -> 
     print_sizing(result, units)
     if modes is not None:
         from drivetrain.cli.analyses import print_modes_across
-        from drivetrain.cli.sizing import table_console
+        from drivetrain.cli.tables import table_console
 
         print_modes_across(table_console(), modes, units)
     for warning in result.extras.get("warnings", []):
@@ -105,17 +102,6 @@ def size(args: argparse.Namespace, axis: str | dict[str, Any] | None = None) -> 
     if args.report:
         print(f"report written to {Path(args.report).resolve()}")
     return _exit_code(result)
-
-
-def _size_modes(result: Any) -> dict[str, Any] | None:
-    """``modes`` of the sizing answer: f1 across the stroke with the mechanism's spring (docs/axis-file.md).
-
-    Computed here, in the face, because sizing (layer 4) may not import dynamics (layer 5); None
-    when the mechanism has no stiffness data or there is no motor. Reported, not part of ``ok``.
-    """
-    from drivetrain.dynamics.mechanism_modes import modes_of_result
-
-    return modes_of_result(result)
 
 
 def _exit_code(result: Any) -> int:

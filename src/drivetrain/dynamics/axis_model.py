@@ -117,7 +117,7 @@ def _motor(axis: Axis, sized: SizingResult | None = None) -> tuple[str, float, t
         return axis.motor.name, axis.motor.inertia, axis.stages
     if axis.spec.motor is not None and axis.spec.motor.select is not None:
         from drivetrain import catalog
-        from drivetrain.sizing.result import size
+        from drivetrain.sizing.pipeline import size
 
         res = sized if sized is not None else size(axis)
         chosen = (res.selection or {}).get("selected")

@@ -5,8 +5,10 @@ one motor (the whole load and mechanism). Mechanically coupled motors share the 
 torque in the stated split (or by stiffness: parallel drive trains under a rigid beam deflect
 alike, so each carries k_i / sum k of the force); each motor's rotor and its drive are its own.
 Each motor is sized for ``share x`` the axis's load torque and load inertia, with its own rotor
-inertia. The mechanism's own checks (guide, slip, brake, mechanism limits) stay those of the
-axis file as written.
+inertia. The mechanism's own checks (guide, slip, brake, mechanism limits, gearbox ratings) stay
+those of the axis file as written. Each share goes through the sizing pipeline from its duty cycle
+(``sizing.pipeline.size_duty``): a given motor's checks, or a catalog selection with the drive rule
+(the selected motor has an orderable drive) and its drives.
 """
 
 from __future__ import annotations
@@ -17,10 +19,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from drivetrain.duty.cycle import DutyCycle, load_metrics
+from drivetrain.duty.cycle import DutyCycle
 from drivetrain.physics import motor_electrical, regen
 from drivetrain.sizing.electrical import dc_bus
-from drivetrain.sizing.result import SizingResult, motor_result, size
+from drivetrain.sizing.pipeline import Context, size, size_duty
+from drivetrain.sizing.result import SizingResult
 
 if TYPE_CHECKING:
     from drivetrain.machine.model import MachineAxis
@@ -60,26 +63,12 @@ def scaled(duty: DutyCycle, share: float) -> DutyCycle:
                    stage_torque=tuple(t * share for t in duty.stage_torque), load_inertia=duty.load_inertia * share)
 
 
-def size_share(full: SizingResult, share: float) -> SizingResult:
-    """Size one motor of a gantry for its ``share`` of the load (the full axis's own checks kept)."""
-    axis = full.axis
-    duty = scaled(full.duty, share)
-    res = SizingResult(axis=axis, duty=duty, metrics=load_metrics(duty))
-    res.extras = {k: v for k, v in full.extras.items() if k not in ("drive", "regen")}
-    res.extras["load_share"] = share
-    if axis.motor is not None:
-        res.motor = motor_result(axis, duty, axis.motor)
-        for key in ("drive", "regen"):
-            block = res.motor.pop(f"_{key}", None)
-            if block is not None:
-                res.extras[key] = block
-    elif axis.spec.motor is not None and axis.spec.motor.select is not None:
-        from drivetrain.sizing.selection import select
-
-        chosen = select(axis, duty, axis.spec.motor.select, axis.spec.motor.margins)
-        res.candidates = chosen["candidates"]
-        res.selection = chosen["selection"]
-    return res
+def size_share(full: SizingResult, share: float, context: Context | None = None) -> SizingResult:
+    """Size one motor of a gantry for its ``share`` of the load: the sizing pipeline from the scaled duty
+    cycle (``size_duty``), the full axis's own checks kept."""
+    own = {k: v for k, v in full.extras.items() if k not in ("drive", "regen")}
+    own["load_share"] = share
+    return size_duty(full.axis, scaled(full.duty, share), own_checks=own, context=context)
 
 
 def motor_power(res: SizingResult) -> tuple[Array, str, list[str]]:
@@ -93,10 +82,10 @@ def motor_power(res: SizingResult) -> tuple[Array, str, list[str]]:
     duty = res.duty
     if axis.motor is not None:
         j = axis.motor.inertia
-    elif res.selection is not None and res.selection.get("selected"):
+    elif res.selection is not None and res.selection.get("selected") and res.ranking is not None:
         from drivetrain.sizing.selection import candidate_cycle
 
-        duty, j = candidate_cycle(axis, res.duty, res.selection)
+        duty, j = candidate_cycle(axis, res.duty, res.ranking)
         notes.append(f"selected motor {res.selection['selected']['motor']}: shaft power with its rotor")
     else:
         j = 0.0
@@ -118,8 +107,9 @@ def motor_power(res: SizingResult) -> tuple[Array, str, list[str]]:
 
 def axis_power(ma: MachineAxis, points_per_phase: int, supply_voltage: float) -> AxisPower:
     """Size a machine axis (each motor for its share) and sum its motors' electrical power."""
-    full = size(ma.axis, points_per_phase)
-    results = [full] if ma.motors == 1 else [size_share(full, s) for s in ma.shares]
+    context = Context(points_per_phase)
+    full = size(ma.axis, points_per_phase, context=context)
+    results = [full] if ma.motors == 1 else [size_share(full, s, context) for s in ma.shares]
     powers: list[Array] = []
     bases: list[str] = []
     notes: list[str] = []

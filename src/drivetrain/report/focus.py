@@ -3,8 +3,8 @@
 A sizing names a motor in the axis file (``SizingResult.motor``), or selects one from the
 catalog (``SizingResult.selection['selected']``, possibly behind a catalog gearbox), or gives
 only the demand. The report plots and tabulates one motor: :func:`focus_of` finds it, reads its
-ratings (from the catalog for a selection) and recomputes the cycle at its shaft through the
-selected gearbox with the same four-quadrant rule as the selection (``stage.torque_in``).
+ratings (from the catalog for a selection) and takes the cycle at its shaft through the selected
+gearbox from the selection (``selection.candidate_cycle``, as its checks saw it).
 """
 
 from __future__ import annotations
@@ -142,10 +142,13 @@ def _from_selection(result: SizingResult) -> Focus | None:
     cand = sel.get("selected") or (result.candidates[0] if result.candidates else None)
     if not isinstance(cand, dict) or not cand.get("motor"):
         return None
+    ranking = result.ranking
+    if ranking is None:
+        return None
     from drivetrain import catalog
     from drivetrain.axis.model import motor_from_catalog_row
     from drivetrain.errors import InputError
-    from drivetrain.physics.stage import Stage, torque_in
+    from drivetrain.sizing.selection import candidate_cycle
 
     try:
         motor = motor_from_catalog_row(catalog.get(str(cand["motor"])))
@@ -153,17 +156,11 @@ def _from_selection(result: SizingResult) -> Focus | None:
             "gearbox") else None
     except InputError:
         return None
-    duty = result.duty
-    omega, alpha, load, j_l = duty.omega, duty.alpha, duty.torque, duty.load_inertia
-    if gb is not None:
-        stage = Stage("gearbox", "gearbox", ratio=gb.ratio, inertia_in=gb.inertia, efficiency=gb.efficiency,
-                      back_efficiency=gb.efficiency)
-        omega, alpha = duty.omega * gb.ratio, duty.alpha * gb.ratio
-        direction = np.asarray(duty.samples.direction, dtype=float)
-        load, _ = torque_in(stage, duty.torque, duty.external, omega, alpha, direction, result.axis.efficiency_model)
-        load = np.where(duty.braked, 0.0, load)
-        j_l = duty.load_inertia / gb.ratio**2 + gb.inertia
-    torque = np.where(duty.braked, 0.0, load + motor.inertia * alpha)
+    # the candidate's own cycle as the selection checked it (the selected one, else the first listed)
+    k = ranking.best if ranking.best is not None else ranking.shown[0]
+    cycle, rotor = candidate_cycle(result.axis, result.duty, ranking, k)
+    omega, alpha, load, j_l = cycle.omega, cycle.alpha, cycle.torque, cycle.load_inertia
+    torque = cycle.motor_torque(rotor)
     metrics = shaft_metrics(result, omega, torque)
     for key in ("rms_torque_Nm", "peak_torque_Nm"):
         if isinstance(cand.get(key), (int, float)):

@@ -77,10 +77,15 @@ def mechanism_checks_table(result: SizingResult, du: DisplayUnits) -> Table | No
 
 
 def mechanism_modes(result: SizingResult) -> dict[str, Any] | None:
-    """``modes`` across the stroke for the result's motor (``dynamics.mechanism_modes.modes_of_result``)."""
+    """``modes`` across the stroke for the result's motor: the answer's, where the pipeline's modes stage
+    attached them (``drivetrain.size``), else that stage run on the result (``sizing.pipeline.attach_modes``
+    with ``dynamics.mechanism_modes.modes_of_result``)."""
+    if result.modes is not None:
+        return result.modes
     from drivetrain.dynamics.mechanism_modes import modes_of_result
+    from drivetrain.sizing.pipeline import attach_modes
 
-    return modes_of_result(result)
+    return attach_modes(result, modes_of_result).modes
 
 
 def modes_table(modes: dict[str, Any], du: DisplayUnits) -> Table:

@@ -30,9 +30,8 @@ from __future__ import annotations
 
 import math
 import re
-import weakref
 from collections.abc import Callable
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -47,6 +46,7 @@ if TYPE_CHECKING:
     from drivetrain.axis.model import Axis, Margins, MotorData
     from drivetrain.catalog.tables import DriveTable, MotorTable
     from drivetrain.duty.cycle import DutyCycle
+    from drivetrain.sizing.selection import Ranking, Selection
 
 
 def catalog_electrical(motor_id: str) -> MotorElectrical:
@@ -67,27 +67,47 @@ def _currents(cycle: DutyCycle, inertia: float, elec: MotorElectrical, rated: fl
     return motor_electrical.phase_current(cycle.motor_torque(inertia), kt, sat)
 
 
-_DRIVES: weakref.WeakKeyDictionary[DriveTable, tuple[DriveData, ...]] = weakref.WeakKeyDictionary()
+@dataclass
+class DriveMemo:
+    """What the drive rule reads of the catalog, kept for the axes of one sizing run (a ``size_many``
+    call, or a study's worker): each drive table's rows as DriveData and their ``motor_series``
+    prefixes, and each catalog motor's drive prospect. Keyed by the catalog's table objects, which are
+    immutable and new whenever the catalog changes."""
 
+    drives: dict[DriveTable, tuple[DriveData, ...]] = field(default_factory=dict)
+    series: dict[DriveTable, tuple[tuple[str, ...], ...]] = field(default_factory=dict)
+    prospects: dict[tuple[MotorTable, int, DriveData | None], dict[str, Any]] = field(default_factory=dict)
+    unverified: dict[str, str] = field(default_factory=dict)
 
-_UNVERIFIED: dict[str, str] = {}
-"""Catalog drives not traced to a vendor document (id -> why; schema.trace), filled as tables are read."""
+    def drive_data(self, table: DriveTable) -> tuple[DriveData, ...]:
+        """Every row of a drive table as DriveData, once per table; its unverified rows noted in
+        ``unverified`` (id -> why; schema.trace)."""
+        found = self.drives.get(table)
+        if found is None:
+            found = self.drives[table] = tuple(drive_from_catalog_row(table.row(i)) for i in range(len(table)))
+            for i in np.flatnonzero(table.unverified):
+                self.unverified[str(table.ids[i])] = str(table.unverified_reason[i])
+            for i in np.flatnonzero(~table.unverified):
+                self.unverified.pop(str(table.ids[i]), None)
+        return found
 
+    def series_prefixes(self, table: DriveTable) -> tuple[tuple[str, ...], ...]:
+        """Each drive's ``motor_series`` prefixes, once per table."""
+        found = self.series.get(table)
+        if found is None:
+            found = self.series[table] = tuple(_prefixes(text) for text in table.motor_series)
+        return found
 
-def _drive_data(table: DriveTable) -> tuple[DriveData, ...]:
-    """Every row of a drive table as DriveData, once per table (the catalog's tables are immutable and
-    remembered per query, so the candidates of one selection share them)."""
-    found = _DRIVES.get(table)
-    if found is None:
-        found = _DRIVES[table] = tuple(drive_from_catalog_row(table.row(i)) for i in range(len(table)))
-        for i in np.flatnonzero(table.unverified):
-            _UNVERIFIED[str(table.ids[i])] = str(table.unverified_reason[i])
-        for i in np.flatnonzero(~table.unverified):
-            _UNVERIFIED.pop(str(table.ids[i]), None)
-    return found
-
-
-_SERIES: weakref.WeakKeyDictionary[DriveTable, tuple[tuple[str, ...], ...]] = weakref.WeakKeyDictionary()
+    def motor_prospect(self, motors: MotorTable, m: int, given: DriveData | None) -> dict[str, Any]:
+        """``prospect``'s block for row ``m`` of a motor table, once per table and row."""
+        key = (motors, m, given)
+        found = self.prospects.get(key)
+        if found is None:
+            if len(self.prospects) > 8192:  # a study's worker meets many sub-tables: keep the memo small
+                self.prospects.clear()
+            found = self.prospects[key] = prospect(str(motors.ids[m]), str(motors.vendor[m]),
+                                                   _motor_voltage(motors, m), given, self)[1]
+        return found
 
 
 def _prefixes(text: object) -> tuple[str, ...]:
@@ -95,30 +115,24 @@ def _prefixes(text: object) -> tuple[str, ...]:
     return tuple(p.casefold() for p in re.split(r"[\s,]+", str(text or "")) if p)
 
 
-def _series_prefixes(table: DriveTable) -> tuple[tuple[str, ...], ...]:
-    """Each drive's ``motor_series`` prefixes, once per table."""
-    found = _SERIES.get(table)
-    if found is None:
-        found = _SERIES[table] = tuple(_prefixes(text) for text in table.motor_series)
-    return found
-
-
-def _pool(motor_id: str, vendor: str, voltage: float) -> tuple[list[DriveData], str, str]:
+def _pool(motor_id: str, vendor: str, voltage: float,
+          memo: DriveMemo | None = None) -> tuple[list[DriveData], str, str]:
     """The drives a motor may use, the basis and, when the series rule left none, why: the pairing
     table's, else its vendor's at its voltage whose ``motor_series`` (where a drive states one) holds
     the motor's series as a prefix (case-insensitive)."""
     from drivetrain import catalog
 
+    memo = DriveMemo() if memo is None else memo
     pairs = catalog.drive_pairs().get(motor_id)
     if pairs:
-        return list(_drive_data(catalog.drives(ids=pairs))), "vendor pairing table", ""
+        return list(memo.drive_data(catalog.drives(ids=pairs))), "vendor pairing table", ""
     try:
         table = catalog.drives(vendor=vendor) if vendor else catalog.drives()
     except InputError:  # the catalog has no drive of this vendor
         return [], "vendor and supply voltage", ""
     series = str((catalog.motor_row(motor_id) or {}).get("series") or "")
     out, other, by_series = [], [], False
-    for i, (drive, runs) in enumerate(zip(_drive_data(table), _series_prefixes(table), strict=True)):
+    for i, (drive, runs) in enumerate(zip(memo.drive_data(table), memo.series_prefixes(table), strict=True)):
         v = float(table.voltage[i])
         if math.isfinite(voltage) and math.isfinite(v) and abs(v - voltage) > catalog.VOLTAGE_TOLERANCE * voltage:
             continue
@@ -141,8 +155,8 @@ def _pool(motor_id: str, vendor: str, voltage: float) -> tuple[list[DriveData], 
     return out, basis, why
 
 
-def prospect(motor_id: str, vendor: str, voltage: float,
-             given: DriveData | None = None) -> tuple[list[DriveData], dict[str, Any], MotorElectrical]:
+def prospect(motor_id: str, vendor: str, voltage: float, given: DriveData | None = None,
+             memo: DriveMemo | None = None) -> tuple[list[DriveData], dict[str, Any], MotorElectrical]:
     """What can be said of a motor's drive before its current is known: the drives it may use, the
     block's ``basis`` and ``candidates``, and (``status`` and ``reason`` in the block) why its drive
     cannot be checked: no torque constant (``unknown``), no drive (``none``), no drive with current
@@ -153,7 +167,7 @@ def prospect(motor_id: str, vendor: str, voltage: float,
     if given is not None:
         pool, basis, why = [given], "given in the axis file", ""
     else:
-        pool, basis, why = _pool(motor_id, vendor, voltage)
+        pool, basis, why = _pool(motor_id, vendor, voltage, memo)
     base: dict[str, Any] = {"basis": basis, "candidates": [d.name for d in pool]}
     first = pool[0].name if len(pool) == 1 else None
     runs = () if given is None else _prefixes(given.motor_series)
@@ -177,14 +191,16 @@ def prospect(motor_id: str, vendor: str, voltage: float,
 
 
 def pick_drive(cycle: DutyCycle, inertia: float, motor_id: str, vendor: str, voltage: float,
-               rated: float, peak: float, given: DriveData | None = None) -> tuple[dict[str, Any], DriveData | None]:
+               rated: float, peak: float, given: DriveData | None = None,
+               memo: DriveMemo | None = None) -> tuple[dict[str, Any], DriveData | None]:
     """The drive block of one candidate and the DriveData chosen (None when none can be named).
 
     ``status``: ``ok`` (a drive passes), ``fails`` (the largest drive with ratings fails; or the
     given drive fails), ``unknown`` (no torque constant, or no drive with current ratings),
     ``none`` (no drive of the vendor and voltage in the catalog).
     """
-    pool, base, elec = prospect(motor_id, vendor, voltage, given)
+    memo = DriveMemo() if memo is None else memo
+    pool, base, elec = prospect(motor_id, vendor, voltage, given, memo)
     current = _currents(cycle, inertia, elec, rated, peak)
     if current is not None:
         i_rms = float(drive_overload.rms_current(current, cycle.weights, cycle.period))
@@ -208,8 +224,8 @@ def pick_drive(cycle: DutyCycle, inertia: float, motor_id: str, vendor: str, vol
         block = _drive_block(chosen, cycle, current, i_rms, i_peak)
     status = "ok" if block["ok"] else "fails"
     # a catalog drive whose ratings are a third-party transcription says so (data/SOURCES.md, "Drives")
-    flag = ({"unverified": True, "unverified_reason": _UNVERIFIED[chosen.name]}
-            if given is None and chosen.name in _UNVERIFIED else {})
+    flag = ({"unverified": True, "unverified_reason": memo.unverified[chosen.name]}
+            if given is None and chosen.name in memo.unverified else {})
     return {**base, **block, "status": status, "vendor": chosen.vendor, "supply_voltage_V": chosen.supply_voltage,
             "peak_time_s": chosen.peak_time, **flag}, chosen
 
@@ -222,15 +238,16 @@ _WALK = 200
 """Passing motors tried, in ranked order, for one whose drive passes (each costs one current trace)."""
 
 
-def _candidate_drive(axis: Axis, duty: DutyCycle, sel: dict[str, Any], motors: MotorTable,
-                     k: int) -> tuple[dict[str, Any], DriveData | None]:
+def _candidate_drive(axis: Axis, duty: DutyCycle, ranking: Ranking, k: int,
+                     memo: DriveMemo) -> tuple[dict[str, Any], DriveData | None]:
     """The drive block of candidate ``k`` (its own cycle behind its own gearbox) and the drive chosen."""
     from drivetrain.sizing.selection import candidate_cycle
 
-    cycle, inertia = candidate_cycle(axis, duty, sel, k)
-    m = int(sel["_candidates"].motor[k])
+    cycle, inertia = candidate_cycle(axis, duty, ranking, k)
+    motors = ranking.motors
+    m = int(ranking.candidates.motor[k])
     return pick_drive(cycle, inertia, str(motors.ids[m]), str(motors.vendor[m]), _motor_voltage(motors, m),
-                      float(motors.rated_torque[m]), float(motors.peak_torque[m]), axis.drive)
+                      float(motors.rated_torque[m]), float(motors.peak_torque[m]), axis.drive, memo)
 
 
 def _drive_reason(block: dict[str, Any]) -> str:
@@ -243,27 +260,13 @@ def _drive_reason(block: dict[str, Any]) -> str:
     return f"its drive is {block['status']}: {block.get('reason', '')}"
 
 
-_PROSPECTS: weakref.WeakKeyDictionary[MotorTable, dict[tuple[int, DriveData | None], dict[str, Any]]] = (
-    weakref.WeakKeyDictionary())
-
-
-def _motor_prospect(motors: MotorTable, m: int, given: DriveData | None) -> dict[str, Any]:
-    """``prospect``'s block for row ``m`` of a motor table, once per table (a catalog table is new
-    whenever the catalog changes, so a study's variants share it)."""
-    memo = _PROSPECTS.setdefault(motors, {})
-    key = (m, given)
-    if key not in memo:
-        memo[key] = prospect(str(motors.ids[m]), str(motors.vendor[m]), _motor_voltage(motors, m), given)[1]
-    return memo[key]
-
-
 Judge = Callable[[str, str | None], tuple[bool, str]]
 """A further rule a candidate must pass once its drive can be ordered: (motor id, catalog gearbox id or
 None) -> (accepted, why not). The dynamic selection is one (``dynamics.dynamic_selection.Judge``)."""
 
 
-def _walk(axis: Axis, duty: DutyCycle, sel: dict[str, Any], motors: MotorTable,
-          strict: bool, judge: Judge | None = None) -> tuple[int | None, list[dict[str, Any]]]:
+def _walk(axis: Axis, duty: DutyCycle, ranking: Ranking, strict: bool,
+          memo: DriveMemo, judge: Judge | None = None) -> tuple[int | None, list[dict[str, Any]]]:
     """The first passing motor (best configuration, ranked order) whose drive can be ordered.
 
     A drive is an answer when it passes its current checks (``ok``); under ``unknown: flag`` a drive
@@ -273,23 +276,23 @@ def _walk(axis: Axis, duty: DutyCycle, sel: dict[str, Any], motors: MotorTable,
     """
     from drivetrain.sizing.selection import best_per_motor
 
-    c = sel["_candidates"]
+    c, motors = ranking.candidates, ranking.motors
     passed: list[dict[str, Any]] = []
     supply = stated_supply(axis)
-    for k in best_per_motor(c, sel["_ranked"])[:_WALK]:
+    for k in best_per_motor(c, ranking.ranked)[:_WALK]:
         m = int(c.motor[k])
         vc = voltage_class_check(supply, _motor_voltage(motors, m))
         if vc is not None and (vc["status"] == "fail" or (strict and vc["status"] == "unknown")):
             passed.append({"motor": str(motors.ids[m]), "drive_status": f"voltage_class {vc['status']}",
                            "reason": f"voltage_class: {vc['note']}"})
             continue
-        block = _motor_prospect(motors, m, axis.drive)
+        block = memo.motor_prospect(motors, m, axis.drive)
         if "status" not in block:  # checkable: its current decides
-            block, _ = _candidate_drive(axis, duty, sel, motors, int(k))
+            block, _ = _candidate_drive(axis, duty, ranking, int(k), memo)
         if block["status"] == "ok" or (not strict and block["status"] != "fails"):
             if judge is None:
                 return int(k), passed
-            gb = sel["_tables"][1]
+            gb = ranking.gearboxes
             g = int(c.gearbox(int(k)))
             ok, why = judge(str(motors.ids[m]), str(gb.ids[g]) if g >= 0 and gb is not None else None)
             if ok:
@@ -300,43 +303,42 @@ def _walk(axis: Axis, duty: DutyCycle, sel: dict[str, Any], motors: MotorTable,
     return None, passed
 
 
-def _needs_walk(axis: Axis, duty: DutyCycle, sel: dict[str, Any], strict: bool) -> bool:
+def _needs_walk(axis: Axis, duty: DutyCycle, ranking: Ranking, strict: bool, memo: DriveMemo) -> bool:
     """Whether the best-ranked motor's drive keeps it from being the answer (cheap when its drive
     cannot be checked: no current trace then)."""
-    motors, _ = sel["_tables"]
-    best = int(sel["_best"])
-    vc = voltage_class_check(stated_supply(axis), _motor_voltage(motors, int(sel["_candidates"].motor[best])))
+    assert ranking.best is not None
+    best = ranking.best
+    vc = voltage_class_check(stated_supply(axis), _motor_voltage(ranking.motors, int(ranking.candidates.motor[best])))
     if vc is not None and (vc["status"] == "fail" or (strict and vc["status"] == "unknown")):
         return True
-    block = _motor_prospect(motors, int(sel["_candidates"].motor[best]), axis.drive)
+    block = memo.motor_prospect(ranking.motors, int(ranking.candidates.motor[best]), axis.drive)
     if "status" in block:
         return strict
-    block, _ = _candidate_drive(axis, duty, sel, motors, best)
+    block, _ = _candidate_drive(axis, duty, ranking, best, memo)
     return block["status"] != "ok"
 
 
-def orderable(axis: Axis, duty: DutyCycle, chosen: dict[str, Any],
-              reselect: Callable[[], dict[str, Any]] | None = None, judge: Judge | None = None) -> dict[str, Any]:
+def orderable(axis: Axis, duty: DutyCycle, chosen: Selection, reselect: Callable[[], Selection] | None = None,
+              memo: DriveMemo | None = None, judge: Judge | None = None) -> Selection:
     """The selection with an orderable drive (docs/checks.md, "Drive selection"), in place.
 
     The selected motor becomes the best-ranked passing one whose drive can be ordered (``_walk``);
     the motors passed over for their drive go to ``selection.drive_passed_over``; when none
     qualifies the best-ranked stays, ``selection.drive_advice`` says why and the answer fails.
-    ``reselect`` gives the whole ranked selection where ``chosen`` ranks only near its pick (a
-    study's stand-in selector); it is called only when the best-ranked motor's drive matters.
+    ``reselect`` gives the whole ranked selection where ``chosen`` ranks only near its pick (the
+    search of ``listing="selected"``); it is called only when the best-ranked motor's drive matters.
     """
-    sel = chosen["selection"]
-    if "_best" not in sel:
+    if chosen.ranking.best is None:
         return chosen
+    memo = DriveMemo() if memo is None else memo
     spec = axis.spec.motor.select if axis.spec.motor is not None else None
     strict = spec is not None and spec.unknown == "fail"
-    if judge is None and not _needs_walk(axis, duty, sel, strict):
+    if judge is None and not _needs_walk(axis, duty, chosen.ranking, strict, memo):
         return chosen
     if reselect is not None:
         chosen = reselect()
-        sel = chosen["selection"]
-    motors, gb = sel["_tables"]
-    best, passed = _walk(axis, duty, sel, motors, strict, judge)
+    sel, ranking = chosen.summary, chosen.ranking
+    best, passed = _walk(axis, duty, ranking, strict, memo, judge)
     if passed:  # the first ones, and how many in all
         sel["drive_passed_over"], sel["drive_passed_over_count"] = passed[:20], len(passed)
     if best is None:  # keep the best-ranked motor and say why it cannot be ordered
@@ -344,45 +346,43 @@ def orderable(axis: Axis, duty: DutyCycle, chosen: dict[str, Any],
             " and passes the dynamic requirements" if judge is not None else "")
         sel["drive_advice"] = (f"none of the {len(passed)} passing motors tried has a drive that {rule}; "
                                f"the best-ranked, {passed[0]['motor']}: {passed[0]['reason']}")
-    elif best != int(sel["_best"]):
-        _reselect(axis, duty, sel, motors, gb, best, passed)
+    elif best != ranking.best:
+        _reselect(axis, duty, chosen, best, passed)
     return chosen
 
 
-def attach_drives(axis: Axis, duty: DutyCycle, chosen: dict[str, Any], margins: Margins | None) -> None:
+def attach_drives(axis: Axis, duty: DutyCycle, chosen: Selection, margins: Margins | None,
+                  memo: DriveMemo | None = None) -> None:
     """Add a ``drive`` block to every listed candidate and to ``selection.selected`` (in place).
 
     The selected candidate (made orderable by ``orderable`` before) also gets ``electrical`` (motor
     currents, envelope source, winding temperature, with their checks) and ``regen`` (energy into
     the bus, braking resistor).
     """
-    sel = chosen["selection"]
-    if "_candidates" not in sel:
-        return
-    c = sel["_candidates"]
-    motors, _ = sel["_tables"]
-    shown: list[int] = sel.get("_shown", [])
+    memo = DriveMemo() if memo is None else memo
+    sel, ranking = chosen.summary, chosen.ranking
+    c, motors, shown = ranking.candidates, ranking.motors, ranking.shown
     from drivetrain import catalog
 
-    ks = [k for _, k in zip(chosen["candidates"], shown, strict=False)]
-    ks += [int(sel["_best"])] if "selected" in sel else []
+    ks = [k for _, k in zip(chosen.listed, shown, strict=False)]
+    ks += [ranking.best] if "selected" in sel and ranking.best is not None else []
     catalog.motor_rows([str(motors.ids[int(c.motor[k])]) for k in ks])  # one query for the motors below
     done: dict[int, tuple[dict[str, Any], DriveData | None]] = {}
     supply = stated_supply(axis)
-    for cand, k in zip(chosen["candidates"], shown, strict=False):
-        done[k] = _candidate_drive(axis, duty, sel, motors, k)
+    for cand, k in zip(chosen.listed, shown, strict=False):
+        done[k] = _candidate_drive(axis, duty, ranking, k, memo)
         cand["drive"] = done[k][0]
-        vc = voltage_class_check(supply, _motor_voltage(motors, int(c.motor[k])))
+        vc = voltage_class_check(supply, _motor_voltage(ranking.motors, int(ranking.candidates.motor[k])))
         if vc is not None:
             cand["voltage_class"] = vc
-    if "selected" not in sel:
+    if "selected" not in sel or ranking.best is None:
         return
-    best = int(sel["_best"])
-    block, drive = done[best] if best in done else _candidate_drive(axis, duty, sel, motors, best)
+    best = ranking.best
+    block, drive = done[best] if best in done else _candidate_drive(axis, duty, ranking, best, memo)
     block = dict(block)  # the selected candidate's own copy (the listed one keeps its block)
     from drivetrain.sizing.selection import candidate_cycle
 
-    cycle, _ = candidate_cycle(axis, duty, sel, best)
+    cycle, _ = candidate_cycle(axis, duty, ranking, best)
     sel["selected"]["drive"] = block
     vc = voltage_class_check(supply, _motor_voltage(motors, int(c.motor[best])))
     if vc is not None:
@@ -390,16 +390,16 @@ def attach_drives(axis: Axis, duty: DutyCycle, chosen: dict[str, Any], margins: 
     sel["selected"].update(selected_electrical(axis, cycle, motors, int(c.motor[best]), drive, margins))
 
 
-def _reselect(axis: Axis, duty: DutyCycle, sel: dict[str, Any], motors: MotorTable, gb: Any, best: int,
-              passed: list[dict[str, Any]]) -> None:
+def _reselect(axis: Axis, duty: DutyCycle, chosen: Selection, best: int, passed: list[dict[str, Any]]) -> None:
     """Make candidate ``best`` the selection: its row, the next smaller motor (the last one passed
     over for its drive, which is smaller) and its optimal ratio."""
     from drivetrain.sizing.reasons import candidate_dict
     from drivetrain.sizing.selection import best_per_motor, optimal_ratio
 
-    c = sel["_candidates"]
-    order = [int(k) for k in best_per_motor(c, sel["_ranked"])]
-    sel["_best"] = best
+    sel, ranking = chosen.summary, chosen.ranking
+    c, motors, gb = ranking.candidates, ranking.motors, ranking.gearboxes
+    order = [int(k) for k in best_per_motor(c, ranking.ranked)]
+    ranking.best = best
     sel["selected"] = candidate_dict(c, best, motors, gb, order.index(best) + 1)
     last = order[order.index(best) - 1]
     nxt = candidate_dict(c, last, motors, gb, None)

@@ -133,14 +133,10 @@ def _rack_checks(axis: Axis, duty: DutyCycle, force: Array) -> list[dict[str, An
 def mechanism_checks(axis: Axis, duty: DutyCycle) -> list[dict[str, Any]]:
     """Every mechanism check the axis file has ratings for (empty if none, or for a rotary mechanism).
 
-    A duty cycle that :func:`prepare_many` prepared for this axis gives its checks computed there
-    (the same entries, computed together with those of other axes).
+    :func:`prepare_many` gives the same entries for many axes, computed together.
     """
     if axis.mechanism.motion != "linear":
         return []
-    known = duty.__dict__.get(_PREPARED)
-    if known is not None and known[0] is axis:
-        return [dict(c) for c in known[1]]
     force = axial_force(axis, duty)
     return [*_checks_of_group([(axis, duty, force)])[0], *_belt_checks(axis, duty, force),
             *_rack_checks(axis, duty, force)]
@@ -149,14 +145,14 @@ def mechanism_checks(axis: Axis, duty: DutyCycle) -> list[dict[str, Any]]:
 # ---------------------------------------------------------------------------------------------
 # the screw, nut and guide checks as arrays over axes: one axis (mechanism_checks) or many (a study)
 
-_PREPARED = "_prepared_mechanism_checks"
 PREPARE_SLICE = 256
 """Axes computed together at most (their arrays of samples stay a few MB)."""
 
 
-def prepare_many(pairs: Sequence[tuple[Axis, DutyCycle]]) -> int:
-    """Compute the mechanism checks of many (axis, duty cycle) pairs together and keep each on its
-    duty cycle, where :func:`mechanism_checks` of that axis finds it; returns how many were prepared.
+def prepare_many(pairs: Sequence[tuple[Axis, DutyCycle]]) -> list[list[dict[str, Any]] | None]:
+    """The mechanism checks of many (axis, duty cycle) pairs, computed together: for each pair its
+    :func:`mechanism_checks`, or None where it was not computed here (then :func:`mechanism_checks`
+    of that pair computes it, or raises its InputError).
 
     The axes are taken in groups that differ only in what the checks read per axis (the load's
     mass and forces, the screw lead, the motion's speeds and sample weights) and share the rest
@@ -167,8 +163,9 @@ def prepare_many(pairs: Sequence[tuple[Axis, DutyCycle]]) -> int:
     numbers would raise an InputError (or any axis outside these cases) is left to
     :func:`mechanism_checks`, which raises it for its own axis.
     """
-    groups: list[tuple[tuple[Any, ...], list[tuple[Axis, DutyCycle, Array]]]] = []
-    for axis, duty in pairs:
+    groups: list[tuple[tuple[Any, ...], list[tuple[int, Axis, DutyCycle, Array]]]] = []
+    out: list[list[dict[str, Any]] | None] = [None] * len(pairs)
+    for index, (axis, duty) in enumerate(pairs):
         spec = axis.spec.mechanism
         if (axis.mechanism.motion != "linear" or not isinstance(axis.mechanism.load, LinearLoad)
                 or getattr(spec, "belt", None) is not None or getattr(spec, "rack", None) is not None):
@@ -181,22 +178,20 @@ def prepare_many(pairs: Sequence[tuple[Axis, DutyCycle]]) -> int:
             continue
         for known, members in groups:
             if known == key:
-                members.append((axis, duty, force))
+                members.append((index, axis, duty, force))
                 break
         else:
-            groups.append((key, [(axis, duty, force)]))
-    done = 0
+            groups.append((key, [(index, axis, duty, force)]))
     for _, group in groups:
         for start in range(0, len(group), PREPARE_SLICE):
             members = group[start:start + PREPARE_SLICE]
             try:
-                lists = _checks_of_group(members)
+                lists = _checks_of_group([(a, d, f) for _, a, d, f in members])
             except InputError:
                 continue
-            for (axis, duty, _), checks in zip(members, lists, strict=True):
-                duty.__dict__[_PREPARED] = (axis, checks)
-            done += len(members)
-    return done
+            for (index, _, _, _), checks in zip(members, lists, strict=True):
+                out[index] = checks
+    return out
 
 
 def _checks_of_group(members: list[tuple[Axis, DutyCycle, Array]]) -> list[list[dict[str, Any]]]:

@@ -15,6 +15,7 @@ from drivetrain.sizing.candidates import CHECK_UNITS, MOTOR_CHECKS, Candidates, 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Margins, SelectSpec
     from drivetrain.catalog import GearboxTable, MotorTable
+    from drivetrain.sizing.selection import Ranking
 
 
 _RATING_NAMES = {"gearbox_peak_torque": "T2B (max acceleration torque)", "gearbox_rated_torque": "T2N (rated torque)",
@@ -229,10 +230,11 @@ def advice(c: Candidates, margins: Margins, spec: SelectSpec, motors: MotorTable
     return "\n".join(lines)
 
 
-def explain(result_selection: dict[str, Any], model: str) -> str:
-    """Why a catalog motor was accepted or rejected, in its best configuration."""
-    c: Candidates = result_selection["_candidates"]
-    motors, gb = result_selection["_tables"]
+def explain(result_selection: dict[str, Any], ranking: Ranking, model: str) -> str:
+    """Why a catalog motor was accepted or rejected, in its best configuration (``result_selection``: the
+    selection's summary, ``ranking``: the candidates it was read from)."""
+    c: Candidates = ranking.candidates
+    motors, gb = ranking.motors, ranking.gearboxes
     ids = np.asarray(motors.ids)
     hits = np.flatnonzero(ids == model)
     if not len(hits):
@@ -243,8 +245,8 @@ def explain(result_selection: dict[str, Any], model: str) -> str:
             raise InputError("--explain", "is not among the evaluated motors (check the filters)", model)
     rows = c.of_motors(hits)
     ok_rows = rows[c.ok[rows]]
-    ranked = result_selection.get("_ranked")
-    if len(ok_rows) and ranked is not None:  # a passing motor: its configuration the ranking put first
+    ranked = ranking.ranked
+    if len(ok_rows) and len(ranked):  # a passing motor: its configuration the ranking put first
         mine = ranked[np.isin(c.motor[ranked], hits)]
         best = int(mine[0])
     else:

@@ -1,21 +1,17 @@
-"""Sizing: the duty cycle of an axis, checked against a given motor or a catalog selection.
-
-``size(axis)`` is the orchestrator behind ``drivetrain size``: profile -> duty cycle ->
-metrics -> motor checks -> ``SizingResult`` (JSON of docs/axis-file.md, tables, plots).
+"""The answer of a sizing, ``SizingResult``, and the blocks of it that the pipeline's stages build
+(``sizing.pipeline``): a given motor's checks, the gearbox ratings, the brake, the verdict.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from drivetrain.axis.model import Axis, MotorData, load_axis, parse_axis
-from drivetrain.duty.cycle import DutyCycle, duty_cycle, load_metrics
+from drivetrain.axis.model import Axis, MotorData
+from drivetrain.duty.cycle import DutyCycle, load_metrics
 from drivetrain.physics.acceleration import acceleration_power, minimum_accel_time, minimum_decel_time, operation_power
 from drivetrain.sizing.checks import Check, running_torque
 from drivetrain.sizing.motor_fit import MotorArrays, demand, fit_motors
@@ -25,13 +21,40 @@ if TYPE_CHECKING:
     import pandas as pd
     from matplotlib.figure import Figure
 
+    from drivetrain.sizing.selection import Ranking
+
 
 @dataclass
 class SizingResult:
-    """What the motor must deliver over the cycle, and how a motor (or candidates) fits.
+    """What the motor must deliver over the cycle, and how a motor (or candidates) fits: the answer of
+    the sizing pipeline (``sizing.pipeline.size_many``), one per axis.
 
-    ``metrics`` is the load's demand at the motor shaft (rotor excluded); ``motor`` the same
-    with the rotor and the checks of a given motor; ``candidates`` a catalog selection.
+    Attributes
+    ----------
+    axis : Axis
+        The axis sized (SI).
+    duty : DutyCycle
+        The duty cycle at the motor shaft (sampled load motion, motor-shaft speed [rad/s],
+        acceleration [rad/s^2] and load torque [N m] through every stage, rotor excluded).
+    metrics : dict
+        The load's demand at the motor shaft, rotor excluded: RMS, peak, accel/run/decel torque [N m],
+        speeds [rpm], load inertia [kg m^2], power [W], energy [J] (keys carry their unit).
+    motor : dict or None
+        A given motor: the demand with its rotor, the figures of the lecture and every check
+        (required, available, margin). None for a catalog selection or no motor.
+    candidates : list of dict
+        A catalog selection's listed candidates, each with its checks (empty without a selection).
+    selection : dict or None
+        A catalog selection's summary: counts, the ``selected`` candidate, next smaller motor, advice.
+    extras : dict
+        The axis's own checks and notes, in the order of the answer: ``warnings``, ``guide``,
+        ``slip_check``, ``mechanism_checks``, ``brake_check``, a given motor's ``drive`` and ``regen``,
+        ``gearbox_checks`` (and a gantry share's ``load_share``).
+    ranking : Ranking or None
+        The evaluated candidates behind ``candidates`` and ``selection`` (not part of the JSON).
+    modes : dict or None
+        f1 across the stroke and the servo-bandwidth check (``modes``), where the modes stage ran and the
+        mechanism has stiffness data; reported, not part of ``ok``.
     """
 
     axis: Axis
@@ -41,25 +64,17 @@ class SizingResult:
     candidates: list[dict[str, Any]] = field(default_factory=list)
     selection: dict[str, Any] | None = None
     extras: dict[str, Any] = field(default_factory=dict)
+    ranking: Ranking | None = None
+    modes: dict[str, Any] | None = None
 
     @property
     def ok(self) -> bool:
-        """True when the axis's own checks (slip, guide, brake, gearbox ratings, mechanism, drive) and the
-        given motor or a candidate pass."""
-        own = [self.extras[k]["ok"] for k in ("slip_check", "guide", "brake_check", "gearbox_checks", "drive")
-               if k in self.extras]
-        own += [c["ok"] for c in self.extras.get("mechanism_checks", [])]
-        if not all(own):
-            return False
-        if self.motor is not None:
-            return bool(self.motor["ok"])
-        if self.selection is not None:
-            # the selection's best passing candidate, with a drive that can be ordered (drive_select._walk)
-            return "_best" in self.selection and "drive_advice" not in self.selection
-        return True
+        """The verdict (:func:`verdict`)."""
+        return verdict(self)
 
     def to_dict(self) -> dict[str, Any]:
-        """The JSON result of docs/axis-file.md (keys carry their unit)."""
+        """The JSON result of docs/axis-file.md (keys carry their unit), from the fields in this order:
+        the axis, versions, ``metrics``, ``extras``, ``motor``, ``selection``, ``candidates``, ``modes``."""
         from drivetrain.catalog import DATA_VERSION
 
         out: dict[str, Any] = {"axis": self.axis.name, "drivetrain_version": __version__,
@@ -69,9 +84,11 @@ class SizingResult:
         if self.motor is not None:
             out["motor"] = self.motor
         if self.selection is not None:
-            out["selection"] = {k: v for k, v in self.selection.items() if not k.startswith("_")}
+            out["selection"] = self.selection
         if self.candidates:
             out["candidates"] = self.candidates
+        if self.modes is not None:
+            out["modes"] = self.modes
         return out
 
     def _repr_html_(self) -> str:
@@ -88,9 +105,9 @@ class SizingResult:
         from drivetrain.errors import InputError
         from drivetrain.sizing.selection import explain
 
-        if self.selection is None:
+        if self.selection is None or self.ranking is None:
             raise InputError("--explain", "needs a catalog selection (motor: {select: ...})", model)
-        return explain(self.selection, model)
+        return explain(self.selection, self.ranking, model)
 
     def series(self) -> dict[str, np.ndarray]:
         """The sampled cycle as columns (SI): time, load motion, motor-shaft speed and torque."""
@@ -102,11 +119,73 @@ class SizingResult:
             cols["torque_motor_Nm"] = self.duty.motor_torque(self.axis.motor.inertia)
         return cols
 
-    def to_pandas(self) -> pd.DataFrame:
-        """The sampled cycle as a pandas DataFrame (pandas imported on demand)."""
+    def motor_cycle(self) -> tuple[DutyCycle, float, str] | None:
+        """The motor's own cycle: the given motor's (the axis's duty cycle), or the selected candidate's
+        (the axis's cycle behind its catalog gearbox, as the selection checked it); with its rotor inertia
+        [kg m^2] and its name. None without a given or selected motor."""
+        if self.axis.motor is not None:
+            return self.duty, self.axis.motor.inertia, self.axis.motor.name
+        if self.ranking is not None and self.ranking.best is not None:
+            from drivetrain.sizing.selection import candidate_cycle
+
+            cycle, rotor = candidate_cycle(self.axis, self.duty, self.ranking)
+            return cycle, rotor, str(self.ranking.motors.ids[self.ranking.candidates.motor[self.ranking.best]])
+        return None
+
+    def torques(self) -> pd.DataFrame:
+        """The answer as the report's table reads it: the demand at the motor shaft without the rotor
+        (``demand``), the given or selected motor's own figures with its rotor inertia (``motor``) and
+        what the motor offers (``rating``: peak and rated torque [N m], max speed [rpm], rotor inertia
+        [kg m^2]); one row per quantity, its unit in its name."""
         import pandas as pd
 
-        return pd.DataFrame(self.series())
+        rows = ("peak_torque_Nm", "rms_torque_Nm", "accel_torque_Nm", "run_torque_Nm", "decel_torque_Nm",
+                "holding_torque_Nm", "max_speed_rpm", "peak_power_W", "regen_energy_J", "load_inertia_kgm2",
+                "rotor_inertia_kgm2")
+        demand = {k: self.metrics.get(k) for k in rows}
+        motor: dict[str, Any] = dict.fromkeys(rows)
+        rating: dict[str, Any] = dict.fromkeys(rows)
+        own = self.motor_cycle()
+        name = "motor"
+        if own is not None:
+            cycle, rotor, name = own
+            with_rotor = load_metrics(cycle, cycle.motor_torque(rotor))
+            motor.update({k: with_rotor.get(k) for k in rows})
+            motor["rotor_inertia_kgm2"] = rotor
+            motor["load_inertia_kgm2"] = cycle.load_inertia
+            data = self.axis.motor if self.axis.motor is not None else self._selected_motor()
+            if data is not None:
+                rating.update({"peak_torque_Nm": data.peak_torque, "rms_torque_Nm": data.rated_torque,
+                               "max_speed_rpm": data.max_speed * 60.0 / (2.0 * math.pi),
+                               "rotor_inertia_kgm2": data.inertia})
+        frame = pd.DataFrame({"demand": demand, "motor": motor, "rating": rating}, index=list(rows))
+        frame.attrs["motor"] = name
+        return frame
+
+    def _selected_motor(self) -> MotorData | None:
+        return None if self.ranking is None else selected_motor(self.ranking)
+
+    def to_pandas(self) -> pd.DataFrame:
+        """The sampled cycle as a pandas DataFrame (pandas imported on demand), in SI: time ``t_s``; the
+        load side (``load_x``, ``load_v``, ``load_a``: the load's position, speed and acceleration, m or
+        rad); the demand at the axis input without a rotor (``shaft_speed_rad_s``,
+        ``shaft_acceleration_rad_s2``, ``shaft_torque_Nm``); and the motor side of the given or selected
+        motor, behind its catalog gearbox where it has one (``motor_speed_rad_s``,
+        ``motor_acceleration_rad_s2``, ``motor_torque_Nm`` with its rotor)."""
+        import pandas as pd
+
+        s = self.duty.samples
+        cols: dict[str, Any] = {"t_s": self.duty.t, "load_x": np.asarray(s.x), "load_v": np.asarray(s.v),
+                                "load_a": np.asarray(s.a), "shaft_speed_rad_s": self.duty.omega,
+                                "shaft_acceleration_rad_s2": self.duty.alpha, "shaft_torque_Nm": self.duty.torque}
+        own = self.motor_cycle()
+        if own is not None:
+            cycle, rotor, _ = own
+            cols.update({"motor_speed_rad_s": cycle.omega, "motor_acceleration_rad_s2": cycle.alpha,
+                         "motor_torque_Nm": cycle.motor_torque(rotor)})
+        frame = pd.DataFrame(cols)
+        frame.attrs["motor"] = None if own is None else own[2]
+        return frame
 
     def plot(self) -> Figure:
         """Matplotlib figure: load position and speed, motor-shaft torque over the cycle."""
@@ -164,8 +243,9 @@ def motor_arrays(motors: list[MotorData]) -> MotorArrays:
     )
 
 
-def motor_result(axis: Axis, duty: DutyCycle, motor: MotorData) -> dict[str, Any]:
-    """The ``motor`` block of the JSON: demand with the rotor, lecture figures and checks."""
+def motor_result(axis: Axis, duty: DutyCycle, motor: MotorData) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The ``motor`` block of the JSON (demand with the rotor, lecture figures and checks) and the
+    electrical half's blocks that sit beside it in the answer (``drive``, ``regen``, where known)."""
     margins = axis.spec.motor.margins if axis.spec.motor is not None else None
     d = demand(duty.omega, duty.alpha, duty.torque, duty.weights, duty.period, duty.load_inertia)
     fit = fit_motors(
@@ -193,10 +273,11 @@ def motor_result(axis: Axis, duty: DutyCycle, motor: MotorData) -> dict[str, Any
     extra: dict[str, Any] = dict(elec.motor)
     if elec.curve is not None:
         extra["supply_curve"] = elec.curve
+    beside: dict[str, Any] = {}
     if elec.drive is not None:
-        extra["_drive"] = elec.drive
+        beside["drive"] = elec.drive
     if elec.regen is not None:
-        extra["_regen"] = elec.regen
+        beside["regen"] = elec.regen
     return {
         "name": motor.name,
         "source": motor.source,
@@ -222,7 +303,7 @@ def motor_result(axis: Axis, duty: DutyCycle, motor: MotorData) -> dict[str, Any
         "failed": failed,
         "checks": [c.to_dict() for c in checks],
         "segments": with_rotor["segments"],
-    }
+    }, beside
 
 
 def _gearbox_split(axis: Axis, motor: MotorData, duty: DutyCycle, run_torque: float) -> dict[str, Any]:
@@ -308,7 +389,7 @@ def _nan(x: float | None) -> float:
     return math.nan if x is None else float(x)
 
 
-def _brake_check(axis: Axis, duty: DutyCycle) -> dict[str, Any] | None:
+def brake_check(axis: Axis, duty: DutyCycle) -> dict[str, Any] | None:
     """A brake's holding torque against the torque it must hold in braked dwells [N m].
 
     The brake holds what the load side applies at its shaft at standstill (gravity, springs):
@@ -333,102 +414,29 @@ def _first_move_ramp_times(duty: DutyCycle) -> float:
     return 0.0
 
 
-def size(axis: Axis | dict[str, Any] | str | Path, points_per_phase: int = 64,
-         all_pairs: bool = False, *, duty: DutyCycle | None = None,
-         selector: Callable[..., dict[str, Any]] | None = None, drives: bool = True) -> SizingResult:
-    """Size an axis: its duty cycle at the motor shaft, the given motor's checks or a selection.
-
-    A selection lists the best configuration of each motor; ``all_pairs`` lists every passing
-    motor-gearbox pair instead (``drivetrain size --all``).
-
-    For callers that size many axes (a study): ``duty`` is the axis's duty cycle when the caller
-    has it already; ``selector`` stands in for ``selection.select`` (same arguments; an answer
-    with the same keys, of which it may leave out those it did not compute); ``drives=False``
-    leaves out the drive post-pass of a selection (the ``drive``, ``electrical`` and ``regen``
-    blocks of its candidates), which changes no other key.
-    """
-    if isinstance(axis, (str, Path)):
-        axis = load_axis(axis)
-    elif isinstance(axis, dict):
-        axis = parse_axis(axis)
-    if duty is None:
-        duty = duty_cycle(axis, points_per_phase)
-    metrics = load_metrics(duty)
-    result = SizingResult(axis=axis, duty=duty, metrics=metrics)
-    from drivetrain.duty.sanity import sanity_warnings
-
-    result.extras["warnings"] = sanity_warnings(axis, duty)
-    if axis.spec.guide is not None and axis.mechanism.motion == "linear":
-        from drivetrain.physics.guides import guide_report
-
-        result.extras["guide"] = guide_report(axis, duty)
-    if axis.mechanism.slip_limit is not None:
-        from drivetrain.physics.guides import slip_check
-
-        incline = getattr(axis.mechanism.load, "incline", 0.0)
-        result.extras["slip_check"] = slip_check(np.asarray(duty.samples.a), axis.mechanism.slip_limit, incline,
-                                                 axis.gravity)
-    from drivetrain.sizing.mechanism_checks import mechanism_checks
-
-    checks = mechanism_checks(axis, duty)
-    if checks:
-        result.extras["mechanism_checks"] = checks
-    brake = _brake_check(axis, duty)
-    if brake is not None:
-        result.extras["brake_check"] = brake
-    strict = bool(axis.spec.motor is not None and axis.spec.motor.select is not None
-                  and axis.spec.motor.select.unknown == "fail")
-    if axis.motor is not None:
-        result.motor = motor_result(axis, duty, axis.motor)
-        for key in ("drive", "regen"):  # the electrical half's blocks sit beside the motor's
-            block = result.motor.pop(f"_{key}", None)
-            if block is not None:
-                result.extras[key] = block
-        gear = gearbox_rating_checks(axis, duty, axis.motor)
-    elif axis.spec.motor is not None and axis.spec.motor.select is not None:
-        from drivetrain.sizing.drive_select import attach_drives, orderable
-        from drivetrain.sizing.selection import select
-
-        spec, margins = axis.spec.motor.select, axis.spec.motor.margins
-        chosen = (selector or select)(axis, duty, spec, margins, all_pairs=all_pairs)
-        judge = None
-        if axis.requirements is not None:
-            # the dynamic rule lives in the dynamics layer, above this one: looked up by name
-            # (docs/architecture.md), the pattern of the report's lookup
-            import importlib
-
-            judge = importlib.import_module("drivetrain.dynamics.dynamic_selection").Judge(axis)
-        chosen = orderable(axis, duty, chosen, None if selector is None else  # the whole ranking, if needed
-                           lambda: select(axis, duty, spec, margins, all_pairs=all_pairs), judge)
-        if judge is not None:
-            chosen["selection"]["dynamics"] = judge.to_dict()
-        if drives:
-            attach_drives(axis, duty, chosen, axis.spec.motor.margins)  # the electrical post-pass
-        result.candidates = chosen["candidates"]
-        result.selection = chosen["selection"]
-        gear = gearbox_rating_checks(axis, duty, _selected_motor(result.selection), strict)
-        own = [st.name for st in axis.transmission if st.kind == "gearbox"]
-        if own and not result.selection.get("gearbox_rows"):
-            # the motors go direct onto the axis's own gearbox: say so, not "direct drive, ratio 1"
-            result.selection["transmission_gearbox"] = ", ".join(own)
-    elif axis.drive is not None:
-        from drivetrain.errors import InputError
-
-        raise InputError("drive", "a given drive needs a motor: give motor: {id: ...}, its parameters, "
-                         "or motor: {select: ...}", has_value=False)
-    else:
-        gear = gearbox_rating_checks(axis, duty, None)
-    if gear is not None:
-        result.extras["gearbox_checks"] = gear
-    return result
+def verdict(result: SizingResult) -> bool:
+    """True when the axis's own checks (slip, guide, brake, gearbox ratings, mechanism, drive) and the
+    given motor or the selected candidate pass (the pipeline's last stage; ``SizingResult.ok``)."""
+    own = [result.extras[k]["ok"] for k in ("slip_check", "guide", "brake_check", "gearbox_checks", "drive")
+           if k in result.extras]
+    own += [c["ok"] for c in result.extras.get("mechanism_checks", [])]
+    if not all(own):
+        return False
+    if result.motor is not None:
+        return bool(result.motor["ok"])
+    if result.selection is not None:
+        # the selection's best passing candidate, with a drive that can be ordered (drive_select.orderable)
+        return (result.ranking is not None and result.ranking.best is not None
+                and "drive_advice" not in result.selection)
+    return True
 
 
-def _selected_motor(selection: dict[str, Any]) -> MotorData | None:
+def selected_motor(ranking: Ranking) -> MotorData | None:
     """The selected catalog motor as MotorData (for the checks that need its peak torque), if any."""
-    if "_best" not in selection:
+    if ranking.best is None:
         return None
-    motors, _ = selection["_tables"]
-    m = int(selection["_candidates"].motor[selection["_best"]])
+    motors = ranking.motors
+    m = int(ranking.candidates.motor[ranking.best])
     return MotorData(name=str(motors.ids[m]), inertia=float(motors.rotor_inertia[m]),
                      rated_torque=float(motors.rated_torque[m]), peak_torque=float(motors.peak_torque[m]),
                      rated_speed=float(motors.rated_speed[m]), max_speed=float(motors.max_speed[m]))

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -45,7 +46,57 @@ if TYPE_CHECKING:
 
 Array = NDArray[np.float64]
 
-def _gearbox_options(gb: GearboxTable | None, allow_direct: bool) -> tuple[Array, Array, NDArray[np.int64],
+
+@dataclass
+class Ranking:
+    """The evaluated candidates behind a selection's answer: what ``explain``, the drive rule and the
+    candidate's own cycle read (not part of the JSON answer).
+
+    Attributes
+    ----------
+    candidates : Candidates
+        Every evaluated candidate (index k): motor, gearbox slot, worst margin, failed and unknown checks.
+    ranked : numpy.ndarray of int
+        The passing candidates, best first (the objective, then a pair known to assemble first). Where the
+        selection searched only for its first candidate (``listing="selected"``), the candidates it ranked.
+    motors : MotorTable
+        The catalog motors the candidates index (``candidates.motor``).
+    gearboxes : GearboxTable or None
+        The catalog gearbox rows the candidates' slots index; None where direct drive alone was evaluated.
+    best : int or None
+        The selected candidate (after the drive rule), None when no candidate passes.
+    shown : list of int
+        The listed candidates, in the order of the answer's ``candidates``.
+    """
+
+    candidates: Candidates
+    ranked: NDArray[np.intp]
+    motors: MotorTable
+    gearboxes: GearboxTable | None
+    best: int | None = None
+    shown: list[int] = field(default_factory=list)
+
+
+@dataclass
+class Selection:
+    """A catalog selection: the listed candidates and the summary (the ``candidates`` and ``selection``
+    blocks of the JSON answer, docs/axis-file.md) and the ranking they were read from.
+
+    Attributes
+    ----------
+    listed : list of dict
+        The listed candidates (JSON ``candidates``): each with its checks (required, available, margin).
+    summary : dict
+        The selection's summary (JSON ``selection``): counts, the selected candidate, advice.
+    ranking : Ranking
+        The evaluated candidates and their order.
+    """
+
+    listed: list[dict[str, Any]]
+    summary: dict[str, Any]
+    ranking: Ranking
+
+def gearbox_options(gb: GearboxTable | None, allow_direct: bool) -> tuple[Array, Array, NDArray[np.int64],
                                                                           NDArray[np.int64]]:
     """Distinct (ratio, efficiency) groups, in order of first appearance, direct drive (1, 1) first:
     their ratios, efficiencies, and the gearbox rows of group g, ``rows[row_start[g]:row_start[g + 1]]``
@@ -111,7 +162,7 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     t0, w0, a0 = duty.torque, duty.omega, duty.alpha
     out_cubic = cubic_mean(t0, w0, duty.weights)
     run_t = running_torque(duty.external)
-    ratio, eff_g, rows, row_start = _gearbox_options(gb, allow_direct)
+    ratio, eff_g, rows, row_start = gearbox_options(gb, allow_direct)
     base: dict[float, Demand] = {}
     for eff in eff_g.tolist():
         if eff not in base and given_demands is not None and eff in given_demands:
@@ -201,13 +252,13 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
                       model=model, strict=strict)
 
 
-def _size_key(motors: MotorTable) -> Array:
+def size_key(motors: MotorTable) -> Array:
     """Motor size for 'smallest': rated power, else rated torque x rated speed [W]."""
     p = np.asarray(motors.rated_power, dtype=float)
     return np.where(np.isnan(p), motors.rated_torque * motors.rated_speed, p)
 
 
-def _objective(c: Candidates, ks: NDArray[np.intp], motors: MotorTable, gb: GearboxTable | None, objective: str,
+def objective_scores(c: Candidates, ks: NDArray[np.intp], motors: MotorTable, gb: GearboxTable | None, objective: str,
                duty: DutyCycle) -> Array:
     """Score to minimise for the candidates ``ks``."""
     if objective in ("rms_utilisation", "inertia_match"):
@@ -222,7 +273,7 @@ def _objective(c: Candidates, ks: NDArray[np.intp], motors: MotorTable, gb: Gear
         rows = c.gearbox(ks)
         has = rows >= 0
         gb_size[has] = np.nan_to_num(gb.rated_output_torque[rows[has]], nan=0.0)
-    return _size_key(motors)[c.motor[ks]] * 1e6 + gb_size
+    return size_key(motors)[c.motor[ks]] * 1e6 + gb_size
 
 
 def _energy(c: Candidates, ks: NDArray[np.intp], motors: MotorTable, gb: GearboxTable | None,
@@ -247,12 +298,12 @@ def _energy(c: Candidates, ks: NDArray[np.intp], motors: MotorTable, gb: Gearbox
     return out
 
 
-def _closest_failing(c: Candidates, n: int) -> NDArray[np.intp]:
+def closest_failing(c: Candidates, n: int) -> NDArray[np.intp]:
     """The ``n`` failing candidates with the largest worst margins, best first: ties in index order, NaN
     margins last (as a stable sort of every failing candidate, without sorting them all)."""
-    from drivetrain.sizing.kernel import closest_failing
+    from drivetrain.sizing.kernel import closest_failing as kernel_closest_failing
 
-    return np.asarray(closest_failing(np.asarray(c.worst_margin, dtype=float), c.rejected, n), dtype=np.intp)
+    return np.asarray(kernel_closest_failing(np.asarray(c.worst_margin, dtype=float), c.rejected, n), dtype=np.intp)
 
 
 def pareto_front(size: Array, margin: Array, ratio: Array) -> NDArray[np.intp]:
@@ -308,12 +359,12 @@ def ranked(c: Candidates, motors: MotorTable, gb: GearboxTable | None, objective
     """The passing candidates, best first: by the objective (ties in candidate order), a pair not
     known to assemble (a dimension missing) after every pair known to."""
     passing = np.flatnonzero(c.ok)
-    passing = passing[np.argsort(_objective(c, passing, motors, gb, objective, duty), kind="stable")]
+    passing = passing[np.argsort(objective_scores(c, passing, motors, gb, objective, duty), kind="stable")]
     return passing[np.argsort((c.unknown[passing] & FIT_BIT) != 0, kind="stable")]
 
 
 def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
-           all_pairs: bool = False) -> dict[str, Any]:
+           all_pairs: bool = False) -> Selection:
     """Evaluate the catalog against the duty cycle; rank, explain and summarise.
 
     The ranked list holds the best configuration of each motor (its best gearbox), so the top
@@ -326,7 +377,7 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
     listed = passing if all_pairs else best_per_motor(c, passing)
     shown_ok = listed if all_pairs else listed[: spec.top]
     n_fail = max(spec.top - min(len(shown_ok), spec.top), 3)
-    failing = _closest_failing(c, n_fail * 8)
+    failing = closest_failing(c, n_fail * 8)
     failing = failing if all_pairs else best_per_motor(c, failing)
 
     def row(k: int, rank: int | None) -> dict[str, Any]:
@@ -343,14 +394,14 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
         "unknown_policy": spec.unknown, "failures_by_check": c.failures(), "unknown_by_check": c.unknowns(),
         "cycles_per_hour": 3600.0 / duty.period,
     }
+    best: int | None = None
     if len(passing):
         best = int(passing[0])
-        summary["_best"] = best
         summary["selected"] = row(best, 1)
         summary["next_smaller"] = _next_smaller(c, motors, gb, best)
         summary["optimal_ratio"] = optimal_ratio(axis, duty, motors, int(c.motor[best]), gb)
         top = passing[:2000]
-        front = pareto_front(_size_key(motors)[c.motor[top]], c.worst_margin[top], c.details(top).inertia_ratio)
+        front = pareto_front(size_key(motors)[c.motor[top]], c.worst_margin[top], c.details(top).inertia_ratio)
         summary["pareto_front"] = [_label(c, int(top[k]), motors, gb) for k in front[:50]]
         flagged = int(np.count_nonzero(c.unknown[passing]))
         if flagged:
@@ -358,11 +409,8 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
                                      "cannot judge (status unknown): confirm them with the vendor")
     else:
         summary["advice"] = advice(c, margins, spec, motors, gb)
-    summary["_candidates"] = c
-    summary["_ranked"] = passing
-    summary["_tables"] = (motors, gb)
-    summary["_shown"] = shown_ks  # for the drive post-pass (drivetrain.sizing.drive_select)
-    return {"candidates": shown, "selection": summary}
+    ranking = Ranking(candidates=c, ranked=passing, motors=motors, gearboxes=gb, best=best, shown=shown_ks)
+    return Selection(listed=shown, summary=summary, ranking=ranking)
 
 
 def _label(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None) -> str:
@@ -375,7 +423,7 @@ _MAX_SPEED_BIT = list(CHECK_UNITS).index("max_speed")
 
 def _next_smaller(c: Candidates, motors: MotorTable, gb: GearboxTable | None, best: int) -> dict[str, Any] | None:
     """The next smaller motor than the selected one, in its best configuration, and why it fails."""
-    size = _size_key(motors)
+    size = size_key(motors)
     smaller = np.flatnonzero(size < size[c.motor[best]])  # every motor has candidates
     if not len(smaller):
         return None
@@ -389,16 +437,18 @@ def _next_smaller(c: Candidates, motors: MotorTable, gb: GearboxTable | None, be
     return candidate_dict(c, k, motors, gb, None)
 
 
-def candidate_cycle(axis: Axis, duty: DutyCycle, result_selection: dict[str, Any],
+def candidate_cycle(axis: Axis, duty: DutyCycle, ranking: Ranking,
                     k: int | None = None) -> tuple[DutyCycle, float]:
     """A candidate's own cycle (default: the selected one): the axis's cycle behind the candidate's
     gearbox (DutyCycle.behind, as the checks put it there), and the motor's rotor inertia [kg m^2].
 
     The motor torque over the cycle is ``cycle.motor_torque(rotor_inertia)``.
     """
-    c: Candidates = result_selection["_candidates"]
-    motors, gb = result_selection["_tables"]
-    k = int(result_selection["_best"]) if k is None else k
+    c, motors, gb = ranking.candidates, ranking.motors, ranking.gearboxes
+    if k is None:
+        if ranking.best is None:
+            raise ValueError("the selection has no selected candidate")
+        k = ranking.best
     row = int(c.gearbox(k))
     cycle = duty
     if row >= 0 and gb is not None:
@@ -442,5 +492,6 @@ def optimal_ratio(axis: Axis, duty: DutyCycle, motors: MotorTable, m: int,
             "max_ratio_for_speed": top, "nearest_catalog_ratio": nearest}
 
 
-__all__ = ["CHECK_UNITS", "MOTOR_CHECKS", "Candidates", "Details", "best_per_motor", "candidate_cycle",
-           "catalog_tables", "evaluate", "explain", "lossy_torque", "optimal_ratio", "ranked", "select", "to_rpm"]
+__all__ = ["CHECK_UNITS", "MOTOR_CHECKS", "Candidates", "Details", "Ranking", "Selection", "best_per_motor",
+           "candidate_cycle", "catalog_tables", "closest_failing", "evaluate", "explain", "gearbox_options",
+           "lossy_torque", "objective_scores", "optimal_ratio", "ranked", "select", "size_key", "to_rpm"]

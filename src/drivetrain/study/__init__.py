@@ -41,6 +41,11 @@ class StudyResult:
     best: dict[str, Any] | None = None  # optimisation: parameters, objective, and the variant's size() JSON
     files: list[Path] = field(default_factory=list)
 
+    def to_pandas(self) -> pd.DataFrame:
+        """The result table: one row per variant (its parameters, ``ok``, ``error`` and the recorded keys, each
+        column's unit in its name), the study's metadata in ``attrs``."""
+        return self.table
+
     def report(self, path: str | Path) -> Path:
         """Write the study report (self-contained HTML). The report is looked up by name: it reads the result,
         the result does not know it (docs/architecture.md)."""

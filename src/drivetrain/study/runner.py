@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 from drivetrain.errors import InputError
 from drivetrain.files import write_atomic
 from drivetrain.study.record import fast_covers, row_from
-from drivetrain.study.spec import Parameter, Study
+from drivetrain.study.spec import Parameter, Study, variant_mapping
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -67,13 +67,8 @@ class Plan:
     drives: bool = False  # a recorded key needs the drive post-pass (selection.selected.drive, ...)
 
     def axis_dict(self, values: tuple[Any, ...]) -> dict[str, Any]:
-        from drivetrain.study.paths import set_path
-
-        data: Any = self.base
-        for p, v in zip(self.parameters, values, strict=True):
-            data = set_path(data, p.tokens, p.to_si(v), f"parameters.{p.path}")
-        out: dict[str, Any] = data
-        return out
+        """The axis mapping of one variant (``spec.variant_mapping``, as ``Study.axis_dict``)."""
+        return variant_mapping(self.base, self.parameters, values)
 
 
 _ENGINE: Any = None

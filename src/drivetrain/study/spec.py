@@ -429,11 +429,16 @@ class Study:
 
     def axis_dict(self, values: tuple[Any, ...]) -> dict[str, Any]:
         """The axis mapping of one variant (SI numbers at the parameters' paths)."""
-        data: Any = self.base
-        for p, v in zip(self.parameters, values, strict=True):
-            data = set_path(data, p.tokens, p.to_si(v), f"parameters.{p.path}")
-        out: dict[str, Any] = data
-        return out
+        return variant_mapping(self.base, self.parameters, values)
+
+
+def variant_mapping(base: dict[str, Any], parameters: tuple[Parameter, ...], values: tuple[Any, ...]) -> dict[str, Any]:
+    """The axis mapping of one variant: ``base`` with each parameter's value, in SI, at its path."""
+    data: Any = base
+    for p, v in zip(parameters, values, strict=True):
+        data = set_path(data, p.tokens, p.to_si(v), f"parameters.{p.path}")
+    out: dict[str, Any] = data
+    return out
 
 
 def _count(n: float) -> str:

@@ -155,7 +155,7 @@ def candidate_axis(axis: dict[str, Any], motor_id: str, gearbox_id: str | None) 
 def candidate_payload(axis: dict[str, Any], motor_id: str, gearbox_id: str | None) -> dict[str, Any]:
     """Size the axis with one candidate fixed: its motor-shaft cycle, checks and envelope."""
     from drivetrain.axis.model import parse_axis
-    from drivetrain.sizing.result import size
+    from drivetrain.sizing.pipeline import size
 
     fixed = candidate_axis(axis, motor_id, gearbox_id)
     try:
@@ -179,7 +179,7 @@ def selected_payload(parsed: Any, result: Any, envelopes: list[dict[str, Any]]) 
     from drivetrain.sizing.selection import candidate_cycle
 
     best = result.selection["selected"]
-    cycle, rotor = candidate_cycle(parsed, result.duty, result.selection)
+    cycle, rotor = candidate_cycle(parsed, result.duty, result.ranking)
     series = {"t_s": cycle.t, "omega_motor_rad_s": cycle.omega, "torque_motor_Nm": cycle.motor_torque(rotor)}
     figures = {k: best[k] for k in ("rms_torque_Nm", "peak_torque_Nm", "inertia_ratio", "checks")}
     envelope = next((e for e in envelopes if e["name"] == best["motor"]), None) or motor_envelope(best["motor"])
@@ -189,12 +189,12 @@ def selected_payload(parsed: Any, result: Any, envelopes: list[dict[str, Any]]) 
 
 def size_payload(axis: dict[str, Any]) -> dict[str, Any]:
     """Size an axis mapping and collect what the page draws: the result, the sampled cycle, envelopes."""
+    from drivetrain import size
     from drivetrain.axis.model import parse_axis
-    from drivetrain.sizing.result import size
 
     t0 = time.perf_counter()
     parsed = engine(parse_axis, axis)
-    result = engine(size, parsed, WEB_POINTS_PER_PHASE)
+    result = engine(size, parsed, WEB_POINTS_PER_PHASE)  # the pipeline with its modes stage
     notes: list[str] = []
     series = {k: np.asarray(v, dtype=float) for k, v in result.series().items()}
     envelopes: list[dict[str, Any]] = []
@@ -205,10 +205,11 @@ def size_payload(axis: dict[str, Any]) -> dict[str, Any]:
     selected = None
     if result.candidates:
         envelopes.extend(_candidate_envelopes(result.candidates, notes))
-        if result.selection is not None and "_best" in result.selection:
+        if result.ranking is not None and result.ranking.best is not None:
             selected = selected_payload(parsed, result, envelopes)
     return {"result": result.to_dict(), "motion": parsed.mechanism.motion, "series": series,
-            "envelopes": envelopes, "selected": selected, "notes": notes, "modes": mechanism_modes(result),
+            "envelopes": envelopes, "selected": selected, "notes": notes,
+            "modes": None if result.modes is None else dict(plain(result.modes)),
             "electrical": electrical_payload(result), "elapsed_ms": (time.perf_counter() - t0) * 1e3}
 
 
@@ -234,17 +235,6 @@ def electrical_payload(result: Any) -> dict[str, Any] | None:
     if out["regen"] is not None:
         out["regen"] = {k: v for k, v in out["regen"].items() if k != "events"}
     return out if any(v for v in out.values()) else None
-
-
-def mechanism_modes(result: Any) -> dict[str, Any] | None:
-    """f1 across the stroke with the servo-bandwidth check (``modes`` of ``drivetrain modes``), or None.
-
-    None when the mechanism has no stiffness data or there is no motor to put in the chain.
-    """
-    from drivetrain.dynamics.mechanism_modes import modes_of_result
-
-    modes = engine(modes_of_result, result)
-    return None if modes is None else dict(plain(modes))
 
 
 def encode(payload: dict[str, Any]) -> bytes:
