@@ -60,7 +60,7 @@ def figures() -> dict[str, str]:
     drives = catalog.drives()
     drives = drives.take(np.flatnonzero(drives.origin == "builtin"))
 
-    from drivetrain.sizing.result import size
+    from drivetrain.sizing.pipeline import size
 
     selection = size(ROOT / "examples" / "ball_screw.yaml").selection or {}
     out = {

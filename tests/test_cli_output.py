@@ -128,7 +128,7 @@ def test_a_round_off_residue_prints_as_zero() -> None:
 def test_the_demand_table_prints_a_zero_average_power_as_zero(capsys: pytest.CaptureFixture[str],
                                                                monkeypatch: pytest.MonkeyPatch) -> None:
     from drivetrain.cli.sizing import print_sizing
-    from drivetrain.sizing.result import size
+    from drivetrain.sizing.pipeline import size
 
     monkeypatch.delenv("COLUMNS", raising=False)
     result = size(ROOT / "examples" / "ball_screw.yaml")

@@ -13,7 +13,7 @@ import pytest
 import yaml
 
 from drivetrain import cli
-from drivetrain.sizing.result import size
+from drivetrain.sizing.pipeline import size
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "belt_dynamic.yaml"

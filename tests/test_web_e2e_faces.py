@@ -16,7 +16,7 @@ from typing import Any
 import pytest
 
 from drivetrain import catalog
-from drivetrain.sizing.result import size
+from drivetrain.sizing.pipeline import size
 from test_web_e2e import (  # noqa: F401 (fixtures)
     TIMEOUT_MS,
     browser,

@@ -27,11 +27,10 @@ def load_axis(path: str) -> Axis:
 def size_many(axes: Any, points_per_phase: int = 64, all_pairs: bool = False, **kwargs: Any) -> list[SizingResult]:
     """Size axes (each an ``Axis``, a mapping of the axis file, or a path to one): the sizing pipeline
     (``sizing.pipeline.size_many``) with its modes stage, f1 across the stroke
-    (``dynamics.mechanism_modes.modes_of_result``); each answer is the one the axis gets alone."""
-    from drivetrain.dynamics.mechanism_modes import modes_of_result
-    from drivetrain.sizing.pipeline import size_many as _size_many
+    (``dynamics.mechanism_modes.size_many``); each answer is the one the axis gets alone."""
+    from drivetrain.dynamics.mechanism_modes import size_many as _size_many
 
-    return _size_many(list(axes), points_per_phase, all_pairs, modes=modes_of_result, **kwargs)
+    return _size_many(axes, points_per_phase, all_pairs, **kwargs)
 
 
 def size(axis: Any, points_per_phase: int = 64, all_pairs: bool = False, **kwargs: Any) -> SizingResult:

@@ -56,7 +56,7 @@ def _check_outputs(args: argparse.Namespace) -> None:
 
 def size(args: argparse.Namespace, axis: str | dict[str, Any] | None = None) -> int:
     """``size``: the axis file (or ``axis``, its mapping as ``select`` rewrote it) sized and printed."""
-    from drivetrain import size
+    from drivetrain.dynamics.mechanism_modes import size  # the pipeline with its modes stage
     from drivetrain.errors import InputError
 
     if args.points < 3 or args.points > 100_000:

@@ -166,3 +166,16 @@ def modes_of_result(result: Any) -> dict[str, Any] | None:
     if out is not None:
         out["motor"] = dyn.motor
     return out
+
+
+def size_many(axes: Any, points_per_phase: int = 64, all_pairs: bool = False, **kwargs: Any) -> list[Any]:
+    """The sizing pipeline (``sizing.pipeline.size_many``) with its modes stage (``modes_of_result``): the
+    answer every face gives (``drivetrain.size``, the CLI, the web app, the report)."""
+    from drivetrain.sizing.pipeline import size_many as pipeline_size_many
+
+    return pipeline_size_many(list(axes), points_per_phase, all_pairs, modes=modes_of_result, **kwargs)
+
+
+def size(axis: Any, points_per_phase: int = 64, all_pairs: bool = False, **kwargs: Any) -> Any:
+    """``size_many([axis])[0]``: one axis's answer with its modes stage (``to_dict()`` is ``size --json``)."""
+    return size_many([axis], points_per_phase, all_pairs, **kwargs)[0]

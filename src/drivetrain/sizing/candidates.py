@@ -3,12 +3,15 @@ checks fail and which cannot be judged; every check of any of them recomputed on
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from drivetrain.catalog import GearboxTable, MotorTable
 
 Array = NDArray[np.float64]
 
@@ -126,3 +129,53 @@ def closest(c: Candidates, pool: NDArray[np.intp]) -> int:
 
 
 __all__ = ["CHECK_UNITS", "FIT_BIT", "MOTOR_CHECKS", "Candidates", "Details", "closest", "column"]
+
+
+@dataclass
+class Ranking:
+    """The evaluated candidates behind a selection's answer: what ``explain``, the drive rule and the
+    candidate's own cycle read (not part of the JSON answer).
+
+    Attributes
+    ----------
+    candidates : Candidates
+        Every evaluated candidate (index k): motor, gearbox slot, worst margin, failed and unknown checks.
+    ranked : numpy.ndarray of int
+        The passing candidates, best first (the objective, then a pair known to assemble first). Where the
+        selection searched only for its first candidate (``listing="selected"``), the candidates it ranked.
+    motors : MotorTable
+        The catalog motors the candidates index (``candidates.motor``).
+    gearboxes : GearboxTable or None
+        The catalog gearbox rows the candidates' slots index; None where direct drive alone was evaluated.
+    best : int or None
+        The selected candidate (after the drive rule), None when no candidate passes.
+    shown : list of int
+        The listed candidates, in the order of the answer's ``candidates``.
+    """
+
+    candidates: Candidates
+    ranked: NDArray[np.intp]
+    motors: MotorTable
+    gearboxes: GearboxTable | None
+    best: int | None = None
+    shown: list[int] = field(default_factory=list)
+
+
+@dataclass
+class Selection:
+    """A catalog selection: the listed candidates and the summary (the ``candidates`` and ``selection``
+    blocks of the JSON answer, docs/axis-file.md) and the ranking they were read from.
+
+    Attributes
+    ----------
+    listed : list of dict
+        The listed candidates (JSON ``candidates``): each with its checks (required, available, margin).
+    summary : dict
+        The selection's summary (JSON ``selection``): counts, the selected candidate, advice.
+    ranking : Ranking
+        The evaluated candidates and their order.
+    """
+
+    listed: list[dict[str, Any]]
+    summary: dict[str, Any]
+    ranking: Ranking

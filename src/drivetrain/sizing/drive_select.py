@@ -46,7 +46,7 @@ if TYPE_CHECKING:
     from drivetrain.axis.model import Axis, Margins, MotorData
     from drivetrain.catalog.tables import DriveTable, MotorTable
     from drivetrain.duty.cycle import DutyCycle
-    from drivetrain.sizing.selection import Ranking, Selection
+    from drivetrain.sizing.candidates import Ranking, Selection
 
 
 def catalog_electrical(motor_id: str) -> MotorElectrical:

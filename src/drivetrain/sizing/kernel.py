@@ -317,10 +317,18 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     return mar, out
 
 
+_SENTINEL = -1.0
+"""Stands for NaN in ``_distinct`` (the rows it compares are never negative)."""
+
+
 def _distinct(a: Array) -> tuple[Array, NDArray[np.intp]]:
-    """The distinct rows of ``a`` and, for each row of ``a``, its index among them."""
-    found, at = np.unique(a, axis=0, return_inverse=True)
-    return found, np.asarray(at).ravel()
+    """The distinct rows of ``a`` and, for each row of ``a``, its index among them. NaN (unknown) equals
+    NaN here: ``np.unique`` along an axis keeps every NaN row apart, which for the candidates of a long
+    listing made one "distinct" row per candidate and an outer product of many GB. The rows are
+    dimensions and flags, never negative, so NaN is mapped to -1 for the comparison and back."""
+    key = np.where(np.isnan(a), _SENTINEL, a)
+    found, at = np.unique(key, axis=0, return_inverse=True)
+    return np.where(found == _SENTINEL, _NAN, found), np.asarray(at).ravel()
 
 
 def _fit(sh: Array, fl_m: Array, pi_m: Array, r_bmax: Array, r_bmin: Array, r_fl: Array, r_pi: Array,

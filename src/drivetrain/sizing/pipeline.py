@@ -51,8 +51,8 @@ from drivetrain.sizing.result import SizingResult, brake_check, gearbox_rating_c
 
 if TYPE_CHECKING:
     from drivetrain.motion.cycle import Cycle, Samples
+    from drivetrain.sizing.candidates import Selection
     from drivetrain.sizing.search import Prepared, Tables
-    from drivetrain.sizing.selection import Selection
 
 AxisInput = Axis | dict[str, Any] | str | Path
 ModesStage = Callable[[SizingResult], "dict[str, Any] | None"]

@@ -15,7 +15,7 @@ from drivetrain.sizing.candidates import CHECK_UNITS, MOTOR_CHECKS, Candidates, 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Margins, SelectSpec
     from drivetrain.catalog import GearboxTable, MotorTable
-    from drivetrain.sizing.selection import Ranking
+    from drivetrain.sizing.candidates import Ranking
 
 
 _RATING_NAMES = {"gearbox_peak_torque": "T2B (max acceleration torque)", "gearbox_rated_torque": "T2N (rated torque)",

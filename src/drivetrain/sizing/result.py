@@ -21,7 +21,7 @@ if TYPE_CHECKING:
     import pandas as pd
     from matplotlib.figure import Figure
 
-    from drivetrain.sizing.selection import Ranking
+    from drivetrain.sizing.candidates import Ranking
 
 
 @dataclass

@@ -51,12 +51,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from drivetrain.physics.averages import cubic_mean
-from drivetrain.sizing.candidates import FIT_BIT
+from drivetrain.sizing.candidates import FIT_BIT, Ranking, Selection
 from drivetrain.sizing.checks import shock_factor
 from drivetrain.sizing.hull import fast_demands
 from drivetrain.sizing.selection import (
-    Ranking,
-    Selection,
     catalog_tables,
     closest_failing,
     evaluate,

@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -31,7 +30,17 @@ from numpy.typing import NDArray
 from drivetrain.errors import InputError
 from drivetrain.physics.averages import cubic_mean
 from drivetrain.physics.stage import Stage
-from drivetrain.sizing.candidates import CHECK_UNITS, FIT_BIT, MOTOR_CHECKS, Candidates, Details, closest, column
+from drivetrain.sizing.candidates import (
+    CHECK_UNITS,
+    FIT_BIT,
+    MOTOR_CHECKS,
+    Candidates,
+    Details,
+    Ranking,
+    Selection,
+    closest,
+    column,
+)
 from drivetrain.sizing.checks import running_torque, shock_factor
 from drivetrain.sizing.demand import Demand
 from drivetrain.sizing.envelope import continuous_torque, intermittent_torque, motor_envelopes
@@ -46,55 +55,6 @@ if TYPE_CHECKING:
 
 Array = NDArray[np.float64]
 
-
-@dataclass
-class Ranking:
-    """The evaluated candidates behind a selection's answer: what ``explain``, the drive rule and the
-    candidate's own cycle read (not part of the JSON answer).
-
-    Attributes
-    ----------
-    candidates : Candidates
-        Every evaluated candidate (index k): motor, gearbox slot, worst margin, failed and unknown checks.
-    ranked : numpy.ndarray of int
-        The passing candidates, best first (the objective, then a pair known to assemble first). Where the
-        selection searched only for its first candidate (``listing="selected"``), the candidates it ranked.
-    motors : MotorTable
-        The catalog motors the candidates index (``candidates.motor``).
-    gearboxes : GearboxTable or None
-        The catalog gearbox rows the candidates' slots index; None where direct drive alone was evaluated.
-    best : int or None
-        The selected candidate (after the drive rule), None when no candidate passes.
-    shown : list of int
-        The listed candidates, in the order of the answer's ``candidates``.
-    """
-
-    candidates: Candidates
-    ranked: NDArray[np.intp]
-    motors: MotorTable
-    gearboxes: GearboxTable | None
-    best: int | None = None
-    shown: list[int] = field(default_factory=list)
-
-
-@dataclass
-class Selection:
-    """A catalog selection: the listed candidates and the summary (the ``candidates`` and ``selection``
-    blocks of the JSON answer, docs/axis-file.md) and the ranking they were read from.
-
-    Attributes
-    ----------
-    listed : list of dict
-        The listed candidates (JSON ``candidates``): each with its checks (required, available, margin).
-    summary : dict
-        The selection's summary (JSON ``selection``): counts, the selected candidate, advice.
-    ranking : Ranking
-        The evaluated candidates and their order.
-    """
-
-    listed: list[dict[str, Any]]
-    summary: dict[str, Any]
-    ranking: Ranking
 
 def gearbox_options(gb: GearboxTable | None, allow_direct: bool) -> tuple[Array, Array, NDArray[np.int64],
                                                                           NDArray[np.int64]]:

@@ -189,8 +189,8 @@ def selected_payload(parsed: Any, result: Any, envelopes: list[dict[str, Any]]) 
 
 def size_payload(axis: dict[str, Any]) -> dict[str, Any]:
     """Size an axis mapping and collect what the page draws: the result, the sampled cycle, envelopes."""
-    from drivetrain import size
     from drivetrain.axis.model import parse_axis
+    from drivetrain.dynamics.mechanism_modes import size  # the pipeline with its modes stage
 
     t0 = time.perf_counter()
     parsed = engine(parse_axis, axis)

@@ -14,7 +14,7 @@ from drivetrain.web.payload import engine
 
 def report_job(axis: dict[str, Any], path: str, units: str) -> None:
     """Size the axis and write its report to ``path`` (HTML or PDF by its suffix); run in a worker process."""
-    from drivetrain import size  # the pipeline with its modes stage, as every face
+    from drivetrain.dynamics.mechanism_modes import size  # the pipeline with its modes stage, as every face
     from drivetrain.report import write_report
 
     write_report(engine(size, axis), path, units=units)
