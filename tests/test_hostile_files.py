@@ -461,3 +461,18 @@ def test_both_parsers_keep_the_bounds(python: bool, monkeypatch: pytest.MonkeyPa
         parse("[" + ",".join(["1"] * 600) + "]")
     text = AXIS.read_text(encoding="utf-8")
     assert parse(text) == yaml.safe_load(text)
+
+
+@pytest.mark.parametrize("kind", ["fifo", "device"])
+def test_a_catalog_option_naming_a_fifo_or_a_device_is_refused(kind: str, tmp_path: Path,
+                                                                capsys: pytest.CaptureFixture[str]) -> None:
+    """``--catalog`` naming a FIFO waited for ever and a device was read as zeros: refused at the option."""
+    import os
+
+    target = "/dev/zero"
+    if kind == "fifo":
+        target = str(tmp_path / "fifo")
+        os.mkfifo(target)
+    code, err = cli(["--catalog", target, "catalog", "list"], capsys)
+    assert code == 2 and err.startswith("error: --catalog: must name a regular catalog file")
+    assert "Traceback" not in err

@@ -178,13 +178,19 @@ def use_catalog(path: str | None) -> None:
     if not path:
         return
     import os
+    import stat
 
     from drivetrain.catalog.db import ENV_CATALOG
     from drivetrain.errors import InputError
+    from drivetrain.userfile import check_path
 
+    path = os.path.expanduser(check_path(path, "--catalog"))
     if os.path.isdir(path):
         raise InputError("--catalog", "must name a catalog file (e.g. team.sqlite), not a folder", path)
-    os.environ[ENV_CATALOG] = os.path.abspath(os.path.expanduser(path))
+    if os.path.exists(path) and not stat.S_ISREG(os.stat(path).st_mode):
+        # a device, FIFO or socket: SQLite would read zeros from it, or wait on it for ever
+        raise InputError("--catalog", "must name a regular catalog file, not a device, FIFO or socket", path)
+    os.environ[ENV_CATALOG] = os.path.abspath(path)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
