@@ -9,6 +9,10 @@ import pytest
 @pytest.fixture(autouse=True, scope="session")
 def _data_dir(tmp_path_factory: pytest.TempPathFactory) -> None:
     os.environ.pop("DRIVETRAIN_CATALOG", None)  # a shared user catalog of the machine is never touched
+    # pytest-xdist's workers inherit COLUMNS=80 and LINES=24: the CLI would fit its tables to them, as on an
+    # 80-column terminal; tests see a pipe unless they set COLUMNS themselves (monkeypatch)
+    os.environ.pop("COLUMNS", None)
+    os.environ.pop("LINES", None)
     if "DRIVETRAIN_TEST_KEEP_DATA_DIR" not in os.environ:
         os.environ["DRIVETRAIN_DATA_DIR"] = str(Path(tmp_path_factory.mktemp("drivetrain-data")))
     os.environ["DRIVETRAIN_CACHE_DIR"] = str(Path(tmp_path_factory.mktemp("drivetrain-cache")))
