@@ -429,10 +429,11 @@ def _resume_rows(study: Study, out: Path) -> list[dict[str, Any]]:
     return [{str(k): v for k, v in r.items()} for r in df.to_dict("records")]
 
 
-def _run_dask(plan: Plan, todo: list[tuple[int, tuple[Any, ...]]], batch: int, address: str | None,
-              workers: int | None, collect: Callable[[Iterable[dict[str, Any]]], None]) -> None:
+def connect(address: str | None, workers: int | None) -> tuple[Any, Any]:
+    """A Dask client (and its embedded ``LocalCluster`` of ``workers`` processes, or None when ``address``
+    names a scheduler to connect to): the set-up of every study run on Dask."""
     import dask
-    from distributed import Client, LocalCluster, as_completed
+    from distributed import Client, LocalCluster
 
     cluster = None
     if address is None:
@@ -461,6 +462,14 @@ def _run_dask(plan: Plan, todo: list[tuple[int, tuple[Any, ...]]], batch: int, a
             client = Client(address, timeout=CONNECT_TIMEOUT)
         except OSError as exc:
             raise InputError("--scheduler", f"cannot reach the Dask scheduler ({exc})", address) from None
+    return client, cluster
+
+
+def _run_dask(plan: Plan, todo: list[tuple[int, tuple[Any, ...]]], batch: int, address: str | None,
+              workers: int | None, collect: Callable[[Iterable[dict[str, Any]]], None]) -> None:
+    from distributed import as_completed
+
+    client, cluster = connect(address, workers)
     try:
         n_workers = max(len(client.scheduler_info().get("workers", {})), 1)
         # small studies: enough tasks for every worker

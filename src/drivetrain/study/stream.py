@@ -199,27 +199,11 @@ def _dask(plan: Plan, chunks: Iterator[list[tuple[int, tuple[Any, ...]]]], addre
           workers: int | None, collect: Callable[[list[dict[str, Any]]], None]) -> None:
     """Run the chunks on a Dask cluster (embedded, or at ``address``), at most
     ``INFLIGHT_PER_WORKER`` per worker queued at once."""
-    import logging
-    import sys
+    from distributed import as_completed
 
-    import dask
-    from distributed import Client, LocalCluster, as_completed
+    from drivetrain.study.runner import connect, run_packed
 
-    from drivetrain.study.runner import CONNECT_TIMEOUT, EMBEDDED_CONFIG, _keep_freed_memory, run_packed
-
-    cluster = None
-    if address is None:
-        with dask.config.set(EMBEDDED_CONFIG):
-            cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
-                                   dashboard_address=None, silence_logs=logging.ERROR)
-        client = Client(cluster)
-        if sys.platform.startswith("linux"):
-            client.run(_keep_freed_memory)
-    else:
-        try:
-            client = Client(address, timeout=CONNECT_TIMEOUT)
-        except OSError as exc:
-            raise InputError("--scheduler", f"cannot reach the Dask scheduler ({exc})", address) from None
+    client, cluster = connect(address, workers)
     try:
         n_workers = max(len(client.scheduler_info().get("workers", {})), 1)
         [plan_f] = client.scatter([plan], broadcast=True)
