@@ -419,3 +419,77 @@ def test_each_gantry_share_obeys_the_drive_rule(walk_catalog: None) -> None:
         assert share.selection["selected"]["drive"]["status"] == "ok"
         assert [p["motor"] for p in share.selection["drive_passed_over"]] == ["TC-02"]
         assert share.ok
+
+
+# ---------------------------------------------------------------------------------- by vendor pairing
+
+
+class _Cycle:
+    """A motor-shaft cycle of given torques (equal weights): what the pairing rule reads of a DutyCycle."""
+
+    def __init__(self, torque: list[float]) -> None:
+        self._t = np.asarray(torque, dtype=float)
+        self.weights = np.full(self._t.size, 1.0)
+        self.period = float(self._t.size)
+
+    def motor_torque(self, inertia: float) -> np.ndarray:
+        return self._t
+
+
+def test_roll_example_answers_its_motor_with_the_paired_drive_by_pairing() -> None:
+    """examples/roll.yaml selects HG-KR053, which has no torque constant: the MR-J4 amplifier the pairing table
+    names for it (drives_pairing.csv, a third-party transcription) is judged by the pairing, and flagged."""
+    r = size(yaml.safe_load((Path(__file__).parents[1] / "examples" / "roll.yaml").read_text(encoding="utf-8")))
+    pick = r.selection["selected"]
+    assert pick["motor"] == "HG-KR053"
+    d = pick["drive"]
+    assert catalog.get("HG-KR053")["torque_constant_Nm_per_A"] is None
+    assert d["status"] == "ok" and d["ok"] is True and d["judged_by"] == "vendor pairing"
+    assert d["id"] == "MR-J4-10B" and d["candidates"] == catalog.drive_pairs()["HG-KR053"]
+    assert d["unverified"] is True and "hdauto-chatbot" in d["unverified_reason"]
+    checks = {c["name"]: c for c in d["checks"]}
+    row = catalog.get("HG-KR053")
+    assert checks["drive_continuous_by_pairing"]["available"] == pytest.approx(row["rated_torque_Nm"])
+    assert checks["drive_peak_by_pairing"]["available"] == pytest.approx(row["peak_torque_Nm"])
+    assert all(c["ok"] for c in d["checks"])
+
+
+def test_pairing_covers_only_the_motor_ratings() -> None:
+    """Within the rated (RMS) and peak torque the paired drive passes; beyond either the pairing says nothing."""
+    from drivetrain.sizing.drive_select import pick_drive
+
+    rated, peak = 0.16, 0.56  # HG-KR053 (motors_ac_servo.csv)
+    light = _Cycle([0.1, -0.1, 0.3, 0.0, 0.0, 0.0, 0.0, 0.0])  # RMS 0.117 N m, peak 0.3 N m
+    within, _ = pick_drive(light, 0.0, "HG-KR053", "Mitsubishi Electric", 200.0, rated, peak)  # type: ignore[arg-type]
+    assert within["status"] == "ok" and within["judged_by"] == "vendor pairing" and within["id"] == "MR-J4-10B"
+    hot, drive = pick_drive(_Cycle([0.2, -0.2, 0.2, 0.2]), 0.0, "HG-KR053", "Mitsubishi Electric", 200.0,  # type: ignore[arg-type]
+                            rated, peak)
+    assert hot["status"] == "unknown" and hot["ok"] is None and "beyond what the pairing states" in hot["reason"]
+    assert {c["name"]: c["ok"] for c in hot["checks"]} == {"drive_continuous_by_pairing": False,
+                                                          "drive_peak_by_pairing": True}
+    assert drive is not None and drive.name == "MR-J4-10B"
+    over, _ = pick_drive(_Cycle([0.1, 0.6, 0.0, 0.0]), 0.0, "HG-KR053", "Mitsubishi Electric", 200.0,  # type: ignore[arg-type]
+                         rated, peak)
+    assert over["status"] == "unknown"
+
+
+def test_a_vendor_pairing_is_not_flagged_and_no_pairing_stays_unknown(monkeypatch: pytest.MonkeyPatch) -> None:
+    from drivetrain.sizing.drive_select import pick_drive
+
+    sources = dict(catalog.drive_pair_sources())
+    sources[("HG-KR053", "MR-J4-10B")] = {"source": "vendor table", "source_url": "", "verified": True}
+    monkeypatch.setattr(catalog, "drive_pair_sources", lambda: sources)
+    block, _ = pick_drive(_Cycle([0.1, 0.0]), 0.0, "HG-KR053", "Mitsubishi Electric", 200.0, 0.16, 0.56)  # type: ignore[arg-type]
+    assert block["status"] == "ok" and "unverified" not in block
+    # without a pairing entry the MR-J4 drives are offered by vendor and voltage: no torque constant, unknown
+    monkeypatch.setattr(catalog, "drive_pairs", lambda: {})
+    block, _ = pick_drive(_Cycle([0.1, 0.0]), 0.0, "HG-KR053", "Mitsubishi Electric", 200.0, 0.16, 0.56)  # type: ignore[arg-type]
+    assert block["status"] == "unknown" and "judged_by" not in block and "torque constant" in block["reason"]
+
+
+def test_shipped_pairings_say_whether_they_are_the_vendors() -> None:
+    sources = catalog.drive_pair_sources()
+    assert sources[("1FT7044-5AK7", "6SL312x-xTE21-0AAx")]["verified"] is True
+    third = [k for k, v in sources.items() if not v["verified"]]
+    assert len(third) == 72 and all("hdauto-chatbot" in sources[k]["source"] for k in third)
+    assert {k for k in sources} == {(m, d) for m, ds in catalog.drive_pairs().items() for d in ds}

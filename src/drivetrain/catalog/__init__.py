@@ -221,6 +221,14 @@ def drive_pairs() -> dict[str, list[str]]:
         return rd.drive_pairs()
 
 
+@_cached("drive_pair_sources")
+def drive_pair_sources() -> dict[tuple[str, str], dict[str, Any]]:
+    """Each pairing's provenance: (motor id, drive id) -> ``source``, ``source_url`` and ``verified`` (False:
+    a third-party transcription, data/SOURCES.md "Output currents from a third-party transcription")."""
+    with db.reader() as rd:
+        return rd.drive_pair_sources()
+
+
 def get(id: str) -> dict[str, Any]:
     """One motor, gearbox or drive by id, as a dict: SI values keyed with their unit, plus
     ``table``, ``origin`` ("builtin" or "user"), ``source``, ``notes``, ``derived`` (fields not

@@ -169,7 +169,7 @@ def _build(path: Path, stamp: str, files: str | None = None) -> None:
             for shipped, rows in shipped_rows():
                 insert_rows(conn, "main", shipped.table, rows)
             conn.executemany("INSERT INTO rejects VALUES (?, ?, ?, ?, ?, ?)", _rejects())
-            conn.executemany("INSERT INTO drive_pairs VALUES (?, ?, ?, ?)", _pairs())
+            conn.executemany("INSERT INTO drive_pairs VALUES (?, ?, ?, ?, ?)", _pairs())
             conn.executemany(
                 "INSERT INTO meta VALUES (?, ?)",
                 [
@@ -243,7 +243,7 @@ def _pairs() -> Iterator[tuple[str, ...]]:
     import io
 
     for r in csv.DictReader(io.StringIO(shipped_text(PAIRING_FILE))):
-        yield r["motor_id"], r["drive_id"], r["source"], r["source_url"]
+        yield r["motor_id"], r["drive_id"], r["source"], r["source_url"], r["verified"]
 
 
 def _rejects() -> Iterator[tuple[str, ...]]:
@@ -484,6 +484,13 @@ class Reader:
         for mid, did in self.conn.execute("SELECT motor_id, drive_id FROM builtin.drive_pairs ORDER BY rowid"):
             out.setdefault(mid, []).append(did)
         return out
+
+    def drive_pair_sources(self) -> dict[tuple[str, str], dict[str, Any]]:
+        """Each shipped pairing's provenance: (motor id, drive id) -> source, source_url and verified
+        (False where the pairing is a third-party transcription, data/drives_pairing.csv)."""
+        sql = "SELECT motor_id, drive_id, source, source_url, verified FROM builtin.drive_pairs ORDER BY rowid"
+        return {(m, d): {"source": s, "source_url": u, "verified": v == "yes"}
+                for m, d, s, u, v in self.conn.execute(sql)}
 
     def curve_sources(self, motor_id: str) -> list[str]:
         """The ``source`` of each curve point of one motor, by speed (as :meth:`curves` orders them)."""

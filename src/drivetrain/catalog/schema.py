@@ -445,7 +445,9 @@ def ddl() -> list[str]:
         statements.append(f"CREATE TABLE {spec.sql} (\n  {cols},\n  CHECK (kind IN ({kinds}))\n)")
     cols = ",\n  ".join(f"{f.column} {sql_type(f)}" for f in CURVE.fields)
     statements.append(f"CREATE TABLE {CURVE.sql} (\n  {cols},\n  PRIMARY KEY (motor_id, speed_rad_s)\n)")
-    statements.append("CREATE TABLE drive_pairs (motor_id TEXT, drive_id TEXT, source TEXT, source_url TEXT)")
+    statements.append(
+        "CREATE TABLE drive_pairs (motor_id TEXT, drive_id TEXT, source TEXT, source_url TEXT, verified TEXT)"
+    )
     statements.append(f"CREATE TABLE history ({', '.join(c + ' TEXT' for c in HISTORY_COLUMNS)})")
     statements.append(
         "CREATE TABLE rejects (target_file TEXT, id TEXT, vendor TEXT, reason TEXT, source TEXT, source_values TEXT)"

@@ -19,8 +19,17 @@ The rules (docs/checks.md, "Drive selection"):
   a voltage missing on either side matches, and the answer says so) and, where a drive lists the
   motor series it runs (``motor_series``), whose list holds the motor's series;
 * smallest: least continuous current, then least peak current;
-* a motor without a torque constant, or drives without current ratings, give ``status: unknown``
-  with the reason; no candidate drive at all gives ``status: none``;
+* by vendor pairing: where the pairing table names the motor's drives and the currents cannot be
+  checked (the motor has no torque constant, or no paired drive has both current ratings), the
+  smallest paired drive is judged by the pairing itself. The vendor states that drive for the motor,
+  so it delivers the motor's rated torque continuously and its peak torque momentarily: the drive
+  passes when the motor's RMS torque over the cycle <= its rated torque and its peak torque <= its
+  peak torque (``judged_by: vendor pairing``, flagged unverified where the pairing is a third-party
+  transcription); beyond those ratings it is ``unknown`` (the pairing says nothing there). A drive
+  that only lists the motor series it runs (``motor_series``) names no drive size and is not a
+  pairing;
+* a motor without a torque constant, or drives without current ratings, and no pairing, give
+  ``status: unknown`` with the reason; no candidate drive at all gives ``status: none``;
 * the selected motor is the best-ranked passing one whose drive can be ordered (``orderable``, run
   by ``size`` whether or not the post-pass is): one whose drive fails is passed over, and under
   ``unknown: fail`` so is one whose drive cannot be checked; the answer names them and why.
@@ -39,7 +48,7 @@ import numpy as np
 from drivetrain.axis.electrical import DriveData, MotorElectrical, drive_from_catalog_row, electrical_from_catalog_row
 from drivetrain.errors import InputError
 from drivetrain.physics import drive_overload, motor_electrical
-from drivetrain.sizing.electrical import _drive_block, _regen_block, dc_bus, electrical_answer
+from drivetrain.sizing.electrical import _check, _drive_block, _regen_block, dc_bus, electrical_answer
 from drivetrain.sizing.voltage_class import stated_supply, voltage_class_check
 
 if TYPE_CHECKING:
@@ -110,6 +119,10 @@ class DriveMemo:
         return found
 
 
+PAIRING_BASIS = "vendor pairing table"
+"""The ``basis`` of a drive block whose candidates are the pairing table's (``catalog.drive_pairs``)."""
+
+
 def _prefixes(text: object) -> tuple[str, ...]:
     """A ``motor_series`` text as case-folded prefixes (space- or comma-separated; empty: not stated)."""
     return tuple(p.casefold() for p in re.split(r"[\s,]+", str(text or "")) if p)
@@ -125,7 +138,7 @@ def _pool(motor_id: str, vendor: str, voltage: float,
     memo = DriveMemo() if memo is None else memo
     pairs = catalog.drive_pairs().get(motor_id)
     if pairs:
-        return list(memo.drive_data(catalog.drives(ids=pairs))), "vendor pairing table", ""
+        return list(memo.drive_data(catalog.drives(ids=pairs))), PAIRING_BASIS, ""
     try:
         table = catalog.drives(vendor=vendor) if vendor else catalog.drives()
     except InputError:  # the catalog has no drive of this vendor
@@ -177,6 +190,8 @@ def prospect(motor_id: str, vendor: str, voltage: float, given: DriveData | None
         base.update({"status": "fails", "id": given.name if given else None, "ok": False, "checks": [],
                      "reason": f"the given drive runs only the motor series {given.motor_series if given else ''} "
                                f"(its motor_series), not {series or 'a motor of no stated series'}"})
+    elif given is None and basis == PAIRING_BASIS and pool:
+        pass  # checkable: by the currents where both are known, else by the pairing (pick_drive)
     elif elec.kt is None and elec.ke is None:
         base.update({"status": "unknown", "id": first, "ok": None,
                      "reason": f"the catalog has no torque constant for {motor_id}: its current, and so the drive, "
@@ -209,7 +224,9 @@ def pick_drive(cycle: DutyCycle, inertia: float, motor_id: str, vendor: str, vol
     if "status" in base:
         named = [d for d in pool if d.name == base["id"]]
         return base, (named[0] if named else None)
-    assert current is not None
+    checkable = [d for d in pool if math.isfinite(d.continuous_current) and math.isfinite(d.peak_current)]
+    if current is None or not checkable:  # a paired motor whose current cannot be checked (prospect)
+        return _by_pairing(base, pool, cycle, inertia, motor_id, rated, peak)
     i_rms, i_peak = base["motor_rms_current_A"], base["motor_peak_current_A"]
     rated_drives = sorted((d for d in pool if math.isfinite(d.continuous_current) and math.isfinite(d.peak_current)),
                           key=lambda d: (d.continuous_current, d.peak_current))
@@ -228,6 +245,58 @@ def pick_drive(cycle: DutyCycle, inertia: float, motor_id: str, vendor: str, vol
             if given is None and chosen.name in memo.unverified else {})
     return {**base, **block, "status": status, "vendor": chosen.vendor, "supply_voltage_V": chosen.supply_voltage,
             "peak_time_s": chosen.peak_time, **flag}, chosen
+
+
+def _by_pairing(base: dict[str, Any], pool: list[DriveData], cycle: DutyCycle, inertia: float, motor_id: str,
+                rated: float, peak: float) -> tuple[dict[str, Any], DriveData]:
+    """The drive block of a motor judged by its vendor pairing (docs/checks.md, "Drive selection").
+
+    The pairing table names the drive(s) the vendor states for the motor; a stated drive delivers the
+    motor's rated torque continuously and its peak torque momentarily. So the drive's current checks
+    pass when the motor's RMS torque [N m] over the cycle (the same weighted RMS as the currents,
+    ``drive_overload.rms_current``) <= the rated torque and its peak torque <= the motor's peak torque;
+    beyond either the pairing says nothing and the block is ``unknown``. The smallest paired drive
+    (least continuous, then peak current, unknown last; the table's order on equal ratings) is named.
+    Source of the pairings: data/drives_pairing.csv (data/SOURCES.md, "Drives").
+    """
+    from drivetrain import catalog
+
+    def size(d: DriveData) -> tuple[float, float]:
+        return (d.continuous_current if math.isfinite(d.continuous_current) else math.inf,
+                d.peak_current if math.isfinite(d.peak_current) else math.inf)
+
+    chosen = min(pool, key=size)
+    torque = np.abs(cycle.motor_torque(inertia))
+    t_rms = float(drive_overload.rms_current(torque, cycle.weights, cycle.period))
+    t_peak = float(torque.max()) if torque.size else 0.0
+    pair = catalog.drive_pair_sources().get((motor_id, chosen.name), {})
+    third_party = pair.get("verified") is False
+    says = f"{chosen.name} is the drive the pairing table states for {motor_id}" + (
+        " (a third-party transcription, not verified)" if third_party else "")
+    checks = [_check("drive_continuous_by_pairing", t_rms, rated, "N*m",
+                     f"{says}: it delivers the motor's rated torque continuously"),
+              _check("drive_peak_by_pairing", t_peak, peak, "N*m",
+                     f"{says}: it delivers the motor's peak torque momentarily")]
+    ok = all(c.ok for c in checks) and math.isfinite(rated) and math.isfinite(peak)
+    block: dict[str, Any] = {**base, "id": chosen.name, "vendor": chosen.vendor, "judged_by": "vendor pairing",
+                             "pairing_source": pair.get("source"), "checks": [c.to_dict() for c in checks]}
+    for key, value in (("continuous_current_A", chosen.continuous_current), ("peak_current_A", chosen.peak_current)):
+        if math.isfinite(value):
+            block[key] = value
+    why = ("the catalog has no torque constant for " + motor_id if "motor_rms_current_A" not in base
+           else "no paired drive has both current ratings")
+    if ok:
+        block.update({"status": "ok", "ok": True,
+                      "reason": f"by vendor pairing ({why}): the cycle stays within the motor's rated and peak "
+                                "torque, which the paired drive delivers"})
+    else:
+        block.update({"status": "unknown", "ok": None,
+                      "reason": f"{why}, and the cycle needs more than the motor's rated or peak torque, beyond "
+                                "what the pairing states: the drive cannot be judged by its pairing"})
+    block.update({"supply_voltage_V": chosen.supply_voltage, "peak_time_s": chosen.peak_time})
+    if third_party:
+        block.update({"unverified": True, "unverified_reason": f"motor-drive pairing from {pair.get('source')}"})
+    return block, chosen
 
 
 def _motor_voltage(motors: MotorTable, m: int) -> float:
