@@ -128,3 +128,24 @@ def test_a_schema_4_user_catalog_gains_the_brake_and_ratings_source_columns(tmp_
     finally:
         conn.close()
     assert {"brake_holding_torque_Nm", "brake_code", "brake_source"} <= have and version == "5"
+
+
+def test_1ft7044_brake_variant_as_printed_in_table_4_8() -> None:
+    """Siemens 1FT7 configuration manual (PFT7S) 01/2009, Table 4-8 p. 90: J with brake 6.3, without 5.43
+    x10^-4 kg m^2; weight with brake 8.1 kg, without 7.2 kg. No holding torque or brake code on that page."""
+    r = BRAKES["1FT7044-5AK7"]
+    assert num(r["rotor_inertia_brake_kgm2"]) == pytest.approx(6.3e-4, rel=1e-12)
+    assert num(r["mass_brake_kg"]) == pytest.approx(8.1)
+    assert r["brake_holding_torque_Nm"] == "" and r["brake_code"] == ""
+    assert "Table 4-8" in r["brake_source"] and "p. 90" in r["brake_source"]
+    row = catalog.get("1FT7044-5AK7")
+    assert row["rotor_inertia_brake_kgm2"] == pytest.approx(6.3e-4) and row["mass_kg"] == pytest.approx(7.2)
+    assert num(r["mass_brake_kg"]) > row["mass_kg"] and row["rotor_inertia_brake_kgm2"] > row["rotor_inertia_kgm2"]
+
+
+def test_brake_mass_column_is_read_and_refuses_a_bad_value(monkeypatch: pytest.MonkeyPatch) -> None:
+    assert side_tables.motor_brakes()["1FT7044-5AK7"]["mass_brake_kg"] == "8.1"
+    text = side_tables.shipped_text("motor_brakes.csv").replace(",8.1,", ",-8.1,")
+    monkeypatch.setattr(side_tables, "shipped_text", lambda name: text)
+    with pytest.raises(RuntimeError, match="mass_brake_kg"):
+        side_tables.motor_brakes()

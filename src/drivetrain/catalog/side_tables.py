@@ -28,14 +28,24 @@ def motor_brakes() -> dict[str, dict[str, str]]:
     import io
 
     reader = csv.DictReader(io.StringIO(shipped_text(BRAKES_FILE)))
-    if reader.fieldnames is None or set(reader.fieldnames) != {"id", *_BRAKE_COLUMNS}:
-        raise RuntimeError(f"{BRAKES_FILE}: columns must be id and {', '.join(_BRAKE_COLUMNS)}")
+    if reader.fieldnames is None or set(reader.fieldnames) != {"id", *_BRAKE_COLUMNS, *BRAKE_ONLY_COLUMNS}:
+        raise RuntimeError(f"{BRAKES_FILE}: columns must be id and "
+                           f"{', '.join([*_BRAKE_COLUMNS, *BRAKE_ONLY_COLUMNS])}")
     out: dict[str, dict[str, str]] = {}
     for r in reader:
         if r["id"] in out or not r["brake_source"].strip():
             raise RuntimeError(f"{BRAKES_FILE}: {r['id']}: listed twice or without brake_source")
+        for column in BRAKE_ONLY_COLUMNS:
+            text = (r.get(column) or "").strip()
+            if text and not float(text) > 0.0:
+                raise RuntimeError(f"{BRAKES_FILE}: {r['id']}: {column} {text} must be > 0")
         out[r["id"]] = {k: v.strip() for k, v in r.items() if k != "id" and v and v.strip()}
     return out
+
+
+BRAKE_ONLY_COLUMNS = ("mass_brake_kg",)
+"""Columns of BRAKES_FILE read from it directly and not merged into the motor rows (the motors table has no
+field for them): the with-brake motor mass [kg] as the vendor prints it."""
 
 
 def merge_brake(values: dict[str, Any], brake: dict[str, str]) -> None:
