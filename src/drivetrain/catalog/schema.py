@@ -388,6 +388,10 @@ BRAKES_FILE = "motor_brakes.csv"
 """Holding-brake variants of shipped motors, by id: with-brake inertia (kg*m^2, the with-brake total), holding torque
 (N*m), the brake variant's order code and the source; merged into the motor rows when the shipped database is built
 (data/SOURCES.md, "Brake variants")."""
+ORDER_CODES_FILE = "order_codes.csv"
+"""The open positions of shipped order codes (an ``x`` the buyer must choose), by id: position (1-based character
+index), what the vendor's key says it means and its options where read, and the source (data/SOURCES.md,
+"Order-code positions"). Read by ``side_tables.order_code_positions``, not built into the database."""
 REJECTS_FILE = "rejects.csv"
 MOTOR_DOCUMENTS_FILE = "motor_documents.csv"
 """Vendor documents of shipped motors, by id: the document, section, page, URL, ``verified`` and the

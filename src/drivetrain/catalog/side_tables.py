@@ -10,7 +10,13 @@ from importlib import resources
 from typing import Any
 
 from drivetrain.catalog.derive import DERIVED_KT
-from drivetrain.catalog.schema import BRAKES_FILE, DOCUMENT_FIELDS, ELECTRICAL_FILE, MOTOR_DOCUMENTS_FILE
+from drivetrain.catalog.schema import (
+    BRAKES_FILE,
+    DOCUMENT_FIELDS,
+    ELECTRICAL_FILE,
+    MOTOR_DOCUMENTS_FILE,
+    ORDER_CODES_FILE,
+)
 
 
 def shipped_text(filename: str) -> str:
@@ -59,6 +65,32 @@ def merge_brake(values: dict[str, Any], brake: dict[str, str]) -> None:
                                                                                                rel_tol=1e-9)):
             raise RuntimeError(f"{BRAKES_FILE}: {values.get('id')}: {name} {value} differs from its file's {have}")
         values[name] = value
+
+
+_ORDER_CODE_COLUMNS = ("id", "position", "printed_as", "meaning", "options", "source", "note")
+
+
+def order_code_positions() -> dict[str, list[dict[str, Any]]]:
+    """The open positions of shipped order codes by id (ORDER_CODES_FILE; data/SOURCES.md, "Order-code
+    positions"): each ``position`` (1-based character index into the id, which must hold ``printed_as`` there),
+    ``meaning`` and ``options`` (``options`` empty where the vendor's key was not read: the buyer chooses from
+    the vendor's catalogue), ``source`` and ``note``; positions in order."""
+    import csv
+    import io
+
+    reader = csv.DictReader(io.StringIO(shipped_text(ORDER_CODES_FILE)))
+    if reader.fieldnames is None or tuple(reader.fieldnames) != _ORDER_CODE_COLUMNS:
+        raise RuntimeError(f"{ORDER_CODES_FILE}: columns must be {', '.join(_ORDER_CODE_COLUMNS)}")
+    out: dict[str, list[dict[str, Any]]] = {}
+    for r in reader:
+        pos = int(r["position"])
+        if not (1 <= pos <= len(r["id"]) and r["id"][pos - 1] == r["printed_as"]) or not r["source"].strip():
+            raise RuntimeError(f"{ORDER_CODES_FILE}: {r['id']}: position {pos} does not hold {r['printed_as']!r}, "
+                               "or the row has no source")
+        out.setdefault(r["id"], []).append({**{k: v.strip() for k, v in r.items() if k != "id"}, "position": pos})
+    for rows in out.values():
+        rows.sort(key=lambda p: p["position"])
+    return out
 
 
 def motor_documents() -> dict[str, dict[str, Any]]:
