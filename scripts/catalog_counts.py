@@ -55,8 +55,22 @@ def tables() -> str:
         derived = sum(bool(r.get("derived")) for r in rows)
         out.append(f"| {name} | {kind} | {len(rows)} | {len(given)} | {by_rule} | {len(rows) - len(given)} "
                    f"| {derived} |")
-    out += ["", *_drive_currents(rows_of["drive"])]
+    out += ["", *_drive_currents(rows_of["drive"]), "", *_pairings()]
     return "\n".join(out)
+
+
+def _pairings() -> list[str]:
+    """The stated motor-drive pairings (drives_pairing.csv) by source: a vendor document or a third-party
+    transcription (flagged unverified); a paired motor without a torque constant is judged by its pairing."""
+    from drivetrain.catalog import db
+
+    with db.reader() as rd:
+        sources = rd.drive_pair_sources()
+    out = ["| pairings stated by | pairs | motors |", "|---|---:|---:|"]
+    for label, verified in (("the vendor's document", True), ("a third-party transcription (unverified)", False)):
+        pairs = [k for k, v in sources.items() if v["verified"] is verified]
+        out.append(f"| {label} | {len(pairs)} | {len({m for m, _ in pairs})} |")
+    return out
 
 
 def _drive_currents(drives: list[dict[str, Any]]) -> list[str]:

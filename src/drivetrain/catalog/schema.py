@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-DATA_VERSION = "2026.11-5"
+DATA_VERSION = "2026.11-6"
 """Version of the shipped data files; the cached database is rebuilt when it changes."""
 
 SCHEMA_VERSION = 5
