@@ -18,10 +18,23 @@ def test_every_placeholder_of_a_shipped_id_has_a_position_row() -> None:
     for rid in open_ids:
         assert [p["position"] for p in positions[rid]] == [k + 1 for k, ch in enumerate(rid) if ch == "x"]
     assert set(positions) <= ids
-    for rows in positions.values():
-        for p in rows:
-            assert "Table 4-8" in p["source"] and p["meaning"] and p["note"]
-            assert p["options"] == ""  # the vendor's key was not read: nothing invented
+    for p in positions["6SL312x-xTE21-0AAx"]:
+        assert "Table 4-8" in p["source"] and p["meaning"] == "not read" and p["note"]
+        assert p["options"] == ""  # the vendor's key was not read: nothing invented
+
+
+def test_the_omron_rows_naming_two_models_list_both_letters() -> None:
+    """``R88M-K05030H/T``: the shipped row describes the H and the T model; the order sheet chooses one."""
+    positions = side_tables.order_code_positions()
+    with db.reader() as rd:
+        ids = {str(r["id"]) for spec in ROW_TABLES for r in rd.rows(spec) if r.get("origin", "builtin") == "builtin"}
+    both = {i for i in ids if i.endswith("H/T")}
+    assert len(both) == 14 and both <= set(positions)
+    for rid in both:
+        [p] = positions[rid]
+        assert p["position"] == len(rid) - 2 and p["printed_as"] == "H/T" and p["options"] == "H; T"
+        assert "omron-g5" in p["source"] and "p. 3-55" in p["source"]
+    assert not any(i.endswith("T/T") and i in positions for i in ids)  # not explained by the page: left out
 
 
 def test_a_row_pointing_at_a_fixed_character_is_refused(monkeypatch: pytest.MonkeyPatch) -> None:

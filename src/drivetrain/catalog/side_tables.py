@@ -72,7 +72,8 @@ _ORDER_CODE_COLUMNS = ("id", "position", "printed_as", "meaning", "options", "so
 
 def order_code_positions() -> dict[str, list[dict[str, Any]]]:
     """The open positions of shipped order codes by id (ORDER_CODES_FILE; data/SOURCES.md, "Order-code
-    positions"): each ``position`` (1-based character index into the id, which must hold ``printed_as`` there),
+    positions"): each ``position`` (1-based character index into the id, where ``printed_as`` must start: an
+    ``x`` the buyer chooses, or the alternatives the row names, e.g. ``H/T``),
     ``meaning`` and ``options`` (``options`` empty where the vendor's key was not read: the buyer chooses from
     the vendor's catalogue), ``source`` and ``note``; positions in order."""
     import csv
@@ -83,8 +84,8 @@ def order_code_positions() -> dict[str, list[dict[str, Any]]]:
         raise RuntimeError(f"{ORDER_CODES_FILE}: columns must be {', '.join(_ORDER_CODE_COLUMNS)}")
     out: dict[str, list[dict[str, Any]]] = {}
     for r in reader:
-        pos = int(r["position"])
-        if not (1 <= pos <= len(r["id"]) and r["id"][pos - 1] == r["printed_as"]) or not r["source"].strip():
+        pos, printed = int(r["position"]), r["printed_as"]
+        if not (printed and pos >= 1 and r["id"][pos - 1:pos - 1 + len(printed)] == printed) or not r["source"].strip():
             raise RuntimeError(f"{ORDER_CODES_FILE}: {r['id']}: position {pos} does not hold {r['printed_as']!r}, "
                                "or the row has no source")
         out.setdefault(r["id"], []).append({**{k: v.strip() for k, v in r.items() if k != "id"}, "position": pos})
