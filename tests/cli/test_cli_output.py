@@ -12,8 +12,8 @@ from pathlib import Path
 import pytest
 
 from drivetrain.cli.sizing import CANDIDATE_COLUMNS, _pct
-from drivetrain.cli.tables import Col, _frame, layout
 from drivetrain.report.display import ZERO_TOLERANCE, snap_zero, snapped_metrics
+from drivetrain.terminal import Col, _frame, layout
 
 ROOT = Path(__file__).resolve().parents[2]
 

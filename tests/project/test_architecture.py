@@ -19,6 +19,7 @@ PACKAGE = Path(__file__).resolve().parents[2] / "src" / "drivetrain"
 # Lower number = lower layer. A module may import its own layer's siblings and anything below.
 LAYERS: dict[str, int] = {
     "errors": 0, "units": 0, "fields": 0, "unit_cache": 0, "jit": 0, "files": 0, "version": 0, "userfile": 0,
+    "terminal": 0,
     "physics": 1, "motion": 1, "catalog": 1,
     "axis": 2,
     "duty": 3,

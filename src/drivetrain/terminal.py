@@ -1,10 +1,15 @@
-"""How the CLI prints its tables and lines: whole cells in a pipe, fitted to the width on a terminal.
+"""How the command line prints its tables and lines: whole cells in a pipe, fitted to the width on a terminal.
+
+Every table ``drivetrain`` prints goes through :func:`print_table`: the sizing and analysis tables
+(``cli/``) and those of the sub-commands that live with their subsystem (``catalog list``, ``show``,
+``check``, ``history``). It sits in the base layer so that each of them may use it.
 
 - Not a terminal (a pipe, a file) and ``COLUMNS`` not set: every table is as wide as its widest cells
   and every line as long as its text; nothing is wrapped or cut.
 - A terminal, or ``COLUMNS`` set: the tables fit that width (``COLUMNS`` wins over the terminal's own
   size). A column of numbers is never narrower than its widest cell. To fit, first the text columns
-  wrap at spaces, then a column marked ``abbreviate`` (the vendor) is shortened with "…", then the
+  wrap at spaces (a ``fold`` column also inside a word longer than it, such as a web address), then a
+  column marked ``abbreviate`` (the vendor) is shortened with "…", then the
   columns with a ``drop`` rank are left out, lowest rank first (the order is in docs/architecture.md,
   "Terminal output"); a note under the table names what was left out. A table that still does not
   fit is printed whole, wider than the terminal (the terminal wraps its lines), never cut.
@@ -18,22 +23,32 @@ import os
 import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from rich.console import JustifyMethod
 
 ABBREVIATED_WIDTH = 8
 """Narrowest an ``abbreviate`` column gets on a terminal (its cells end in "…" beyond that)."""
+FOLDED_WIDTH = 20
+"""Narrowest a ``fold`` column gets on a terminal (a longer word continues on the next line)."""
 
 
 @dataclass(frozen=True)
 class Col:
     """A table column: ``number`` cells are never wrapped or cut; ``drop`` ranks the columns left out to
-    fit a terminal (1 first; None: always shown); ``abbreviate`` text may end in "…" to fit."""
+    fit a terminal (1 first; None: always shown); ``abbreviate`` text may end in "…" to fit; ``fold``
+    text (sentences with a web address or a path) may break a word longer than the column across lines,
+    every character printed; ``style`` is rich's style of its cells (colour and weight only: the
+    characters are the same)."""
 
     name: str
     right: bool = False
     number: bool = False
     drop: int | None = None
     abbreviate: bool = False
+    fold: bool = False
+    style: str | None = None
 
 
 def fitted_width() -> int | None:
@@ -81,7 +96,7 @@ def _lines(cell: str) -> list[str]:
 def _widths(col: Col, cells: Sequence[str]) -> tuple[int, int]:
     """(narrowest, natural) width of a column: a number column's narrowest is its widest cell (its
     header may wrap at spaces); a text column's is its longest word (the header's too), or
-    ``ABBREVIATED_WIDTH`` when it may be shortened."""
+    ``ABBREVIATED_WIDTH`` when it may be shortened, or at most ``FOLDED_WIDTH`` when its words may fold."""
     from rich.cells import cell_len
 
     lines = [ln for c in cells for ln in _lines(c)]
@@ -92,6 +107,8 @@ def _widths(col: Col, cells: Sequence[str]) -> tuple[int, int]:
     longest = max([header_word, *(cell_len(w) for ln in lines for w in ln.split(" "))])
     if col.abbreviate:
         return min(natural, max(ABBREVIATED_WIDTH, header_word)), natural
+    if col.fold:
+        return min(longest, max(FOLDED_WIDTH, header_word)), natural
     return longest, natural
 
 
@@ -119,18 +136,20 @@ def layout(cols: Sequence[Col], rows: Sequence[Sequence[str]], width: int | None
     return shown, widths
 
 
-def print_table(console: Any, title: str | None, cols: Sequence[Col], rows: Sequence[Sequence[str]]) -> None:
-    """Print one table on ``console`` (from :func:`table_console`) by the rules of this module."""
+def print_table(console: Any, title: str | None, cols: Sequence[Col], rows: Sequence[Sequence[str]], *,
+                show_header: bool = True, title_justify: JustifyMethod = "center") -> None:
+    """Print one table on ``console`` (from :func:`table_console`) by the rules of this module; without
+    ``show_header`` the column names are not printed (they still count towards the widths)."""
     from rich.table import Table
     from rich.text import Text
 
     width = fitted_width()
     shown, widths = layout(cols, rows, width)
-    table = Table(title=title)
+    table = Table(title=title, show_header=show_header, title_justify=title_justify)
     for i, w in zip(shown, widths, strict=True):
         c = cols[i]
         table.add_column(c.name, justify="right" if c.right else "left", width=w, no_wrap=c.abbreviate,
-                         overflow="ellipsis" if c.abbreviate else "fold")
+                         overflow="ellipsis" if c.abbreviate else "fold", style=c.style or "")
     for r in rows:
         table.add_row(*(Text(r[i]) for i in shown))
     total = _frame(widths)
