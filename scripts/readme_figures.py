@@ -12,7 +12,7 @@ shipped examples:
 
 ``--pictures`` runs ``scripts/make_report_images.py`` (Debian's Chromium: ``make browser``), which
 redraws ``docs/report-*.png`` (the catalog version and counts they show included). Run it after any change
-to the catalog data or to what a sizing answers; ``tests/test_readme_figures.py`` fails until the
+to the catalog data or to what a sizing answers; ``tests/project/test_readme_figures.py`` fails until the
 README's numbers are the ones computed here. Measured figures (benchmarks) are not generated: they say
 what was measured and when.
 """

@@ -18,56 +18,61 @@ from drivetrain.catalog.schema import DRIVE, GEARBOX, MOTOR, TABLES, TEXT, Table
 if TYPE_CHECKING:
     from rich.console import Console
 
+    from drivetrain.terminal import Col
+
 LIST_KINDS = ("motor", "gearbox", "drive")
 _PLURAL = {"motor": "motors", "gearbox": "gearboxes", "drive": "drives"}
 DEFAULT_LIMIT = 50
 UNVERIFIED_MARK = " †"
 """Marks an unverified row (not traced to a vendor document, or a derived rating) in tables."""
-_PIPE_WIDTH = 200
-_VENDOR_WIDTH = 24
-
-# (column title, field name) per table for `catalog list`; values shown in the field's export unit
-_LIST_COLUMNS: dict[str, tuple[tuple[str, str], ...]] = {
+# (column title, field name, drop rank) per table for `catalog list`; values shown in the field's export unit.
+# On a terminal too narrow for the table the vendor is abbreviated first, then the columns with a drop rank
+# are left out, lowest first (docs/architecture.md, "Terminal output"); id and the ratings stay.
+_LIST_COLUMNS: dict[str, tuple[tuple[str, str, int | None], ...]] = {
     "motor": (
-        ("id", "id"),
-        ("vendor", "vendor"),
-        ("series", "series"),
-        ("T rated N·m", "rated_torque"),
-        ("T peak N·m", "peak_torque"),
-        ("n rated rpm", "rated_speed"),
-        ("n max rpm", "max_speed"),
-        ("J kg·cm²", "rotor_inertia"),
-        ("V", "voltage"),
-        ("origin", "origin"),
+        ("id", "id", None),
+        ("vendor", "vendor", 5),
+        ("series", "series", 2),
+        ("T rated N·m", "rated_torque", None),
+        ("T peak N·m", "peak_torque", None),
+        ("n rated rpm", "rated_speed", 4),
+        ("n max rpm", "max_speed", None),
+        ("J kg·cm²", "rotor_inertia", None),
+        ("V", "voltage", 3),
+        ("origin", "origin", 1),
     ),
     "gearbox": (
-        ("id", "id"),
-        ("vendor", "vendor"),
-        ("series", "series"),
-        ("i", "ratio"),
-        ("stages", "stages"),
-        ("T2N N·m", "rated_output_torque"),
-        ("T2B N·m", "max_output_torque"),
-        ("T2NOT N·m", "emergency_stop_torque"),
-        ("eta", "efficiency"),
-        ("n1N rpm", "rated_input_speed"),
-        ("n1max rpm", "max_input_speed"),
-        ("bore mm", "input_bore_max"),
-        ("J1 kg·cm²", "inertia_input"),
-        ("backlash arcmin", "backlash"),
-        ("origin", "origin"),
+        ("id", "id", None),
+        ("vendor", "vendor", 9),
+        ("series", "series", 6),
+        ("i", "ratio", None),
+        ("stages", "stages", 5),
+        ("T2N N·m", "rated_output_torque", None),
+        ("T2B N·m", "max_output_torque", None),
+        ("T2NOT N·m", "emergency_stop_torque", 2),
+        ("eta", "efficiency", None),
+        ("n1N rpm", "rated_input_speed", 4),
+        ("n1max rpm", "max_input_speed", None),
+        ("bore mm", "input_bore_max", 3),
+        ("J1 kg·cm²", "inertia_input", 7),
+        ("backlash arcmin", "backlash", 8),
+        ("origin", "origin", 1),
     ),
     "drive": (
-        ("id", "id"),
-        ("vendor", "vendor"),
-        ("series", "series"),
-        ("I cont A", "continuous_current"),
-        ("I peak A", "peak_current"),
-        ("V", "voltage"),
-        ("runs motors", "motor_series"),
-        ("origin", "origin"),
+        ("id", "id", None),
+        ("vendor", "vendor", 4),
+        ("series", "series", 2),
+        ("I cont A", "continuous_current", None),
+        ("I peak A", "peak_current", None),
+        ("V", "voltage", 3),
+        ("runs motors", "motor_series", 5),
+        ("origin", "origin", 1),
     ),
 }
+
+
+CHECK_DROP = {"origin": 1, "table": 2, "field": 3, "exception": 4}
+"""The columns of ``catalog check`` left out to fit a terminal, lowest first (docs/architecture.md)."""
 
 
 def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
@@ -211,11 +216,23 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _console() -> Console:
-    from rich.console import Console
+    """The console of every table and line: whole cells and lines in a pipe, the terminal's width (or
+    ``COLUMNS``) on a terminal (drivetrain.terminal)."""
+    from drivetrain.terminal import table_console
 
-    console = Console(soft_wrap=False)
-    # piped output: rich would squeeze tables to 80 columns; a file reader can scroll instead
-    return console if console.is_terminal else Console(soft_wrap=False, width=_PIPE_WIDTH)
+    console: Console = table_console()
+    return console
+
+
+def _list_columns(kind: str) -> list[Col]:
+    """The columns of ``catalog list --kind KIND``: numbers right-aligned and never cut, the vendor
+    abbreviated to fit, the drop ranks of ``_LIST_COLUMNS``."""
+    from drivetrain.terminal import Col
+
+    spec = TABLES[kind]
+    text = {f.name for f in spec.fields if f.quantity == TEXT} | {"id", "origin"}
+    return [Col(title, right=name not in text, number=name not in text, drop=drop, abbreviate=name == "vendor")
+            for title, name, drop in _LIST_COLUMNS[kind]]
 
 
 def _list(args: argparse.Namespace) -> int:
@@ -247,20 +264,19 @@ def _list(args: argparse.Namespace) -> int:
         )
         return 0
     spec = TABLES[args.kind]
-    from rich.table import Table
+    from drivetrain.terminal import print_table
 
-    out = Table(title=f"{_PLURAL[args.kind]} ({shown} of {len(table)})", title_justify="left")
-    for title, name in _LIST_COLUMNS[args.kind]:
-        out.add_column(title, no_wrap=True, overflow="ellipsis", max_width=_VENDOR_WIDTH if name == "vendor" else None)
+    rows = []
     for i in range(shown):
         row = table.row(i)
-        cells = [_cell(spec, name, row) for _, name in _LIST_COLUMNS[args.kind]]
+        cells = [_cell(spec, name, row) for _, name, _ in _LIST_COLUMNS[args.kind]]
         if args.kind == "motor" and row.get("approx_rated"):
             cells[3] += " (derived)"
         if row.get("unverified"):
             cells[0] += UNVERIFIED_MARK
-        out.add_row(*cells)
-    console.print(out)
+        rows.append(cells)
+    print_table(console, f"{_PLURAL[args.kind]} ({shown} of {len(table)})", _list_columns(args.kind), rows,
+                title_justify="left")
     flagged = int(table.unverified[:shown].sum())
     if flagged:
         console.print(
@@ -312,11 +328,13 @@ def _show(args: argparse.Namespace) -> int:
         print(json.dumps(record, indent=1, ensure_ascii=False))
         return 0
     spec = {"motor": MOTOR, "gearbox": GEARBOX, "drive": DRIVE}[record["table"]]
-    from rich.table import Table
+    from drivetrain.terminal import Col, print_table
 
-    out = Table(title=f"{record['table']} {record['id']}", title_justify="left", show_header=False)
-    out.add_column("field", style="bold", no_wrap=True)
-    out.add_column("value")
+    rows: list[tuple[str, str]] = []
+
+    def add(field: str, value: str) -> None:
+        rows.append((field, value))
+
     provenance = (
         "source",
         "notes",
@@ -337,39 +355,40 @@ def _show(args: argparse.Namespace) -> int:
         if fld.name == "voltage" and value is None and (record["table"] == "drive" or record.get("kind") == "ac_servo"):
             from drivetrain.catalog.voltage_class import explain
 
-            out.add_row("voltage", "class " + explain(record["table"], str(record.get("vendor") or ""), record["id"]))
+            add("voltage", "class " + explain(record["table"], str(record.get("vendor") or ""), record["id"]))
             continue
         if value is None or value == "":
             continue
-        out.add_row(fld.name, _with_unit(spec, fld.name, record) + derived_mark)
-    out.add_row("origin", "shipped catalog" if record["origin"] == "builtin" else "your import")
-    out.add_row("source", str(record.get("source") or "-"))
+        add(fld.name, _with_unit(spec, fld.name, record) + derived_mark)
+    add("origin", "shipped catalog" if record["origin"] == "builtin" else "your import")
+    add("source", str(record.get("source") or "-"))
     for group, where in record.get("sources", {}).items():
-        out.add_row(f"source: {group}", str(where))
-    out.add_row(
+        add(f"source: {group}", str(where))
+    add(
         "verified",
         f"no: {record['unverified_reason']}" if record.get("unverified") else "yes (traced to the document above)"
         if record.get("verified") == 1
         else "not marked (no reason to doubt it is recorded)",
     )
     if record.get("notes"):
-        out.add_row("notes", str(record["notes"]))
+        add("notes", str(record["notes"]))
     if record["table"] == "motor" and record.get("rated_torque_basis"):
-        out.add_row("rated_torque_basis", str(record["rated_torque_basis"]))
+        add("rated_torque_basis", str(record["rated_torque_basis"]))
     if record["table"] in ("motor", "drive"):
         derivation = record.get("derivation") or {}
-        out.add_row("derived", ", ".join(derivation) + " (computed, not read from a datasheet)" if derivation
+        add("derived", ", ".join(derivation) + " (computed, not read from a datasheet)" if derivation
                     else "none")
         for name, formula in derivation.items():
-            out.add_row(f"derived: {name}", formula)
+            add(f"derived: {name}", formula)
     if record["table"] == "motor":
-        out.add_row(
+        add(
             "speed-torque curve",
             f"{len(record['curve']['speed_rad_s'])} points"
             if record.get("curve")
             else "none: envelope derived from the ratings (approximate, see drivetrain.sizing.envelope)",
         )
-    _console().print(out)
+    cols = [Col("field", style="bold"), Col("value", fold=True)]
+    print_table(_console(), f"{record['table']} {record['id']}", cols, rows, show_header=False, title_justify="left")
     return 0
 
 
@@ -397,15 +416,15 @@ def _check(args: argparse.Namespace) -> int:
     console = _console()
     shown = report.findings if args.all else report.failures
     if shown:
-        from rich.table import Table
+        from drivetrain.terminal import Col, print_table
 
-        out = Table(title="catalog check: " + ("excused and failing findings" if args.all else "failing rows"),
+        # on a narrow terminal the sentences wrap, then origin, table, field and exception are left out in
+        # this order (CHECK_DROP); the id, the rule and what is wrong stay
+        cols = [Col(title, drop=CHECK_DROP.get(title), fold=title in ("what is wrong", "exception"))
+                for title in ("table", "id", "origin", "field", "rule", "what is wrong", "exception")]
+        print_table(console, "catalog check: " + ("excused and failing findings" if args.all else "failing rows"),
+                    cols, [(f.table, f.id, f.origin, f.field, f.rule, f.message, f.excused or "-") for f in shown],
                     title_justify="left")
-        for title in ("table", "id", "origin", "field", "rule", "what is wrong", "exception"):
-            out.add_column(title, no_wrap=title in ("table", "id", "origin", "rule"))
-        for f in shown:
-            out.add_row(f.table, f.id, f.origin, f.field, f.rule, f.message, f.excused or "-")
-        console.print(out)
     counts = ", ".join(f"{n} {_PLURAL.get(t, t + ' points')}" for t, n in report.rows.items())
     excused = len(report.findings) - len(report.failures)
     console.print(f"checked {counts}: {len(report.failures)} finding(s) fail, {excused} excused by a documented "
@@ -435,14 +454,12 @@ def _history(args: argparse.Namespace) -> int:
     if not entries:
         console.print("no changes recorded" + (f" for {args.id}" if args.id else " in your catalog"))
         return 0
-    from rich.table import Table
+    from drivetrain.terminal import Col, print_table
 
-    out = Table(title="catalog history", title_justify="left")
-    for title in ("time (UTC)", "action", "table", "id", "source"):
-        out.add_column(title, no_wrap=title != "source")
-    for e in entries:
-        out.add_row(e["at"], e["action"], e["table_name"], e["id"], e["source"] or "-")
-    console.print(out)
+    cols = [Col("time (UTC)", number=True), Col("action"), Col("table", drop=1), Col("id"), Col("source", fold=True)]
+    print_table(console, "catalog history", cols,
+                [(e["at"], e["action"], e["table_name"], e["id"], e["source"] or "-") for e in entries],
+                title_justify="left")
     return 0
 
 

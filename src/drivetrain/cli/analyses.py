@@ -8,7 +8,7 @@ from __future__ import annotations
 from typing import Any
 
 from drivetrain.cli.quantities import TableUnits
-from drivetrain.cli.tables import Col, print_table, table_console
+from drivetrain.terminal import Col, print_table, table_console
 
 
 def print_machine(out: dict[str, Any]) -> None:

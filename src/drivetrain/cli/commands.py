@@ -90,7 +90,7 @@ def size(args: argparse.Namespace, axis: str | dict[str, Any] | None = None) -> 
     print_sizing(result, units)
     if modes is not None:
         from drivetrain.cli.analyses import print_modes_across
-        from drivetrain.cli.tables import table_console
+        from drivetrain.terminal import table_console
 
         print_modes_across(table_console(), modes, units)
     for warning in result.extras.get("warnings", []):

@@ -6,7 +6,7 @@ import math
 from typing import Any
 
 from drivetrain.cli.quantities import TableUnits
-from drivetrain.cli.tables import Col, print_table, table_console
+from drivetrain.terminal import Col, print_table, table_console
 
 __all__ = ["CANDIDATE_COLUMNS", "print_sizing", "table_console"]
 

@@ -20,7 +20,7 @@ kernels as soon as this module is imported.
               scalars, which LLVM keeps in registers across the steps.
 ``run_chain`` any number of inertias, the state in arrays.
 
-``tests/test_dynamics_simulate.py`` runs both on the same two-mass axis and asserts they agree.
+``tests/dynamics/test_dynamics_simulate.py`` runs both on the same two-mass axis and asserts they agree.
 
 Size: the two kernels and the layout of their packed arguments (the ``N_*``, ``P_*``, ``I_*`` indices they
 read as compile-time constants) stay in this one file. numba's cache is checked against the file that

@@ -6,7 +6,7 @@ Sources: the lecture (trapezoidal profile: trapezoid ``v_max = x_f / t_2``, ``a_
 (t_1 t_2)``; movement amount ``L_s = V (2 t_s - t_a - t_d) / 2``); jerk-limited time-optimal
 rest-to-rest moves: L. Biagiotti, C. Melchiorri, *Trajectory Planning for Automatic Machines and
 Robots*, Springer (2008), sec. 3.4 (double S). ``time_optimal_duration`` equals ruckig's duration
-within 1e-9 s (``tests/test_profiles_random.py``).
+within 1e-9 s (``tests/motion/test_profiles_random.py``).
 """
 
 from __future__ import annotations

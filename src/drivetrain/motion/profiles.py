@@ -21,7 +21,7 @@ local time plus, for cam laws, one sinusoid. The timed shapes share one seven-pi
 a ramp of duration ``t_r`` with jerk fraction ``f`` spends ``f t_r / 2`` in each jerk piece,
 so its mean speed is half the peak and the lecture's movement amount holds for every shape.
 
-Guarantees (tested on seeded random moves in ``tests/test_profiles_random.py``):
+Guarantees (tested on seeded random moves in ``tests/motion/test_profiles_random.py``):
 
 - every move ends at its target, start + distance, within 1e-9 relative (in practice a few ulp);
 - every move starts and ends at rest: speed zero within 1e-12 of its peak, and acceleration as

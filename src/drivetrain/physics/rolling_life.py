@@ -80,7 +80,7 @@ def basic_rating_life(dynamic_rating: float, equivalent_load: ArrayLike, kind: s
     ``dynamic_rating`` C [N], ``equivalent_load`` P [N] (scalar or array, > 0),
     ``kind`` 'ball' (p = 3) or 'roller' (p = 10/3). Source: ISO 281:2007 as given by SKF,
     "Basic rating life". A 6208 under 3.2 kN with C = 22.4 kN (the course example in
-    ``tests/test_mechanism_limits.py``): 343 x 10^6 revolutions.
+    ``tests/physics/test_mechanism_limits.py``): 343 x 10^6 revolutions.
 
     >>> round(float(basic_rating_life(22.4e3, 3.2e3)) / 1e6, 1)
     343.0

@@ -4,7 +4,7 @@ SI throughout: lengths [m], forces [N], speeds [rad/s], E [Pa], density [kg/m^3]
 write the same formulas with mm, N/mm^2 and min^-1 and fold the constants into one factor
 (THK's eta_2 d_1^4 / l_a^2 x 10^4 and lambda_2 d_1 / l_b^2 x 10^7); here the physical form is
 kept, with the mounting factors eta_1, lambda_1 and the catalogs' safety factors (0.5 on
-buckling, 0.8 on the critical speed). ``tests/test_mechanism_limits.py`` checks that this
+buckling, 0.8 on the critical speed). ``tests/physics/test_mechanism_limits.py`` checks that this
 form reproduces THK's folded factors and MiSUMi's worked examples.
 
 Sources:

@@ -2,7 +2,7 @@
 
 Every entry names the function (or module) of drivetrain that implements it in ``ref`` and a
 phrase of that docstring in ``cite``: the citation printed in the report is the one the code
-carries (``tests/test_report.py`` checks that each ``cite`` is in the docstring of its ``ref``).
+carries (``tests/report/test_report.py`` checks that each ``cite`` is in the docstring of its ``ref``).
 
 Equations use a small markup shared by the HTML and the PDF: ``X_{abc}`` or ``X_a`` is a
 subscript; everything else (Greek letters, ², √, Σ) is plain Unicode.

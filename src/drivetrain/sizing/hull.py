@@ -9,7 +9,7 @@ relative turn of 1e-9, a thousand times the chain's collinearity tolerance, so n
 hull vertex or within rounding of an edge; the survivors, a handful per bin, go through the same
 monotone chain as ``demand.chain`` (Andrew's, collinear points within a relative turn of 1e-12 dropped; the
 same floating-point operations in the same order), hence the same vertices, bins and padding as
-``motor_fit.demand``: ``tests/test_hull.py`` and ``tests/test_study_batch.py`` assert equality
+``motor_fit.demand``: ``tests/sizing/test_hull.py`` and ``tests/study/test_study_batch.py`` assert equality
 (hypothesis). Sources: A. M. Andrew, Another efficient algorithm for convex hulls in two dimensions,
 Information Processing Letters 9 (1979) 216-219; S. G. Akl and G. T. Toussaint, A fast convex hull
 algorithm, Information Processing Letters 7 (1978) 219-222 (the quadrilateral filter).

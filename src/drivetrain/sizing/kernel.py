@@ -4,9 +4,9 @@ Every candidate (gearbox-ratio group x motor x gearbox row) gets all its checks 
 operations over blocks of candidates (``BLOCK`` at a time, so the temporaries stay bounded): no
 compiled code, so nothing to build at install and nothing to
 compile on a first run. The physics is that of ``motor_fit.fit_motors``, ``checks.mechanical_fit``
-and ``checks.gearbox_checks`` (their docstrings give the sources); ``tests/test_selection.py``
+and ``checks.gearbox_checks`` (their docstrings give the sources); ``tests/sizing/test_selection.py``
 asserts that these arrays and those reference functions give the same required/available/margin
-for every candidate of the shipped catalog, and ``tests/test_kernel.py`` that they equal, to the
+for every candidate of the shipped catalog, and ``tests/sizing/test_kernel.py`` that they equal, to the
 bit, the per-candidate loop the checks were first written as (run by the interpreter).
 
 Per candidate k (motor m, group g of ratio i and efficiency eta, gearbox row r or -1 direct):

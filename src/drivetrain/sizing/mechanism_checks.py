@@ -159,7 +159,7 @@ def prepare_many(pairs: Sequence[tuple[Axis, DutyCycle]]) -> list[list[dict[str,
     (screw, nut and guide ratings, the stroke, the number of samples, no belt or rack). Each
     group's sample-wise work (peak speeds and forces, equivalent loads, cubic means) runs as arrays
     over its axes; :func:`mechanism_checks` of one axis is the same computation for a group of one,
-    and ``tests/test_study_mechanism_batch.py`` asserts the entries equal, to the bit. A group whose
+    and ``tests/study/test_study_mechanism_batch.py`` asserts the entries equal, to the bit. A group whose
     numbers would raise an InputError (or any axis outside these cases) is left to
     :func:`mechanism_checks`, which raises it for its own axis.
     """

@@ -35,7 +35,7 @@ Motors that fail the max-speed or the inertia-ratio check behind every ratio are
 chunk's gearbox rows keep their catalog order, so its candidates keep their relative order and
 ``ranked`` breaks ties as over the whole catalog.
 
-``tests/test_study_batch.py`` asserts, on a fixed sample and on 60 random variants, that the
+``tests/study/test_study_batch.py`` asserts, on a fixed sample and on 60 random variants, that the
 selected (or closest) motor and gearbox and every check's required, available and margin equal
 those of ``select``, and checks the bounds against every candidate of the catalog.
 """

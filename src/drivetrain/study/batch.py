@@ -13,7 +13,7 @@ The drive blocks of the selected candidate (a drive for the selected motor, its 
 computed only for an engine made with ``drives`` (a study that records one of their keys); the drive
 rule (the selected motor has an orderable drive) holds either way.
 
-``tests/test_study_batch.py`` asserts, on a fixed sample and on 60 random variants, that the
+``tests/study/test_study_batch.py`` asserts, on a fixed sample and on 60 random variants, that the
 selected (or closest) motor and gearbox and every check's required, available and margin equal
 those of ``drivetrain.size``.
 """
