@@ -79,8 +79,24 @@ MAX_IN_FLIGHT = 200
 Slow clients cannot fill these places: a request counts only once its headers are complete
 (``drivetrain.web.server`` closes connections whose headers do not come in time)."""
 REQUEST_TIMEOUT_S = 20.0
-"""Time limit of one request [s]; a report (PDF through a browser) gets REPORT_TIMEOUT_S."""
+"""Time limit of one request [s]; a report (PDF through a browser) gets REPORT_TIMEOUT_S. A server on a
+slow or shared machine sets both higher with ``$DRIVETRAIN_REQUEST_TIMEOUT`` (seconds, the report's
+limit rises with it: :func:`time_limits`) or ``drivetrain serve --timeout``."""
 REPORT_TIMEOUT_S = 120.0
+
+
+def time_limits(timeout: float | None = None) -> tuple[float, float]:
+    """(request, report) time limits [s]: ``timeout`` where given, else ``$DRIVETRAIN_REQUEST_TIMEOUT``,
+    else REQUEST_TIMEOUT_S; the report's is REPORT_TIMEOUT_S, or the request's where that is longer."""
+    if timeout is None:
+        text = os.environ.get("DRIVETRAIN_REQUEST_TIMEOUT", "").strip()
+        try:
+            timeout = float(text) if text else REQUEST_TIMEOUT_S
+        except ValueError:
+            raise InputError("DRIVETRAIN_REQUEST_TIMEOUT", "must be a number of seconds", text) from None
+        if not 0.0 < timeout <= 86400.0:
+            raise InputError("DRIVETRAIN_REQUEST_TIMEOUT", "must be between 0 and 86400 s", text)
+    return timeout, max(REPORT_TIMEOUT_S, timeout)
 MAX_PARALLEL_WORK = max(1, min(4, os.cpu_count() or 2))
 """Sizings, reports and imports computed at once (one per core, at most 4): a catalog selection
 holds a few hundred MB of arrays while it runs; further requests wait within their time limit."""
@@ -271,7 +287,7 @@ async def _send_json(send: Send, status: int, detail: str, field: str | None,
 
 
 def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | None = LOOPBACK_HOSTS,
-               max_body: int = MAX_BODY_BYTES, timeout: float = REQUEST_TIMEOUT_S, token: str | None = None,
+               max_body: int = MAX_BODY_BYTES, timeout: float | None = None, token: str | None = None,
                servers: int = 1) -> FastAPI:
     """The FastAPI application.
 
@@ -330,8 +346,9 @@ def create_app(data_dir: Path | None = None, *, allowed_hosts: Sequence[str] | N
     app.state.data_dir = directory
     token = token or secrets.token_urlsafe(32)
     app.state.token = token
+    request_limit, report_limit = time_limits(timeout)
     app.add_middleware(Guard, allowed_hosts=allowed_hosts, max_body=max_body, upload_body=UPLOAD_BODY_BYTES,
-                       timeout=timeout, report_timeout=REPORT_TIMEOUT_S, token=token)
+                       timeout=request_limit, report_timeout=report_limit, token=token)
 
     async def blocking(fn: Callable[..., T], *args: Any) -> T:
         """Run ``fn`` on the work pool; a request that times out drops its job if it has not started."""

@@ -42,6 +42,9 @@ def add_parser(subparsers: Any) -> None:
     p.add_argument("--workers", type=int, default=1, metavar="N",
                    help=f"server processes sharing the socket (default 1; at most {MAX_WORKERS}): more requests "
                         "computed at once on a machine with several cores")
+    p.add_argument("--timeout", type=float, metavar="S",
+                   help="time limit of one request in seconds (default $DRIVETRAIN_REQUEST_TIMEOUT or 20; a report "
+                        "gets at least 120): raise it on a slow or shared machine")
     p.add_argument("--log-level", default="warning", choices=["critical", "error", "warning", "info", "debug"])
     p.set_defaults(handler=run)
 
@@ -148,6 +151,12 @@ def run(args: argparse.Namespace) -> int:
     data_dir = Path(args.data_dir).expanduser().resolve() if args.data_dir else None
     if data_dir is not None:
         os.environ[ENV_DATA_DIR] = str(data_dir)
+    if args.timeout is not None:
+        from drivetrain.errors import InputError
+
+        if not 0.0 < args.timeout <= 86400.0:
+            raise InputError("--timeout", "must be between 0 and 86400 s", args.timeout)
+        os.environ["DRIVETRAIN_REQUEST_TIMEOUT"] = repr(args.timeout)  # the workers of --workers N read it too
     loopback = is_loopback(args.host)
     sock = bind(args.host, args.port)
     allowed = LOOPBACK_HOSTS if loopback else None
@@ -183,6 +192,12 @@ def _run_workers(args: argparse.Namespace) -> int:
     data_dir = Path(args.data_dir).expanduser().resolve() if args.data_dir else None
     if data_dir is not None:
         os.environ[ENV_DATA_DIR] = str(data_dir)
+    if args.timeout is not None:
+        from drivetrain.errors import InputError
+
+        if not 0.0 < args.timeout <= 86400.0:
+            raise InputError("--timeout", "must be between 0 and 86400 s", args.timeout)
+        os.environ["DRIVETRAIN_REQUEST_TIMEOUT"] = repr(args.timeout)  # the workers of --workers N read it too
     loopback = is_loopback(args.host)
     # Always set, so a value left in the user's environment cannot lift the loopback Host check.
     os.environ[ENV_ANY_HOST] = "0" if loopback else "1"
