@@ -79,8 +79,10 @@ def _unknown_note(name: str, c: Candidates, fit_gap: str) -> str:
 def fewest_failures(c: Candidates, pool: NDArray[np.intp]) -> int:
     """The candidate of ``pool`` that fails the fewest checks, of those the one with the smallest shortfall
     (the largest worst margin; an unknown, NaN, worst margin counts as the lowest); ties in pool order."""
-    failed = c.failed[pool]
-    bits = sum((failed >> b) & 1 for b in range(len(CHECK_UNITS)))
+    failed = c.failed[pool].astype(np.int64)
+    bits = np.zeros(len(pool), dtype=np.int64)
+    for b in range(len(CHECK_UNITS)):  # a handful of bits
+        bits += (failed >> b) & 1
     w = c.worst_margin[pool]
     order = np.lexsort((-np.where(np.isnan(w), -np.inf, w), bits))
     return int(pool[order[0]])
