@@ -31,7 +31,7 @@ Status = Literal["pass", "pass with unknowns", "fail"]
 @dataclass(frozen=True)
 class Unknown:
     """A check of the answer that could not be judged: its name, the part it concerns (``motor``,
-    ``drive``, ``electrical``, ``regen``, ``gearbox`` (a catalog gearbox), ``gearbox stage NAME`` (one of
+    ``drive``, ``electrical``, ``regen``, ``gearbox`` (a catalog gearbox), ``gearbox stage (NAME)`` (one of
     ``transmission:``), ``motor-gearbox fit``, ``brake``, ``mechanism``, ``guide``, ``dynamics``) and what
     would decide it."""
 
@@ -561,7 +561,7 @@ def collect_unknowns(result: SizingResult) -> list[Unknown]:
                 for c in _check_list(ex.get(key)) if _not_judged(c)]
     out += [Unknown(c["name"], "mechanism", _decide(c, "a dimension or rating it needs is not given"))
             for c in _check_list(ex.get("mechanism_checks")) if _not_judged(c)]
-    out += [Unknown(c["name"], f"gearbox stage {c.get('stage') or ''}".strip(),
+    out += [Unknown(c["name"], f"gearbox stage ({c['stage']})" if c.get("stage") else "gearbox stage",
                     _decide(c, "a rating of the gearbox is not given"))
             for c in _check_list(ex.get("gearbox_checks")) if _not_judged(c)]
     if result.motor is not None:
