@@ -200,3 +200,30 @@ def test_the_web_api_answer_carries_the_verdict_block() -> None:
     expected = size(axis, WEB_POINTS_PER_PHASE)
     assert body["result"]["verdict"]["status"] == expected.status == "pass with unknowns"
     assert [u["check"] for u in body["result"]["verdict"]["unknowns"]] == [u.check for u in expected.unknowns]
+
+
+def test_the_demand_table_says_which_shaft_each_number_is_at(capsys: pytest.CaptureFixture[str]) -> None:
+    """The gantry selects a motor behind a catalog gearbox: the table is the demand at the axis input (the
+    gearbox output), and the selected motor's own figures at its shaft turn i times faster."""
+    import re
+
+    res = size(EXAMPLES / "belt_gantry.yaml")
+    pick = res.selection["selected"]
+    assert pick["gearbox"] and pick["ratio"] > 1
+    cli.main(["size", str(EXAMPLES / "belt_gantry.yaml")])
+    out = capsys.readouterr().out
+    assert "demand at the motor shaft" not in out
+    assert f"demand at the axis input (rotor excluded); at the shaft of {pick['motor']} behind {pick['gearbox']}" in out
+    axis_speed = float(re.search(r"│ max / mean speed\s+│\s+([\d.]+) /", out).group(1))  # type: ignore[union-attr]
+    motor_row = re.search(r"│ motor shaft \(i = ([\d.]+)\): max / mean speed\s+│\s+([\d.]+) /", out)
+    assert motor_row is not None and float(motor_row.group(1)) == pytest.approx(pick["ratio"])
+    assert float(motor_row.group(2)) == pytest.approx(axis_speed * pick["ratio"], abs=pick["ratio"])
+    peak = re.search(r"│ motor shaft \(i = [\d.]+\): peak / RMS torque, rotor included\s+│\s+([\d.]+) /", out)
+    torques = res.torques()
+    assert peak is not None and float(peak.group(1)) == pytest.approx(torques.loc["peak_torque_Nm", "motor"], rel=1e-3)
+
+
+def test_a_direct_selection_adds_no_motor_shaft_rows(capsys: pytest.CaptureFixture[str]) -> None:
+    cli.main(["size", str(EXAMPLES / "belt.yaml")])  # on the axis's own gearbox: the axis input is the motor shaft
+    out = capsys.readouterr().out
+    assert "demand at the axis input (rotor excluded)\n" in out and "│ motor shaft (i =" not in out
