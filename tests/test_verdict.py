@@ -16,7 +16,7 @@ import yaml
 from drivetrain import cli
 from drivetrain.axis.model import load_axis
 from drivetrain.sizing.pipeline import size
-from drivetrain.sizing.result import Unknown
+from drivetrain.sizing.verdict import Unknown
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
