@@ -178,7 +178,7 @@ def _motor_verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) 
             details = [d for d in (_tightest(checks, du), _APPROX_NOTE if approx else "") if d]
             unknown = unknown_lines(result)
             if unknown:
-                return Verdict("unknowns", f"Motor {focus.label}: pass with unknowns, no judged check fails "
+                return Verdict("unknowns", f"Motor {focus.label}: pass with unknowns "
                                f"({len(unknown)} not judged)", details + unknown)
             return Verdict("pass", f"Motor {focus.label} is adequate: all {len(checks)} checks pass", details)
         details = [failure_sentence(c, du) for c in sorted(failed, key=lambda c: c["margin"])]
@@ -208,7 +208,7 @@ def _motor_verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) 
                 details.append(_APPROX_NOTE)
             unknown = unknown_lines(result)
             if unknown:
-                return Verdict("unknowns", f"Selected: {focus.label}, pass with unknowns, no judged check fails "
+                return Verdict("unknowns", f"Selected: {focus.label}, pass with unknowns "
                                f"({len(unknown)} not judged)", details + unknown)
             return Verdict("pass", f"Selected: {focus.label}, passes every check", details)
         details = [d for d in (scope,) if d]

@@ -73,7 +73,7 @@ def _verdict(result: MachineResult, d: dict[str, Any]) -> Verdict:
     if result.status == "pass":
         return Verdict("pass", f"Every axis of {d['machine']['name']} passes", details)
     if result.status == "pass with unknowns":
-        return Verdict("unknowns", f"{d['machine']['name']}: pass with unknowns, no judged check fails "
+        return Verdict("unknowns", f"{d['machine']['name']}: pass with unknowns "
                        f"({len(unknown)} not judged)", details + unknown)
     return Verdict("fail", f"{d['machine']['name']} does not pass", details + unknown)
 
