@@ -144,13 +144,13 @@ def test_machine_verdict_is_the_worst_axis_and_sets_the_exit_code(tmp_path: Path
         capsys.readouterr()
 
 
-def run_results_js(body: str) -> str:
-    """Run ``body`` in node with ``@RESULTS@`` standing for the imported results.js and a minimal document
-    (skip when node is absent); its stdout."""
+def run_results_js(body: str, script: Path = RESULTS_JS) -> str:
+    """Run ``body`` in node with ``@RESULTS@`` standing for the imported ``script`` (results.js) and a minimal
+    document (skip when node is absent); its stdout."""
     node = shutil.which("node")
     if node is None:
         pytest.skip("node is not installed")
-    module = f"await import({json.dumps(RESULTS_JS.as_uri())})"
+    module = f"await import({json.dumps(script.as_uri())})"
     dom = """
       globalThis.Node = class {};
       const mk = (t) => ({ tag: t, children: [], attrs: {}, cls: new Set(),
@@ -227,3 +227,22 @@ def test_a_direct_selection_adds_no_motor_shaft_rows(capsys: pytest.CaptureFixtu
     cli.main(["size", str(EXAMPLES / "belt.yaml")])  # on the axis's own gearbox: the axis input is the motor shaft
     out = capsys.readouterr().out
     assert "demand at the axis input (rotor excluded)\n" in out and "│ motor shaft (i =" not in out
+
+
+def test_the_web_machine_banner_states_the_worst_axis() -> None:
+    """machine_results.js reads the machine's ``verdict`` block: the banner's class and its last line."""
+    from drivetrain.machine.result import size_machine
+    from drivetrain.web.payload import encode
+
+    p = json.loads(encode(size_machine(machine(load_axis(EXAMPLES / "belt.yaml").raw)).to_dict()))
+    out = run_results_js(f"""
+      const MR = @RESULTS@;
+      const p = {json.dumps(p)};
+      const v = MR.machineVerdict(p);
+      const failing = MR.machineVerdict({{ ...p, verdict: {{ status: "fail", unknowns: [] }} }});
+      console.log(JSON.stringify([v.cls, v.line.textContent, failing.cls, failing.line.textContent,
+                                  MR.axisOutcome(p.axes[0].result, null)]));
+    """, RESULTS_JS.with_name("machine_results.js"))
+    cls, text, fail_cls, fail_text, axis = json.loads(out)
+    assert cls == "warn" and text.startswith("PASS WITH UNKNOWNS") and "X: drive (drive)" in text
+    assert fail_cls == "bad" and fail_text == "FAIL" and axis == "pass with unknowns"
