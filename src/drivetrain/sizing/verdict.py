@@ -21,6 +21,7 @@ class Answer(Protocol):
     selection: dict[str, Any] | None
     ranking: Any
 
+
 Status = Literal["pass", "pass with unknowns", "fail"]
 """The three outcomes of an answer (``SizingResult.status``, docs/checks.md, "The verdict")."""
 
