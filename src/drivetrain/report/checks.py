@@ -150,7 +150,8 @@ def verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> Verd
 
 def unknown_lines(result: SizingResult) -> list[str]:
     """One sentence per check of the answer that could not be judged (``SizingResult.unknowns``)."""
-    return [f"Not judged ({u.part}): {CHECK_NAMES.get(u.check, u.check)}: {u.decide}." for u in result.unknowns]
+    return [f"Not judged: {u.part}: {u.decide}." if u.check == u.part else
+            f"Not judged ({u.part}): {CHECK_NAMES.get(u.check, u.check)}: {u.decide}." for u in result.unknowns]
 
 
 def _checks_verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> Verdict:
