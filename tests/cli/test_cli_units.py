@@ -62,8 +62,8 @@ def test_size_imperial_converts_the_demand_table(capsys: pytest.CaptureFixture[s
     assert rms_si == pytest.approx(0.4646, abs=5e-5)
     assert rms_imp == pytest.approx(4.112, abs=5e-4)
     assert rms_imp == pytest.approx(rms_si / LBF_IN, rel=2e-4)  # both printed to 4 digits
-    j_si = number(si, "load inertia at motor", "kg*cm^2")
-    j_imp = number(imp, "load inertia at motor", "lb*in^2")
+    j_si = number(si, "│ load inertia ", "kg*cm^2")
+    j_imp = number(imp, "│ load inertia ", "lb*in^2")
     assert j_imp == pytest.approx(j_si / LB_IN2_KGCM2, rel=5e-4)
     assert number(imp, "holding torque", "lbf*in") == pytest.approx(number(si, "holding torque", "N*m") / LBF_IN,
                                                                     rel=5e-4)
@@ -102,7 +102,7 @@ def test_si_is_the_default_and_prints_as_before(capsys: pytest.CaptureFixture[st
     assert default == si
     assert "lbf" not in default and "lb*in" not in default and not re.search(r"\d in\b", default)
     assert re.search(r"RMS torque\s+│\s+0\.4646 N\*m", default)
-    assert re.search(r"load inertia at motor\s+│\s+1\.82 kg\*cm\^2", default)
+    assert re.search(r"│ load inertia\s+│\s+1\.82 kg\*cm\^2", default)
 
 
 def test_given_motor_checks_and_electrical_in_imperial(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:

@@ -1,9 +1,11 @@
 """Command line: ``drivetrain size AXIS``, ``drivetrain catalog ...``, ``drivetrain modes AXIS`` ...
 
 No physics here: each command calls the library and formats its result. Bad input prints one
-line naming the field and exits with status 2, without a traceback; ``size`` and ``select`` exit 0
-when the motor or the selection passes and 1 when the axis was sized but nothing passes. Heavy modules are
-imported inside the handlers so ``drivetrain --help`` stays fast.
+line naming the field and exits with status 2, without a traceback; ``size``, ``select`` and ``machine size``
+print the verdict last (``PASS``, ``PASS WITH UNKNOWNS: ...``, ``FAIL: ...``) and exit 0 when the answer passes,
+with or without unknowns (``motor.select.unknown: flag``), and 1 when it fails (under ``unknown: fail`` a check
+that cannot be judged fails it; docs/checks.md, "The verdict"). Heavy modules are imported inside the handlers
+so ``drivetrain --help`` stays fast.
 
 The package: this module parses the command line and maps errors to exit codes; ``commands`` runs
 each sub-command and writes its files; ``sizing`` prints the tables of a sizing result (``size``,
@@ -199,7 +201,8 @@ def _input_of(args: argparse.Namespace) -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point: returns the exit status (0 passes, 1 sized but nothing passes, 2 bad input)."""
+    """Entry point: returns the exit status (0 passes, with or without unknowns; 1 sized but the answer fails;
+    2 bad input)."""
     words = sys.argv[1:] if argv is None else list(argv)
     if argv is None:
         _own_process()

@@ -13,9 +13,11 @@ from pathlib import Path
 from typing import Any
 
 EXIT_OK = 0
-"""``size``/``select``: the given motor, or the selection, passes every check."""
+"""``size``/``select``/``machine size``: the answer passes (``pass``), or passes with checks that could not be
+judged (``pass with unknowns``, under ``motor.select.unknown: flag``, the default)."""
 EXIT_FAILS = 1
-"""``size``/``select``: sized, but the motor (or every candidate, or an axis check) fails; the answer is printed."""
+"""``size``/``select``/``machine size``: sized, but the answer fails (a check fails, nothing passes, or under
+``motor.select.unknown: fail`` a check cannot be judged); the answer is printed."""
 EXIT_INPUT = 2
 """Bad input: one line naming the field, no traceback."""
 
@@ -101,11 +103,12 @@ def size(args: argparse.Namespace, axis: str | dict[str, Any] | None = None) -> 
         print(f"time series written to {args.csv}")
     if args.report:
         print(f"report written to {Path(args.report).resolve()}")
+    print(result.verdict_line())
     return _exit_code(result)
 
 
 def _exit_code(result: Any) -> int:
-    """0 when the given motor or the selection (and the axis's own checks) pass, 1 when not."""
+    """0 when the answer passes, with or without unknowns (``status != "fail"``), 1 when it fails."""
     return EXIT_OK if result.ok else EXIT_FAILS
 
 
@@ -124,7 +127,7 @@ def machine_size(args: argparse.Namespace) -> int:
         write_machine_report(result, args.report)
     if args.json:
         print(json.dumps(out, indent=2))
-        return 0
+        return _exit_code(result)
     from drivetrain.cli.analyses import print_machine
 
     print_machine(out)
@@ -132,7 +135,8 @@ def machine_size(args: argparse.Namespace) -> int:
         print(f"report written to {Path(args.report).resolve()}")
     if args.aas:
         print(f"AAS submodel written to {Path(args.aas).resolve()}")
-    return 0
+    print(result.verdict_line())
+    return _exit_code(result)
 
 
 def modes(args: argparse.Namespace) -> int:

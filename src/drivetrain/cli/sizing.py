@@ -12,7 +12,9 @@ __all__ = ["CANDIDATE_COLUMNS", "print_sizing", "table_console"]
 
 
 def print_sizing(result: Any, units: TableUnits | None = None) -> None:
-    """The demand at the motor shaft, every check block, and the ranked candidates with the selection."""
+    """The demand at the axis input (the motor shaft, unless the selection puts a catalog gearbox before it:
+    then the selected motor's own figures too), every check block, and the ranked candidates with the
+    selection."""
     from drivetrain.report.display import snapped_metrics
 
     u = units or TableUnits()
@@ -21,7 +23,7 @@ def print_sizing(result: Any, units: TableUnits | None = None) -> None:
     torque = u.unit("torque", "N*m")
     rows = [
         ("cycle time", f"{m['cycle_time_s']:.4g} s"),
-        ("load inertia at motor", u.q(m["load_inertia_kgm2"], "inertia", "kg*cm^2", 1e4)),
+        ("load inertia", u.q(m["load_inertia_kgm2"], "inertia", "kg*cm^2", 1e4)),
         ("peak torque", f"{u.q(m['peak_torque_Nm'], 'torque', 'N*m')} at {m['peak_torque_speed_rpm']:.0f} rpm"),
         ("RMS torque", u.q(m["rms_torque_Nm"], "torque", "N*m")),
         ("accel / run / decel torque (move 1)",
@@ -35,7 +37,8 @@ def print_sizing(result: Any, units: TableUnits | None = None) -> None:
     for extra_key, label in (("gearbox_torque", "gearbox output torque"),):
         if extra_key in m:
             rows.append((label, str(m[extra_key])))
-    print_table(console, f"{result.axis.name}: demand at the motor shaft (rotor excluded)",
+    rows += _motor_shaft_rows(result, u)
+    print_table(console, _demand_title(result),
                 (Col("quantity"), Col("value", right=True, number=True)), rows)
     mech = result.extras.get("mechanism_checks")
     if mech:
@@ -49,6 +52,40 @@ def print_sizing(result: Any, units: TableUnits | None = None) -> None:
         _print_checks(console, "gearbox ratings (transmission)", gear, u)
     if result.candidates:
         _print_candidates(console, result, u)
+
+
+def _motor_shaft_rows(result: Any, u: TableUnits) -> list[tuple[str, str]]:
+    """Where the selection puts a catalog gearbox between the motor and the axis input, the selected motor's
+    own figures at its shaft (speed x i; torque / (i eta) plus the gearbox input's and the rotor's inertia
+    torque: ``SizingResult.motor_cycle``); nothing where the axis input is the motor shaft."""
+    pick = (result.selection or {}).get("selected") or {}
+    if not pick.get("gearbox") or result.axis.motor is not None:
+        return []
+    own = result.motor_cycle()
+    if own is None:
+        return []
+    from drivetrain.duty.cycle import load_metrics
+    from drivetrain.report.display import snapped_metrics
+
+    cycle, rotor, _ = own
+    m = snapped_metrics(load_metrics(cycle, cycle.motor_torque(rotor)))
+    at = f"motor shaft (i = {pick['ratio']:.4g})"
+    return [
+        (f"{at}: load inertia", u.q(cycle.load_inertia, "inertia", "kg*cm^2", 1e4)),
+        (f"{at}: peak / RMS torque, rotor included", f"{u.num(m['peak_torque_Nm'], 'torque')} / "
+                                                      f"{u.q(m['rms_torque_Nm'], 'torque', 'N*m')}"),
+        (f"{at}: max / mean speed", f"{m['max_speed_rpm']:.0f} / {m['mean_speed_rpm']:.0f} rpm"),
+    ]
+
+
+def _demand_title(result: Any) -> str:
+    """The demand table's title: at the axis input; and at the selected motor's shaft behind its catalog
+    gearbox where the selection puts one there."""
+    pick = (result.selection or {}).get("selected") or {}
+    title = f"{result.axis.name}: demand at the axis input (rotor excluded)"
+    if pick.get("gearbox") and result.axis.motor is None:
+        title += f"; at the shaft of {pick['motor']} behind {pick['gearbox']}"
+    return title
 
 
 def _pct(margin: float | None) -> str:

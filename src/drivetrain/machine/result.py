@@ -50,6 +50,39 @@ class MachineResult:
         axes_ok = all(r.ok for a in self.axes.values() for r in a.results)
         return axes_ok and all(b.get("ok", True) for b in self.buses)
 
+    @property
+    def status(self) -> str:
+        """The machine's verdict, the worst of its axes' (``SizingResult.status``) and its buses':
+        ``fail`` where anything fails, else ``pass with unknowns`` where any axis has a check that could not be
+        judged, else ``pass``; ``ok == (status != "fail")``."""
+        if not self.ok:
+            return "fail"
+        return "pass with unknowns" if self.unknowns() else "pass"
+
+    def unknowns(self) -> list[dict[str, str]]:
+        """Every axis's checks that could not be judged (``SizingResult.unknowns``), each with its axis
+        (and motor, where the axis has several)."""
+        out: list[dict[str, str]] = []
+        for name, ap in self.axes.items():
+            for k, r in enumerate(ap.results):
+                who = name if len(ap.results) == 1 else f"{name} (motor {k + 1})"
+                out += [{"axis": who, **u.to_dict()} for u in r.unknowns]
+        return out
+
+    def verdict_line(self) -> str:
+        """The machine's verdict in one line, as ``drivetrain machine size`` prints it last."""
+        status = self.status
+        unknown = [f"{u['axis']}: {u['check']} ({u['decide']})" for u in self.unknowns()]
+        if status == "pass":
+            return "PASS"
+        if status == "pass with unknowns":
+            return "PASS WITH UNKNOWNS: " + ", ".join(unknown)
+        bad = [f"axis {name}: {r.verdict_line().removeprefix('FAIL: ')}" for name, ap in self.axes.items()
+               for r in ap.results if not r.ok]
+        bad += [f"bus {b.get('name', '?')}: its supply module or braking resistors do not suffice"
+                for b in self.buses if not b.get("ok", True)]
+        return "FAIL: " + "; ".join(bad)
+
     def to_dict(self) -> dict[str, Any]:
         """The JSON result (docs/machine.md)."""
         m = self.machine
@@ -73,7 +106,8 @@ class MachineResult:
         return {"machine": {"name": m.name, "drivetrain_version": __version__, "cycle_time_s": m.cycle_time,
                             "supply_voltage_V": m.supply.voltage, "supply_phases": m.supply.phases,
                             "ok": self.ok, **self.totals},
-                "buses": self.buses, "phasing": self.phasing, "axes": axes, "bill_of_materials": self.bom}
+                "buses": self.buses, "phasing": self.phasing, "axes": axes, "bill_of_materials": self.bom,
+                "verdict": {"status": self.status, "unknowns": self.unknowns()}}
 
     def series(self) -> dict[str, np.ndarray]:
         """The machine cycle's grid and every axis's and bus's power [W] at the stated offsets."""

@@ -8,7 +8,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Literal
 
-Status = Literal["pass", "fail", "info"]
+Status = Literal["pass", "unknowns", "fail", "info"]
+"""``unknowns``: pass with unknowns (``SizingResult.status``, docs/checks.md, "The verdict")."""
 
 
 @dataclass
@@ -34,7 +35,7 @@ class Table:
 
 @dataclass
 class Verdict:
-    """The summary at the top: pass, fail, or info (no motor given)."""
+    """The summary at the top: pass, pass with unknowns, fail, or info (no motor given)."""
 
     status: Status
     headline: str

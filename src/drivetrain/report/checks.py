@@ -138,6 +138,23 @@ _APPROX_NOTE = ("Torque checks use the speed-torque envelope derived from the mo
 
 
 def verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> Verdict:
+    """The banner: the three outcomes of ``SizingResult.status`` (pass, pass with unknowns, fail) with what
+    fails and every check that could not be judged (or info where no motor is given)."""
+    verdict = _checks_verdict(result, du, focus)
+    if result.status == "fail" and verdict.status != "fail":  # motor.select.unknown: fail
+        names = ", ".join(u.check for u in result.unknowns)
+        return Verdict("fail", f"Fails: checks that cannot be judged count as failures (motor.select.unknown: fail): "
+                       f"{names}", verdict.details)
+    return verdict
+
+
+def unknown_lines(result: SizingResult) -> list[str]:
+    """One sentence per check of the answer that could not be judged (``SizingResult.unknowns``)."""
+    return [f"Not judged: {u.part}: {u.decide}." if u.check == u.part else
+            f"Not judged ({u.part}): {CHECK_NAMES.get(u.check, u.check)}: {u.decide}." for u in result.unknowns]
+
+
+def _checks_verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> Verdict:
     verdict = _motor_verdict(result, du, focus)
     failed = [c for c in axis_checks(result) if not c.get("ok", True)]
     if not failed:
@@ -147,7 +164,7 @@ def verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> Verd
         return Verdict("fail", verdict.headline, lines + verdict.details)
     names = ", ".join(CHECK_NAMES.get(c["name"], c["name"]).lower() for c in failed)
     head = f"Axis check{'s' if len(failed) > 1 else ''} failing: {names}"
-    motor = [f"Motor: {verdict.headline}."] if verdict.status == "pass" else []
+    motor = [f"Motor: {verdict.headline}."] if verdict.status in ("pass", "unknowns") else []
     return Verdict("fail", head, lines + motor + verdict.details)
 
 
@@ -160,6 +177,10 @@ def _motor_verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) 
         approx = any(c.get("approximate") for c in checks)
         if not failed:
             details = [d for d in (_tightest(checks, du), _APPROX_NOTE if approx else "") if d]
+            unknown = unknown_lines(result)
+            if unknown:
+                return Verdict("unknowns", f"Motor {focus.label}: pass with unknowns "
+                               f"({len(unknown)} not judged)", details + unknown)
             return Verdict("pass", f"Motor {focus.label} is adequate: all {len(checks)} checks pass", details)
         details = [failure_sentence(c, du) for c in sorted(failed, key=lambda c: c["margin"])]
         return Verdict("fail", f"Motor {focus.label} is not adequate: {len(failed)} of {len(checks)} checks fail",
@@ -186,11 +207,10 @@ def _motor_verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) 
                 details.append(f"Next smaller motor {candidate_label(nxt)} is rejected: {why}.")
             if any(c.get("approximate") for c in focus.checks):
                 details.append(_APPROX_NOTE)
-            unjudged = [c for c in focus.checks if c.get("status") == "unknown"]
-            if unjudged:
-                details += [f"Not judged, confirm with the vendor: {failure_sentence(c, du)}." for c in unjudged]
-                return Verdict("pass", f"Selected: {focus.label}, no check fails ({len(unjudged)} not judged)",
-                               details)
+            unknown = unknown_lines(result)
+            if unknown:
+                return Verdict("unknowns", f"Selected: {focus.label}, pass with unknowns "
+                               f"({len(unknown)} not judged)", details + unknown)
             return Verdict("pass", f"Selected: {focus.label}, passes every check", details)
         details = [d for d in (scope,) if d]
         if focus is not None:
@@ -209,6 +229,7 @@ def _motor_verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) 
         f"up to {du.fmt(speed_si(m['max_speed_rpm']), 'angular_speed')}, load inertia "
         f"{du.fmt(m['load_inertia_kgm2'], 'inertia')} at the motor shaft (rotor excluded).",
         "Add a motor (its ratings, or a catalog id) or motor: {select: ...} to the axis file to check one.",
+        *unknown_lines(result),
     ])
 
 

@@ -50,8 +50,12 @@ def _table(t: Table, extra_class: str = "") -> str:
             f"</caption>{thead}<tbody>{''.join(rows)}</tbody></table></div>{note}")
 
 
+BADGES = {"pass": "PASS", "unknowns": "PASS WITH UNKNOWNS", "fail": "FAIL", "info": "INFO"}
+"""The verdict's badge for each status of a report's Verdict (the three outcomes of SizingResult.status)."""
+
+
 def _verdict(v: Verdict) -> str:
-    badge = {"pass": "PASS", "fail": "FAIL", "info": "INFO"}[v.status]
+    badge = BADGES[v.status]
     details = "".join(f"<li>{e(d)}</li>" for d in v.details)
     return (f'<section class="dt-verdict dt-{v.status}" id="dt-verdict"><div class="dt-badge">{badge}</div>'
             f"<div><h2>{e(v.headline)}</h2>{f'<ul>{details}</ul>' if details else ''}</div></section>")

@@ -69,9 +69,13 @@ def _verdict(result: MachineResult, d: dict[str, Any]) -> Verdict:
             details.append(f"bus {b['name']} needs a braking resistor: "
                            f"{_j(b['resistor_energy_per_cycle_J'])} per cycle,"
                            f" {_w(b['resistor_average_power_W'])} average, {_w(b['resistor_peak_power_W'])} peak")
-    if result.ok:
+    unknown = [f"Not judged (axis {u['axis']}, {u['part']}): {u['check']}: {u['decide']}." for u in result.unknowns()]
+    if result.status == "pass":
         return Verdict("pass", f"Every axis of {d['machine']['name']} passes", details)
-    return Verdict("fail", f"{d['machine']['name']} does not pass", details)
+    if result.status == "pass with unknowns":
+        return Verdict("unknowns", f"{d['machine']['name']}: pass with unknowns "
+                       f"({len(unknown)} not judged)", details + unknown)
+    return Verdict("fail", f"{d['machine']['name']} does not pass", details + unknown)
 
 
 def _key_figures(d: dict[str, Any]) -> list[KeyFigure]:

@@ -36,7 +36,8 @@ INK = "#1d2733"
 MUTED = "#5b6673"
 ACCENT = "#1f4e79"
 LINE = "#d9dee4"
-STATUS = {"pass": ("#1e7b34", "#e7f4ea"), "fail": ("#b3261e", "#fcebea"), "info": ("#1f4e79", "#e9f0f8")}
+STATUS = {"pass": ("#1e7b34", "#e7f4ea"), "unknowns": ("#8a5a00", "#fbf3e0"), "fail": ("#b3261e", "#fcebea"),
+          "info": ("#1f4e79", "#e9f0f8")}
 _BOLD = ("pass", "fail", "strong")
 CELL_COLORS = {"pass": "#1e7b34", "fail": "#b3261e", "muted": MUTED, "warn": "#8a5a00", "strong": INK}
 
@@ -182,9 +183,15 @@ class _Doc:
         y = self.c.y
         self.rect(MARGIN_L, y, CONTENT_W, h, bg, rounded=True)
         self.rect(MARGIN_L, y, 0.09, h, color)
-        badge = {"pass": "PASS", "fail": "FAIL", "info": "INFO"}[v.status]
         self.rect(MARGIN_L + 0.22, y + 0.14, 0.78, 0.3, color, rounded=True)
-        self.text(MARGIN_L + 0.61, y + 0.29, badge, size=11, color="white", weight="bold", ha="center", va="center")
+        if v.status == "unknowns":  # "PASS WITH UNKNOWNS" on two lines, to fit the badge
+            for dy, word in ((0.215, "PASS WITH"), (0.365, "UNKNOWNS")):
+                self.text(MARGIN_L + 0.61, y + dy, word, size=7, color="white", weight="bold", ha="center",
+                          va="center")
+        else:
+            badge = {"pass": "PASS", "fail": "FAIL", "info": "INFO"}[v.status]
+            self.text(MARGIN_L + 0.61, y + 0.29, badge, size=11, color="white", weight="bold", ha="center",
+                      va="center")
         head = _wrap(v.headline, CONTENT_W - 1.35, 11.5)[0]
         self.text(MARGIN_L + 1.18, y + 0.34, head, size=11.5, weight="bold")
         ly = y + 0.54

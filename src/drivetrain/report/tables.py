@@ -302,9 +302,12 @@ def candidates_table(result: SizingResult, du: DisplayUnits) -> Table | None:
 
         failed = [ch for ch in checks.values() if ch.get("status", "fail" if not ch.get("ok", True) else "pass")
                   == "fail"]
-        if c.get("ok"):
-            unknown = c.get("unknown") or []
-            verdict = Cell("PASS" + (f" (not judged: {', '.join(unknown)})" if unknown else ""), "pass")
+        if c.get("ok"):  # the three outcomes of the answer's verdict (docs/checks.md, "The verdict")
+            gaps = [str(n) for n in c.get("unknown") or []]
+            drive = c.get("drive")
+            if isinstance(drive, dict) and drive.get("status") in ("unknown", "none"):
+                gaps.append("drive")
+            verdict = Cell(f"PASS WITH UNKNOWNS: {', '.join(gaps)}", "warn") if gaps else Cell("PASS", "pass")
         elif failed:
             verdict = Cell(failure_sentence(min(failed, key=lambda ch: (ch["name"] != "max_speed",
                                                                         ch.get("margin") or 0.0)), du), "fail")

@@ -8,6 +8,7 @@ import math
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from drivetrain.errors import InputError
 from drivetrain.sizing.candidates import CHECK_UNITS, MOTOR_CHECKS, Candidates, closest, column
@@ -73,6 +74,18 @@ def _unknown_note(name: str, c: Candidates, fit_gap: str) -> str:
     if name in _RATING_NAMES:
         return f"the catalog lacks the gearbox's {_RATING_NAMES[name]}"
     return "the catalog lacks a rating it needs"
+
+
+def fewest_failures(c: Candidates, pool: NDArray[np.intp]) -> int:
+    """The candidate of ``pool`` that fails the fewest checks, of those the one with the smallest shortfall
+    (the largest worst margin; an unknown, NaN, worst margin counts as the lowest); ties in pool order."""
+    failed = c.failed[pool].astype(np.int64)
+    bits = np.zeros(len(pool), dtype=np.int64)
+    for b in range(len(CHECK_UNITS)):  # a handful of bits
+        bits += (failed >> b) & 1
+    w = c.worst_margin[pool]
+    order = np.lexsort((-np.where(np.isnan(w), -np.inf, w), bits))
+    return int(pool[order[0]])
 
 
 def percent(margin: float | None) -> str:
@@ -187,9 +200,16 @@ def advice(c: Candidates, margins: Margins, spec: SelectSpec, motors: MotorTable
     filters = [f"{f}={getattr(spec, f)}" for f in ("vendor", "voltage", "flange", "gearbox_series")
                if getattr(spec, f)]
     no_gearbox = spec.gearbox == "none"
+    too_slow = float(d.margin["max_speed"][0]) < 0.0
     for mar, n in blocking:
         need, have = d.required[n][0], d.available[n][0]
         fixes: list[str] = []
+        if too_slow and n in ("peak_torque", "rms_torque") and not have > 0.0:
+            # not judged (as candidate_dict says): the motor offers no torque at a speed it cannot reach, so a
+            # shortfall against it is no measure of anything; say what would judge it instead of a percentage
+            lines.append(f"{n} not judged: {_unknown_note(n, c, '').removeprefix('not judged: ')}; a motor that "
+                         "reaches the cycle's speed is judged on it")
+            continue
         if n == "inertia_ratio":
             head = f"the closest candidate needs an inertia ratio of {need:.3g} (limit {have:.3g})"
             if margins.inertia_ratio < 1000:
@@ -246,11 +266,13 @@ def explain(result_selection: dict[str, Any], ranking: Ranking, model: str) -> s
     rows = c.of_motors(hits)
     ok_rows = rows[c.ok[rows]]
     ranked = ranking.ranked
-    if len(ok_rows) and len(ranked):  # a passing motor: its configuration the ranking put first
-        mine = ranked[np.isin(c.motor[ranked], hits)]
+    mine = ranked[np.isin(c.motor[ranked], hits)] if len(ok_rows) else ranked[:0]
+    if len(mine):  # a passing motor: its configuration the ranking put first
         best = int(mine[0])
+    elif len(ok_rows):  # passing, but not among the candidates ranked: its passing one with the largest margin
+        best = closest(c, ok_rows)
     else:
-        best = closest(c, rows)
+        best = fewest_failures(c, rows)
     d = candidate_dict(c, best, motors, gb, None)
     n_ok = len(ok_rows)
     mounting = d["gearbox"] or (f"on the axis's {result_selection['transmission_gearbox']}"
@@ -276,4 +298,4 @@ def explain(result_selection: dict[str, Any], ranking: Ranking, model: str) -> s
     return "\n".join(lines)
 
 
-__all__ = ["advice", "candidate_dict", "explain", "percent"]
+__all__ = ["advice", "candidate_dict", "explain", "fewest_failures", "percent"]

@@ -15,6 +15,7 @@ from drivetrain.duty.cycle import DutyCycle, load_metrics
 from drivetrain.physics.acceleration import acceleration_power, minimum_accel_time, minimum_decel_time, operation_power
 from drivetrain.sizing.checks import Check, running_torque
 from drivetrain.sizing.motor_fit import MotorArrays, demand, fit_motors
+from drivetrain.sizing.verdict import Status, Unknown, collect_unknowns, failures, unknown_fails
 from drivetrain.version import __version__
 
 if TYPE_CHECKING:
@@ -69,12 +70,46 @@ class SizingResult:
 
     @property
     def ok(self) -> bool:
-        """The verdict (:func:`verdict`)."""
-        return verdict(self)
+        """Whether the answer stands: ``status != "fail"`` (kept for compatibility; :attr:`status` says more)."""
+        return self.status != "fail"
+
+    @property
+    def status(self) -> Status:
+        """The verdict in three outcomes (docs/checks.md, "The verdict"): ``"pass"`` (every check judged and
+        passed), ``"pass with unknowns"`` (every judged check passed, :attr:`unknowns` could not be judged)
+        or ``"fail"`` (a check fails; or, under ``motor.select.unknown: fail``, a check cannot be judged)."""
+        if not verdict(self):
+            return "fail"
+        if not self.unknowns:
+            return "pass"
+        return "fail" if unknown_fails(self.axis) else "pass with unknowns"
+
+    @property
+    def unknowns(self) -> list[Unknown]:
+        """Every check of the answer that could not be judged, with the part it concerns and what would
+        decide it (:func:`collect_unknowns`)."""
+        return collect_unknowns(self)
+
+    def verdict_line(self) -> str:
+        """The verdict in one line, as the CLI prints it last: ``PASS``, ``PASS WITH UNKNOWNS: check (why),
+        ...`` or ``FAIL: ...`` (what fails, then what could not be judged)."""
+        status = self.status
+        unknown = [f"{u.check} ({u.decide})" for u in self.unknowns]
+        if status == "pass":
+            return "PASS"
+        if status == "pass with unknowns":
+            return "PASS WITH UNKNOWNS: " + ", ".join(unknown)
+        failing = failures(self)
+        if not failing and unknown:  # unknown: fail
+            failing = [f"not judged under motor.select.unknown: fail: {', '.join(unknown)}"]
+        elif unknown:
+            failing.append(f"not judged: {', '.join(unknown)}")
+        return "FAIL: " + "; ".join(failing)
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON result of docs/axis-file.md (keys carry their unit), from the fields in this order:
-        the axis, versions, ``metrics``, ``extras``, ``motor``, ``selection``, ``candidates``, ``modes``."""
+        the axis, versions, ``metrics``, ``extras``, ``motor``, ``selection``, ``candidates``, ``modes``, and
+        last the ``verdict`` (:attr:`status` and :attr:`unknowns`)."""
         from drivetrain.catalog import DATA_VERSION
 
         out: dict[str, Any] = {"axis": self.axis.name, "drivetrain_version": __version__,
@@ -89,6 +124,7 @@ class SizingResult:
             out["candidates"] = self.candidates
         if self.modes is not None:
             out["modes"] = self.modes
+        out["verdict"] = {"status": self.status, "unknowns": [u.to_dict() for u in self.unknowns]}
         return out
 
     def _repr_html_(self) -> str:

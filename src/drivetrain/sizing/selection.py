@@ -258,12 +258,17 @@ def _energy(c: Candidates, ks: NDArray[np.intp], motors: MotorTable, gb: Gearbox
     return out
 
 
-def closest_failing(c: Candidates, n: int) -> NDArray[np.intp]:
+def closest_failing(c: Candidates, n: int, skip_motors: NDArray[np.bool_] | None = None) -> NDArray[np.intp]:
     """The ``n`` failing candidates with the largest worst margins, best first: ties in index order, NaN
-    margins last (as a stable sort of every failing candidate, without sorting them all)."""
+    margins last (as a stable sort of every failing candidate, without sorting them all). ``skip_motors``
+    (one flag per motor): leave out every candidate of the motors flagged (those with a passing configuration,
+    which are never listed as rejected)."""
     from drivetrain.sizing.kernel import closest_failing as kernel_closest_failing
 
-    return np.asarray(kernel_closest_failing(np.asarray(c.worst_margin, dtype=float), c.rejected, n), dtype=np.intp)
+    rejected = c.rejected
+    if skip_motors is not None:
+        rejected = rejected & ~skip_motors[c.motor]
+    return np.asarray(kernel_closest_failing(np.asarray(c.worst_margin, dtype=float), rejected, n), dtype=np.intp)
 
 
 def pareto_front(size: Array, margin: Array, ratio: Array) -> NDArray[np.intp]:
@@ -337,7 +342,10 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
     listed = passing if all_pairs else best_per_motor(c, passing)
     shown_ok = listed if all_pairs else listed[: spec.top]
     n_fail = max(spec.top - min(len(shown_ok), spec.top), 3)
-    failing = closest_failing(c, n_fail * 8)
+    # a motor with any passing configuration is a passing motor: none of its configurations is listed as rejected
+    passes = np.zeros(len(motors), dtype=bool)
+    passes[c.motor[passing]] = True
+    failing = closest_failing(c, n_fail * 8, passes)
     failing = failing if all_pairs else best_per_motor(c, failing)
 
     def row(k: int, rank: int | None) -> dict[str, Any]:

@@ -112,7 +112,8 @@ def resolve_projects(data: dict[str, Any], store: Store) -> tuple[dict[str, Any]
 
 def axis_rows(result: MachineResult) -> list[dict[str, Any]]:
     """The machine table: one row per motor (a gantry has several) with its motor, drive, gearbox, smallest
-    margin (and its check) and pass, and the axis page's ``electrical`` block (drive, currents, regen)."""
+    margin (and its check), pass and its ``status`` (pass, pass with unknowns, fail), and the axis page's
+    ``electrical`` block (drive, currents, regen)."""
     from drivetrain.machine.axes import bom_items
 
     rows: list[dict[str, Any]] = []
@@ -139,7 +140,7 @@ def axis_rows(result: MachineResult) -> list[dict[str, Any]]:
                          "motor": part("motor"), "drive": part("drive"), "gearbox": part("gearbox"),
                          "min_margin": None if worst is None else worst["margin"],
                          "limit": None if worst is None else worst["name"], "ok": bool(res.ok),
-                         "failed": failed or None, "electrical": electrical_payload(res)})
+                         "status": res.status, "failed": failed or None, "electrical": electrical_payload(res)})
     return rows
 
 

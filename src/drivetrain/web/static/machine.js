@@ -365,13 +365,14 @@ export class MachineView {
     body.hidden = false;
     body.classList.remove("stale");
     const b = $("m-banner");
-    b.className = `banner ${m.ok ? "good" : "bad"}`;
+    const mv = MR.machineVerdict(p);
+    b.className = `banner ${mv.cls}`;
     const failing = p.axes.filter((a) => !a.ok).map((a) => a.name);
     const busBad = p.buses.filter((x) => x.ok === false).map((x) => x.name);
     b.replaceChildren(el("strong", { text: m.ok ? `${m.name}: every axis passes` : `${m.name} does not pass` }),
       failing.length ? `: axis ${failing.join(", ")} fails` : "",
       busBad.length ? `; bus ${busBad.join(", ")}: its supply module or braking resistors do not suffice` : "",
-      `. Bus peak ${fmt(m.bus_peak_power_W)} W, braking resistor ${fmt(m.resistor_energy_per_cycle_J)} J per cycle.`);
+      `. Bus peak ${fmt(m.bus_peak_power_W)} W, braking resistor ${fmt(m.resistor_energy_per_cycle_J)} J per cycle.`, mv.line);
     MR.renderTable(this, p);
     MR.drawBus(this, p);
     MR.renderBuses(this, p);

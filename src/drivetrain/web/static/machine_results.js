@@ -3,7 +3,7 @@
 // the API's errors shown at the field they name. Text only through textContent (never HTML from data).
 
 import { el } from "./dom.js";
-import { checkName, fmt, pct, renderChecks, table } from "./results.js";
+import { checkName, fmt, pct, renderChecks, table, verdictLine } from "./results.js";
 
 const $ = (id) => document.getElementById(id);
 const copy = (x) => JSON.parse(JSON.stringify(x));
@@ -39,7 +39,7 @@ export function renderTable(view, p) {
     return {
       cls: r.ok ? "" : "fail",
       cells: [cell, r.motors > 1 ? `${Math.round(r.share * 100)} %` : "1", r.motor || "–", r.drive || "–", r.gearbox || "–",
-        r.min_margin === null ? "–" : `${pct(r.min_margin)} (${checkName(r.limit)})`, r.ok ? "pass" : `FAIL${r.failed ? ": " + r.failed : ""}`],
+        r.min_margin === null ? "–" : `${pct(r.min_margin)} (${checkName(r.limit)})`, r.ok ? (r.status || "pass") : `FAIL${r.failed ? ": " + r.failed : ""}`],
     };
   });
   $("m-table").replaceChildren(table("Axes of the machine: motor, drive, gearbox, margins", ["axis", "load", "motor", "drive", "gearbox", "smallest margin", "result"], rows, "data machine-table"));
@@ -96,6 +96,21 @@ export function renderBom(view, p) {
   $("m-bom").replaceChildren(table("Bill of materials", ["item", "order code", "vendor", "qty", "used by"], rows, "data bom-table"));
 }
 
+// An axis's outcome in the machine's list: pass, pass with unknowns or FAIL (its result's verdict block).
+export function axisOutcome(r, row) {
+  const status = r && r.verdict ? r.verdict.status : row && row.ok ? "pass" : "fail";
+  return status === "fail" ? "FAIL" : status;
+}
+
+// The machine's verdict (machine.verdict: the worst of its axes'): the banner's class and its last line,
+// PASS, PASS WITH UNKNOWNS with every check not judged (axis, part, what would decide it), or FAIL.
+export function machineVerdict(p) {
+  const v = p.verdict || { status: p.machine.ok ? "pass" : "fail", unknowns: [] };
+  const cls = v.status === "pass with unknowns" ? "warn" : v.status === "pass" ? "good" : "bad";
+  const unknowns = (v.unknowns || []).map((u) => ({ ...u, check: `${u.axis}: ${u.check}` }));
+  return { cls, line: verdictLine({ status: v.status, unknowns }) };
+}
+
 export function renderAxisResults(view, p) {
   const out = [];
   for (const a of p.axes) {
@@ -104,7 +119,7 @@ export function renderAxisResults(view, p) {
       const row = p.table.find((t) => t.axis === a.name && t.motor_index === k + 1);
       const id = `m-axis-${a.name}-${k + 1}`.replace(/[^A-Za-z0-9_-]/g, "_");
       const d = el("details", { id, class: "axis-result" }, el("summary", {
-        text: `${a.name}${results.length > 1 ? `, motor ${k + 1} (${Math.round(a.load_shares[k] * 100)} % of the load)` : ""}: ${row && row.ok ? "pass" : "FAIL"}`,
+        text: `${a.name}${results.length > 1 ? `, motor ${k + 1} (${Math.round(a.load_shares[k] * 100)} % of the load)` : ""}: ${axisOutcome(r, row)}`,
       }));
       const checks = el("div");
       renderChecks(checks, r, row ? row.electrical : null);

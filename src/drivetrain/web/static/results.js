@@ -61,10 +61,20 @@ export function checkName(name) {
   return CHECK_NAMES[name] || name.replace(/_/g, " ");
 }
 
-// The checks a result is judged by: the given motor's, else the selected candidate's.
+// The answer's verdict in three outcomes (result.verdict: status "pass", "pass with unknowns" or "fail", and
+// the checks that could not be judged, docs/axis-file.md); a result without the block: pass or fail by ``ok``.
+export function outcome(result, ok) {
+  const v = result.verdict;
+  if (v && v.status) return { status: v.status, unknowns: v.unknowns || [] };
+  return { status: ok ? "pass" : "fail", unknowns: [] };
+}
+
+// The checks a result is judged by: the given motor's, else the selected candidate's; with the answer's
+// verdict (``status``, ``unknowns``: outcome above), which decides ``ok``.
 export function verdict(result) {
   if (result.motor) {
-    return { who: result.motor.name, ok: result.motor.ok, failed: result.motor.failed, checks: result.motor.checks, kind: "motor" };
+    const o = outcome(result, result.motor.ok);
+    return { who: result.motor.name, ok: o.status !== "fail", ...o, failed: result.motor.failed, checks: result.motor.checks, kind: "motor" };
   }
   const sel = result.selection;
   if (sel && sel.selected) {
@@ -72,10 +82,23 @@ export function verdict(result) {
     // a selection whose passing motors have no orderable drive fails (drive_select.orderable)
     // the verdict is the advice's first clause; the motor it names and the motors passed over fold away
     const failed = sel.drive_advice ? `not orderable: ${sel.drive_advice.split("; ")[0]}` : "";
-    return { who: c.motor + (c.gearbox ? ` + ${c.gearbox}` : ""), ok: !sel.drive_advice, failed, checks: c.checks, kind: "selection", candidate: c };
+    const o = outcome(result, !sel.drive_advice);
+    return { who: c.motor + (c.gearbox ? ` + ${c.gearbox}` : ""), ok: o.status !== "fail", ...o, failed, checks: c.checks, kind: "selection", candidate: c };
   }
-  if (sel) return { who: null, ok: false, failed: sel.advice || "no candidate passes every check", checks: [], kind: "none-pass" };
+  if (sel) return { who: null, ok: false, status: "fail", unknowns: outcome(result, false).unknowns, failed: sel.advice || "no candidate passes every check", checks: [], kind: "none-pass" };
   return null;
+}
+
+// The verdict's line under the banner: PASS, PASS WITH UNKNOWNS with each check not judged (its part and
+// what would decide it), or FAIL.
+export function verdictLine(v) {
+  const head = { pass: "PASS", "pass with unknowns": "PASS WITH UNKNOWNS", fail: "FAIL" }[v.status] || "FAIL";
+  const line = el("div", { class: "verdict-line" }, el("strong", { text: head }));
+  if (v.unknowns && v.unknowns.length) {
+    line.append(v.status === "fail" ? ": not judged (motor.select.unknown: fail):" : ": not judged:");
+    line.append(el("ul", { class: "unknown-list" }, ...v.unknowns.map((u) => el("li", { text: `${u.check} (${u.part}): ${u.decide}` }))));
+  }
+  return line;
 }
 
 export function renderBanner(node, result) {
@@ -90,7 +113,7 @@ export function renderBanner(node, result) {
     node.textContent = `No catalog candidate passes. ${v.failed}`;
     return;
   }
-  node.classList.add(v.ok ? "good" : "bad");
+  node.classList.add(v.status === "pass with unknowns" ? "warn" : v.ok ? "good" : "bad");
   if (v.kind === "selection") {
     const s = result.selection;
     const c = v.candidate;
@@ -103,8 +126,10 @@ export function renderBanner(node, result) {
     const folded = passedOver(s);
     if (folded) node.append(folded);
   } else {
-    node.replaceChildren(el("strong", { text: `Motor ${v.who}: ${v.ok ? "OK" : "FAILS"}` }), v.ok ? ": every check passes." : `: ${v.failed}`);
+    const said = v.status === "pass" ? ": every check passes." : v.status === "pass with unknowns" ? ": no judged check fails." : `: ${v.failed}`;
+    node.replaceChildren(el("strong", { text: `Motor ${v.who}: ${v.ok ? "OK" : "FAILS"}` }), said);
   }
+  node.append(verdictLine(v));
 }
 
 // The motors a selection passed over for their drive, folded: a count in the summary, each motor with

@@ -1,0 +1,176 @@
+"""The verdict of an answer in three outcomes (docs/checks.md, "The verdict"): the checks of a
+``SizingResult`` that could not be judged, each with the part it concerns and what would decide it, and
+what fails, read from the answer's blocks as its JSON states them."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Literal, Protocol
+
+if TYPE_CHECKING:
+    from drivetrain.axis.model import Axis
+
+
+class Answer(Protocol):
+    """What the verdict reads of an answer (``SizingResult``; named here without importing it, which
+    imports this module)."""
+
+    extras: dict[str, Any]
+    motor: dict[str, Any] | None
+    selection: dict[str, Any] | None
+    ranking: Any
+
+
+Status = Literal["pass", "pass with unknowns", "fail"]
+"""The three outcomes of an answer (``SizingResult.status``, docs/checks.md, "The verdict")."""
+
+
+@dataclass(frozen=True)
+class Unknown:
+    """A check of the answer that could not be judged: its name, the part it concerns (``motor``,
+    ``drive``, ``electrical``, ``regen``, ``gearbox`` (a catalog gearbox), ``gearbox stage (NAME)`` (one of
+    ``transmission:``), ``motor-gearbox fit``, ``brake``, ``mechanism``, ``guide``, ``dynamics``) and what
+    would decide it."""
+
+    check: str
+    part: str
+    decide: str
+
+    def to_dict(self) -> dict[str, str]:
+        """JSON form (docs/axis-file.md, ``verdict.unknowns``)."""
+        return {"check": self.check, "part": self.part, "decide": self.decide}
+
+
+def unknown_fails(axis: Axis) -> bool:
+    """Whether a check that cannot be judged fails the answer: ``motor.select.unknown: fail``."""
+    spec = axis.spec.motor
+    return spec is not None and spec.select is not None and spec.select.unknown == "fail"
+
+
+def _not_judged(check: dict[str, Any]) -> bool:
+    """Whether a check (a JSON check dict) could not be judged: status ``unknown``, or without a status an
+    undecided ``ok`` (None) or a margin that is not a number."""
+    status = check.get("status")
+    if status is not None:
+        return status == "unknown"
+    margin = check.get("margin")
+    return check.get("ok") is None or (margin is not None and isinstance(margin, float) and math.isnan(margin))
+
+
+def _failed(check: dict[str, Any]) -> bool:
+    status = check.get("status")
+    return status in ("fail", "fails") if status is not None else check.get("ok") is False
+
+
+def _check_list(block: Any) -> list[dict[str, Any]]:
+    """The checks of a block: its ``checks`` list, or the block itself where it is one check."""
+    if isinstance(block, list):
+        return [c for c in block if isinstance(c, dict)]
+    if not isinstance(block, dict):
+        return []
+    if isinstance(block.get("checks"), list):
+        return [c for c in block["checks"] if isinstance(c, dict)]
+    return [block] if "name" in block and ("ok" in block or "status" in block) else []
+
+
+_MOTOR_CHECKS = frozenset({"peak_torque", "rms_torque", "max_speed", "inertia_ratio", "speed_torque_envelope"})
+
+
+def _decide(check: dict[str, Any], default: str) -> str:
+    return str(check.get("note") or check.get("reason") or default)
+
+
+def _drive_unknowns(block: dict[str, Any] | None) -> list[Unknown]:
+    """A drive block (``drive_select.pick_drive``, or a given motor's): unknown or none as a whole, or
+    its own checks that cannot be judged."""
+    if not isinstance(block, dict):
+        return []
+    if block.get("status") in ("unknown", "none"):
+        what = "no drive in the catalog fits" if block["status"] == "none" else "cannot be checked"
+        return [Unknown("drive", "drive", str(block.get("reason") or what))]
+    return [Unknown(c["name"], "drive", _decide(c, "the drive's rating is not known"))
+            for c in _check_list(block) if _not_judged(c)]
+
+
+def _regen_unknowns(block: dict[str, Any] | None) -> list[Unknown]:
+    """The braking block's own checks that cannot be judged. Whether the drive's built-in braking resistor
+    suffices is not one: where that is not known, the block's energy, powers and resistance window specify
+    the external resistor to fit, which answers the question either way (docs/checks.md, "The verdict")."""
+    if not isinstance(block, dict):
+        return []
+    return [Unknown(c["name"], "regen", _decide(c, "a rating it needs is not known"))
+            for c in _check_list(block) if _not_judged(c)]
+
+
+def collect_unknowns(result: Answer) -> list[Unknown]:
+    """Every check of the answer whose status is unknown (docs/checks.md, "The verdict"), in the order of
+    the answer: the axis's own checks (load slip, guide, brake, mechanism), the transmission's gearbox
+    ratings (``gearbox_checks``, the T2B shock-factor case included), the given motor (its checks and
+    electrical half, drive, regen) or the selected candidate (its checks, motor-gearbox fit, drive,
+    voltage class, electrical, regen) and the dynamic selection's chosen candidate. The modes'
+    ``servo_bandwidth`` is reported, not judged: it is not part of the verdict."""
+    out: list[Unknown] = []
+    ex = result.extras
+    for key, part in (("slip_check", "mechanism"), ("guide", "guide"), ("brake_check", "brake")):
+        out += [Unknown(c["name"], part, _decide(c, "a rating it needs is not given"))
+                for c in _check_list(ex.get(key)) if _not_judged(c)]
+    out += [Unknown(c["name"], "mechanism", _decide(c, "a dimension or rating it needs is not given"))
+            for c in _check_list(ex.get("mechanism_checks")) if _not_judged(c)]
+    out += [Unknown(c["name"], f"gearbox stage ({c['stage']})" if c.get("stage") else "gearbox stage",
+                    _decide(c, "a rating of the gearbox is not given"))
+            for c in _check_list(ex.get("gearbox_checks")) if _not_judged(c)]
+    if result.motor is not None:
+        out += [Unknown(c["name"], "motor" if c["name"] in _MOTOR_CHECKS else "electrical",
+                        _decide(c, "a rating of the motor is not given"))
+                for c in _check_list(result.motor) if _not_judged(c)]
+        drive = ex.get("drive")
+        out += _drive_unknowns(drive)
+        out += _regen_unknowns(ex.get("regen"))
+    elif result.selection is not None and result.selection.get("selected"):
+        pick = result.selection["selected"]
+        for c in _check_list(pick):
+            if _not_judged(c):
+                part = ("motor" if c["name"] in _MOTOR_CHECKS else
+                        "motor-gearbox fit" if c["name"] == "mechanical_fit" else "gearbox")
+                out.append(Unknown(c["name"], part, _decide(c, "the catalog lacks a rating it needs")))
+        vc = pick.get("voltage_class")
+        if isinstance(vc, dict) and _not_judged(vc):
+            out.append(Unknown("voltage_class", "electrical", _decide(vc, "a voltage class is not known")))
+        drive = pick.get("drive")
+        out += _drive_unknowns(drive)
+        out += [Unknown(c["name"], "electrical", _decide(c, "an electrical datum is not known"))
+                for c in _check_list(pick.get("electrical")) if _not_judged(c)]
+        out += _regen_unknowns(pick.get("regen"))
+        dyn = result.selection.get("dynamics")
+        chosen = dyn.get("chosen") if isinstance(dyn, dict) else None
+        out += [Unknown(c["name"], "dynamics", _decide(c, "the simulation could not judge it"))
+                for c in _check_list(chosen) if _not_judged(c)]
+    return out
+
+
+def failures(result: Answer) -> list[str]:
+    """What fails in the answer, one short phrase each (``part: check``), in the order of
+    :func:`collect_unknowns`; empty where nothing fails."""
+    out: list[str] = []
+    ex = result.extras
+    for key, part in (("slip_check", "mechanism"), ("guide", "guide"), ("brake_check", "brake"),
+                      ("mechanism_checks", "mechanism"), ("gearbox_checks", "gearbox")):
+        out += [f"{part}: {c['name']}" + (f" [{c['stage']}]" if c.get("stage") else "")
+                for c in _check_list(ex.get(key)) if _failed(c)]
+    if result.motor is not None:
+        out += [f"motor: {c['name']}" for c in _check_list(result.motor) if _failed(c)]
+        drive = ex.get("drive")
+        if isinstance(drive, dict) and (drive.get("status") == "fails" or drive.get("ok") is False):
+            bad = ", ".join(c["name"] for c in _check_list(drive) if _failed(c))
+            out.append(f"drive: {drive.get('reason') or bad}")
+    elif result.selection is not None:
+        sel = result.selection
+        if sel.get("drive_advice"):
+            out.append(f"not orderable: {str(sel['drive_advice']).split('; ')[0]}")
+        elif not sel.get("selected") or result.ranking is None or result.ranking.best is None:
+            out.append("no catalog motor passes every check")
+    return out
+
+
+__all__ = ["Answer", "Status", "Unknown", "collect_unknowns", "failures", "unknown_fails"]
