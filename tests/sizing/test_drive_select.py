@@ -439,7 +439,7 @@ class _Cycle:
 def test_roll_example_answers_its_motor_with_the_paired_drive_by_pairing() -> None:
     """examples/roll.yaml selects HG-KR053, which has no torque constant: the MR-J4 amplifier the pairing table
     names for it (drives_pairing.csv, a third-party transcription) is judged by the pairing, and flagged."""
-    r = size(yaml.safe_load((Path(__file__).parents[1] / "examples" / "roll.yaml").read_text(encoding="utf-8")))
+    r = size(yaml.safe_load((Path(__file__).parents[2] / "examples" / "roll.yaml").read_text(encoding="utf-8")))
     pick = r.selection["selected"]
     assert pick["motor"] == "HG-KR053"
     d = pick["drive"]

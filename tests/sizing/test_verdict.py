@@ -18,7 +18,7 @@ from drivetrain.axis.model import load_axis
 from drivetrain.sizing.pipeline import size
 from drivetrain.sizing.verdict import Unknown
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
 RESULTS_JS = ROOT / "src" / "drivetrain" / "web" / "static" / "results.js"
 OUTCOMES = ("pass", "pass with unknowns", "fail")

@@ -13,7 +13,7 @@ from drivetrain.axis.yaml_text import parse_yaml
 from drivetrain.sizing.candidates import CHECK_UNITS
 from drivetrain.sizing.pipeline import size
 
-EXAMPLES = Path(__file__).parents[1] / "examples"
+EXAMPLES = Path(__file__).parents[2] / "examples"
 SELECTING = sorted(p.name for p in EXAMPLES.glob("*.yaml")
                    if isinstance((parse_yaml(p.read_text(encoding="utf-8")).get("motor") or {}), dict)
                    and "select" in (parse_yaml(p.read_text(encoding="utf-8")).get("motor") or {}))
