@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from drivetrain.cli.order import print_result_order
 from drivetrain.cli.quantities import TableUnits
 from drivetrain.cli.tables import Col, print_table, table_console
 
@@ -49,6 +50,7 @@ def print_sizing(result: Any, units: TableUnits | None = None) -> None:
         _print_checks(console, "gearbox ratings (transmission)", gear, u)
     if result.candidates:
         _print_candidates(console, result, u)
+    print_result_order(console, result)
 
 
 def _pct(margin: float | None) -> str:

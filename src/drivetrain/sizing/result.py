@@ -74,7 +74,8 @@ class SizingResult:
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON result of docs/axis-file.md (keys carry their unit), from the fields in this order:
-        the axis, versions, ``metrics``, ``extras``, ``motor``, ``selection``, ``candidates``, ``modes``."""
+        the axis, versions, ``metrics``, ``extras``, ``motor``, ``selection``, ``candidates``, ``modes``, and the
+        order sheet (``order``: ``sizing.order.order_sheet``)."""
         from drivetrain.catalog import DATA_VERSION
 
         out: dict[str, Any] = {"axis": self.axis.name, "drivetrain_version": __version__,
@@ -89,6 +90,9 @@ class SizingResult:
             out["candidates"] = self.candidates
         if self.modes is not None:
             out["modes"] = self.modes
+        from drivetrain.sizing.order import order_sheet
+
+        out["order"] = order_sheet(self).to_dict()  # the parts to order (docs/order-sheet.md)
         return out
 
     def _repr_html_(self) -> str:
