@@ -127,6 +127,19 @@ def _mm(row: dict[str, Any] | None, key: str) -> float | None:
     return None if v is None else float(v) * 1e3
 
 
+def _named_row(part: str, name: str, code: str, vendor: str | None, spec: dict[str, Any],
+               open_points: list[str]) -> OrderRow:
+    """A part the axis file gives by its own ratings under a name: the name is taken as its order code, to be
+    confirmed (it is no catalog row), so the row is never complete."""
+    choose = code_choices(code)
+    return OrderRow(part, "catalog", "incomplete", name, vendor=vendor, order_code=None if choose else code,
+                    catalog_id=None, source="axis file (not a catalog row)", unverified=True,
+                    unverified_reason="named in the axis file with its own ratings, not read from a catalog row",
+                    spec=spec, choose=choose, element=part,
+                    open_points=[f"confirm that '{code}' is the vendor's order code (the axis file gives this part "
+                                 "by its ratings)", *_choose_open(choose), *open_points])
+
+
 def _brake_need(c: _Ctx) -> tuple[bool, float | None]:
     """Whether the motor must hold the load on a brake (a dwell ``holding: brake``, or a static torque at
     standstill: gravity, springs), and the static torque at the motor shaft [N m] (None where every dwell is
@@ -174,9 +187,8 @@ def motor_row(c: _Ctx) -> OrderRow:
                 "max_speed_rpm": _rpm(mo.max_speed), "rotor_inertia_kgm2": mo.inertia,
                 "rms_torque_required_Nm": (c.motor or {}).get("rms_torque_Nm"),
                 "peak_torque_required_Nm": (c.motor or {}).get("peak_torque_Nm"), **brake_spec}
-        return OrderRow("motor", "specification", "specification", f"servo motor {mo.name} (as the axis file gives it)",
-                        spec=spec, element="motor", open_points=[*brake_open, *_checks_open(
-                            [ch for ch in (c.motor or {}).get("checks", []) if ch.get("status") != "pass"])])
+        return _named_row("motor", f"servo motor {mo.name} (as the axis file gives it)", mo.name, None, spec, [
+            *brake_open, *_checks_open([ch for ch in (c.motor or {}).get("checks", []) if ch.get("status") != "pass"])])
     code = str(c.motor_id)
     spec = {"voltage_class_V": row.get("voltage_V"), "rated_torque_Nm": row.get("rated_torque_Nm"),
             "peak_torque_Nm": row.get("peak_torque_Nm"), "flange_mm": _mm(row, "flange_m"),
@@ -255,13 +267,13 @@ def drive_row(c: _Ctx) -> OrderRow:
         choose = code_choices(code)
         open_points = _choose_open(choose)
         open_points += _checks_open(d.get("checks", []))
-        fields = _catalog_fields(row)
         if row is None and axis.drive is not None:
-            fields["vendor"] = axis.drive.vendor
+            return _named_row("drive", f"servo drive {did} (as the axis file gives it)", code, axis.drive.vendor,
+                              spec, _checks_open(d.get("checks", [])))
         return OrderRow("drive", "catalog", "incomplete" if open_points else "complete",
                         f"servo drive {'' if row is None else (row.get('series') or '')} {did}".replace("  ", " "),
                         order_code=None if choose else code, catalog_id=code, spec=spec, choose=choose,
-                        open_points=open_points, element="drive", **fields)
+                        open_points=open_points, element="drive", **_catalog_fields(row))
     return _drive_spec(c, d)
 
 
@@ -434,8 +446,6 @@ def resistor_row(c: _Ctx) -> OrderRow | None:
     """The braking resistor as a specification, where the cycle sends energy to one and the drive's built-in
     resistor is not known to take it: the resistance window, energy per event, peak and average power and the
     standard values inside the window."""
-    from drivetrain.physics.regen import resistor_max_resistance
-
     rg = c.regen
     if not rg or not rg.get("resistor_needed") or rg.get("builtin_resistor_sufficient") is True:
         return None
@@ -444,20 +454,36 @@ def resistor_row(c: _Ctx) -> OrderRow | None:
     r_min = rg.get("resistor_min_ohm")
     if r_min is None:
         r_min = (drive or {}).get("min_resistance_ohm") or (given.min_resistance if given is not None else None)
-    p_peak, p_avg = float(rg["resistor_peak_power_W"]), float(rg["resistor_average_power_W"])
     events = [float(e["resistor_J"]) for e in rg.get("events", [])]
-    spec: dict[str, Any] = {"energy_per_event_J": max(events) if events else float(rg["resistor_energy_per_cycle_J"]),
-                            "energy_per_cycle_J": float(rg["resistor_energy_per_cycle_J"]),
-                            "peak_power_W": p_peak, "average_power_W": p_avg}
-    open_points: list[str] = []
-    r_max, basis = rg.get("resistor_max_ohm"), "U_on^2 / P_peak at the drive's switch-on voltage"
     u_on = (drive or {}).get("regen_on_voltage_V") or (given.regen_on_voltage if given is not None else None)
+    spec, open_points = resistor_spec(float(rg["resistor_peak_power_W"]), float(rg["resistor_average_power_W"]),
+                                      float(rg["resistor_energy_per_cycle_J"]), max(events) if events else None,
+                                      r_min, rg.get("resistor_max_ohm"), u_on, _supply(c)[1])
+    return OrderRow("braking_resistor", "specification", "specification", "braking resistor", spec=spec,
+                    open_points=open_points, element="drive")
+
+
+def resistor_spec(peak_power: float, average_power: float, energy_per_cycle: float, energy_per_event: float | None,
+                  r_min: float | None, r_max: float | None, u_on: float | None,
+                  bus: float | None) -> tuple[dict[str, Any], list[str]]:
+    """A braking resistor's specification and open points: peak and average power [W], energy per cycle and per
+    event [J], the resistance window [ohm] (``physics.regen.resistance_window``: the drive's minimum, and
+    U_on^2 / P_peak at the switch-on voltage ``u_on`` [V], else at the nominal DC ``bus`` [V], a safe lower
+    bound since U_on lies above the bus) and the E12 values in it (``order_spec.nearest_standard``)."""
+    from drivetrain.physics.regen import resistor_max_resistance
+
+    spec: dict[str, Any] = {"energy_per_event_J": energy_per_event, "energy_per_cycle_J": energy_per_cycle,
+                            "peak_power_W": peak_power, "average_power_W": average_power}
+    open_points: list[str] = []
+    if energy_per_event is None:
+        open_points.append("energy per braking event not known here: the resistor's pulse rating must take at "
+                           "least the largest event (at most the energy per cycle)")
+    basis = "U_on^2 / P_peak at the drive's switch-on voltage"
     if r_max is None and u_on is not None:
-        r_max = float(resistor_max_resistance(u_on, p_peak))
+        r_max = float(resistor_max_resistance(u_on, peak_power))
     if r_max is None:
-        _, bus, _ = _supply(c)
         if bus is not None:
-            r_max = float(resistor_max_resistance(bus, p_peak))
+            r_max = float(resistor_max_resistance(bus, peak_power))
             basis = (f"U_bus^2 / P_peak at the nominal DC bus {bus:.4g} V: the drive's switch-on voltage is not "
                      "known and lies above the bus, so this bound is safe")
             open_points.append("switch-on voltage not known: the maximum is taken at the nominal DC bus (a safe, "
@@ -477,8 +503,7 @@ def resistor_row(c: _Ctx) -> OrderRow | None:
         else:
             spec["standard_values_ohm"] = nearest_standard(lo, r_max)
             spec["standard_series"] = "E12 (IEC 60063:2015)"
-    return OrderRow("braking_resistor", "specification", "specification", "braking resistor", spec=spec,
-                    open_points=open_points, element="drive")
+    return spec, open_points
 
 
 def transmission_part_rows(c: _Ctx) -> list[OrderRow]:
