@@ -339,7 +339,7 @@ def _bom(m: Machine, axes: dict[str, AxisPower], buses: list[dict[str, Any]]) ->
     rows = [r for a in m.axes for r in axis_bom_rows(a.name, axes[a.name].results)]
     for g, b in zip(m.buses, buses, strict=True):
         if not g.resistors and b["resistor_needed"]:
-            from drivetrain.sizing.order_rows import resistor_spec
+            from drivetrain.sizing.order_spec import resistor_spec
 
             spec, open_points = resistor_spec(b["resistor_peak_power_W"], b["resistor_average_power_W"],
                                               b["resistor_energy_per_cycle_J"], None, b.get("resistor_min_ohm"),

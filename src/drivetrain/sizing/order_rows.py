@@ -16,9 +16,9 @@ from drivetrain.sizing.order_spec import (
     brake_holding_torque,
     choice_text,
     code_choices,
-    nearest_standard,
     peak_duration,
     required_rating,
+    resistor_spec,
 )
 
 if TYPE_CHECKING:
@@ -461,49 +461,6 @@ def resistor_row(c: _Ctx) -> OrderRow | None:
                                       r_min, rg.get("resistor_max_ohm"), u_on, _supply(c)[1])
     return OrderRow("braking_resistor", "specification", "specification", "braking resistor", spec=spec,
                     open_points=open_points, element="drive")
-
-
-def resistor_spec(peak_power: float, average_power: float, energy_per_cycle: float, energy_per_event: float | None,
-                  r_min: float | None, r_max: float | None, u_on: float | None,
-                  bus: float | None) -> tuple[dict[str, Any], list[str]]:
-    """A braking resistor's specification and open points: peak and average power [W], energy per cycle and per
-    event [J], the resistance window [ohm] (``physics.regen.resistance_window``: the drive's minimum, and
-    U_on^2 / P_peak at the switch-on voltage ``u_on`` [V], else at the nominal DC ``bus`` [V], a safe lower
-    bound since U_on lies above the bus) and the E12 values in it (``order_spec.nearest_standard``)."""
-    from drivetrain.physics.regen import resistor_max_resistance
-
-    spec: dict[str, Any] = {"energy_per_event_J": energy_per_event, "energy_per_cycle_J": energy_per_cycle,
-                            "peak_power_W": peak_power, "average_power_W": average_power}
-    open_points: list[str] = []
-    if energy_per_event is None:
-        open_points.append("energy per braking event not known here: the resistor's pulse rating must take at "
-                           "least the largest event (at most the energy per cycle)")
-    basis = "U_on^2 / P_peak at the drive's switch-on voltage"
-    if r_max is None and u_on is not None:
-        r_max = float(resistor_max_resistance(u_on, peak_power))
-    if r_max is None:
-        if bus is not None:
-            r_max = float(resistor_max_resistance(bus, peak_power))
-            basis = (f"U_bus^2 / P_peak at the nominal DC bus {bus:.4g} V: the drive's switch-on voltage is not "
-                     "known and lies above the bus, so this bound is safe")
-            open_points.append("switch-on voltage not known: the maximum is taken at the nominal DC bus (a safe, "
-                               "lower bound); the drive's manual gives the exact window")
-        else:
-            open_points.append("maximum resistance needs the drive's switch-on voltage or the DC bus voltage")
-    spec["resistance_min_ohm"], spec["resistance_max_ohm"] = r_min, r_max
-    spec["resistance_max_basis"] = basis
-    if r_min is None:
-        open_points.append("the drive's minimum resistance is not known: check the chosen value against the "
-                           "drive's manual")
-    if r_max is not None:
-        lo = 0.0 if r_min is None else float(r_min)
-        if lo > r_max:
-            open_points.append(f"empty window: the drive's minimum {lo:.4g} ohm exceeds {r_max:.4g} ohm, no resistor "
-                               "on this drive takes the peak power")
-        else:
-            spec["standard_values_ohm"] = nearest_standard(lo, r_max)
-            spec["standard_series"] = "E12 (IEC 60063:2015)"
-    return spec, open_points
 
 
 def transmission_part_rows(c: _Ctx) -> list[OrderRow]:
