@@ -533,10 +533,9 @@ def mechanism_rows(c: _Ctx) -> list[OrderRow]:
             sp["root_diameter_mm"] = limits.root_diameter * 1e3
             sp["mounting"] = limits.mounting
         crit, buck = _check_named(c, "screw_critical_speed"), _check_named(c, "screw_buckling")
-        if crit is not None:
-            sp["critical_speed_min_rpm"] = crit["required"]
-        if buck is not None:
-            sp["buckling_load_min_N"] = buck["required"]
+        # without the checks the screw must still turn at its peak speed and take the peak axial force
+        sp["critical_speed_min_rpm"] = crit["required"] if crit is not None else sp["max_speed_rpm"]
+        sp["buckling_load_min_N"] = buck["required"] if buck is not None else sp.get("axial_load_peak_N")
         if nut is not None:
             sp["nut_dynamic_rating_min_N"] = _rating_from_life(_check_named(c, "nut_life"), nut.C_a, 3.0)
             sp["nut_static_rating_min_N"] = _rating_from_safety(_check_named(c, "nut_static_safety"), nut.C_0a)
@@ -545,6 +544,8 @@ def mechanism_rows(c: _Ctx) -> list[OrderRow]:
         if limits is None:
             open_points.append("critical speed and buckling not judged: give mechanism.screw (root_diameter, "
                                "mounting)")
+        if sp.get("axial_load_peak_N") is None:
+            open_points.append("peak axial load not in the answer (it comes with a guide block): the vendor needs it")
         if nut is None:
             open_points.append("nut life not judged: give mechanism.nut (C_a)")
         rows.append(OrderRow("screw", "specification", "specification", f"{sp['type']} with nut",
