@@ -39,6 +39,15 @@ class _Ctx:
     gearbox_id: str | None = None
     gearbox_checks: list[dict[str, Any]] = field(default_factory=list)
     ratio: float = 1.0
+    rows: dict[str, dict[str, Any] | None] = field(default_factory=dict)
+
+    def catalog(self, cid: str | None) -> dict[str, Any] | None:
+        """The catalog row of ``cid`` (``_catalog``), read once per sheet."""
+        if not cid:
+            return None
+        if cid not in self.rows:
+            self.rows[cid] = _catalog(cid)
+        return self.rows[cid]
 
 
 def _catalog(cid: str | None) -> dict[str, Any] | None:
@@ -69,7 +78,7 @@ def context(result: SizingResult) -> _Ctx:
         if pick.get("gearbox"):
             c.gearbox_id, c.ratio = str(pick["gearbox"]), float(pick.get("ratio") or 1.0)
             c.gearbox_checks = [ch for ch in pick.get("checks", []) if ch["name"].startswith("gearbox_")]
-    c.motor_row = _catalog(c.motor_id)
+    c.motor_row = c.catalog(c.motor_id)
     return c
 
 
@@ -260,7 +269,7 @@ def drive_row(c: _Ctx) -> OrderRow:
     did = d.get("id") or (axis.drive.name if axis.drive is not None else None)
     checked = did is not None and (d.get("ok") is not None or axis.drive is not None)
     if checked:
-        row = _catalog(did)
+        row = c.catalog(did)
         code = str(did)
         spec = {"continuous_current_A": d.get("continuous_current_A"), "peak_current_A": d.get("peak_current_A"),
                 "voltage_class_V": None if row is None else row.get("voltage_V"), "motor": c.motor_id}
@@ -426,7 +435,7 @@ def gearbox_rows(c: _Ctx) -> list[OrderRow]:
 
 
 def _gearbox_catalog_row(c: _Ctx, gid: str, ratio: float, checks: list[dict[str, Any]], element: str) -> OrderRow:
-    row = _catalog(gid)
+    row = c.catalog(gid)
     spec: dict[str, Any] = {"ratio": ratio, **_required_of(checks)}
     text, open_points = _adapter(c, row)
     if text:
@@ -449,7 +458,7 @@ def resistor_row(c: _Ctx) -> OrderRow | None:
     rg = c.regen
     if not rg or not rg.get("resistor_needed") or rg.get("builtin_resistor_sufficient") is True:
         return None
-    drive = _catalog((c.drive or {}).get("id")) if (c.drive or {}).get("ok") is not None else None
+    drive = c.catalog((c.drive or {}).get("id")) if (c.drive or {}).get("ok") is not None else None
     given = c.result.axis.drive
     r_min = rg.get("resistor_min_ohm")
     if r_min is None:
