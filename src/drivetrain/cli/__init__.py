@@ -64,6 +64,7 @@ def build_parser(optional: bool = True) -> argparse.ArgumentParser:
                    help="motors listed, each in its best configuration, 1 to 1000 (default: the axis file's "
                         "motor.select.top, else 10)")
     p.add_argument("--units", choices=UNIT_CHOICES, default="si", help=UNITS_HELP)
+    p.add_argument("--bom", metavar="FILE.csv", help="write the order sheet (one row per part) to FILE.csv")
     p.set_defaults(handler=commands.select)
 
     p = sub.add_parser("modes", help="natural frequencies, two-mass resonance and critical speeds of the axis")

@@ -202,7 +202,9 @@ def motor_row(c: _Ctx) -> OrderRow:
     spec = {"voltage_class_V": row.get("voltage_V"), "rated_torque_Nm": row.get("rated_torque_Nm"),
             "peak_torque_Nm": row.get("peak_torque_Nm"), "flange_mm": _mm(row, "flange_m"),
             "shaft_diameter_mm": _mm(row, "shaft_diameter_m"), **brake_spec}
-    open_points = list(brake_open)
+    # the motor's own checks that fail or could not be judged (the gearbox's go to its row)
+    open_points = [*brake_open, *_checks_open([ch for ch in (c.motor or {}).get("checks", [])
+                                               if not ch["name"].startswith("gearbox_")])]
     if row.get("voltage_V") is None:
         open_points.append("voltage class not in the catalog: confirm the motor's winding voltage with the vendor")
     has_brake = str(row.get("brake")) in ("1", "True", "yes")
