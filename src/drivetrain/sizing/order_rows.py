@@ -304,7 +304,7 @@ def _drive_spec(c: _Ctx, d: dict[str, Any]) -> OrderRow:
         spec["torque_constant_NmA"] = kt
     else:
         spec.update({"continuous_torque_Nm": trace[0], "peak_torque_Nm": trace[1], "peak_duration_s": trace[2]})
-        open_points.append(f"output currents = these torques / the motor's k_T [N*m/A], not in the catalog for "
+        open_points.append(f"output currents = these torques / the motor's k_T [N*m/A], not known for "
                            f"{spec['motor']}: take k_T from the motor's data sheet")
     supply, bus, basis = _supply(c)
     spec["supply_voltage_V"], spec["dc_bus_voltage_V"] = supply, bus
@@ -382,8 +382,10 @@ def _adapter(c: _Ctx, gear: dict[str, Any] | None) -> tuple[str | None, list[str
     row = c.motor_row
     dims = {"shaft": _mm(row, "shaft_diameter_m"), "pilot": _mm(row, "pilot_diameter_m"),
             "flange": _mm(row, "flange_m"), "bolt circle": _mm(row, "bolt_circle_m")}
+    if c.motor is None and c.result.axis.motor is None:
+        return None, ["motor adapter: for the motor still to choose"]
     if c.motor_id is None or all(v is None for v in dims.values()):
-        return None, ["motor adapter: the motor's shaft and flange dimensions are not in the catalog"]
+        return None, ["motor adapter: the motor's shaft and flange dimensions are not known (not in the catalog)"]
     text = f"for {c.motor_id}: " + ", ".join(f"{k} {v:.4g} mm" for k, v in dims.items() if v is not None)
     open_points = [f"motor adapter: the motor's {k} is not in the catalog" for k, v in dims.items() if v is None]
     bore = _mm(gear, "input_bore_max_m")
