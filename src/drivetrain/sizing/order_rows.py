@@ -156,10 +156,18 @@ def _brake_need(c: _Ctx) -> tuple[bool, float | None]:
     axis = c.result.axis
     if any(st.kind == "brake" for st in axis.transmission):
         return False, None
-    braked = bool(np.asarray(c.result.duty.samples.braked, dtype=bool).any())
+    duty = c.result.duty
+    braked = np.asarray(duty.samples.braked, dtype=bool)
     hold = abs(float(c.result.metrics.get("holding_torque_Nm") or 0.0))
     if hold <= ZERO_TORQUE:
-        return braked, None
+        # a dwell the motor holds with no torque: nothing pushes at rest, any holding torque does; where every
+        # dwell is braked the static torque is not in the answer (None)
+        t = np.asarray(duty.t)
+        held_by_motor = False
+        for seg in c.result.metrics.get("segments", []):
+            inside = (t > seg["t0_s"]) & (t < seg["t1_s"])
+            held_by_motor |= seg["kind"] == "dwell" and bool(inside.any()) and not bool(braked[inside].any())
+        return bool(braked.any()), (0.0 if braked.any() and held_by_motor else None)
     # a selected catalog gearbox reduces it; its efficiency is not credited (a safe upper bound)
     return True, hold / c.ratio
 
@@ -221,10 +229,12 @@ def motor_row(c: _Ctx) -> OrderRow:
                 open_points.append(f"brake variant {code} holds {_g(holding)} N*m, less than the {_g(required)} N*m "
                                    "needed")
         else:
+            torque = ("(its holding torque: above)" if required is None else
+                      f"with a holding torque of at least {_g(required)} N*m" + (
+                          "" if static is None else
+                          f" ({_g(static)} N*m static x {BRAKE_SERVICE_FACTOR:g}, Machine Design 2007)"))
             open_points.append(f"holding-brake variant of {c.motor_id}: the catalog has no brake order code; order the "
-                               f"vendor's brake variant with a holding torque of at least {_g(required)} N*m"
-                               + ("" if static is None else
-                                  f" ({_g(static)} N*m static x {BRAKE_SERVICE_FACTOR:g}, Machine Design 2007)"))
+                               f"vendor's brake variant {torque}")
             code = ""
     choose = code_choices(code) if code else []
     open_points += _choose_open(choose)
