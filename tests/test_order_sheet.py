@@ -314,3 +314,22 @@ def test_the_report_holds_the_order_sheet() -> None:
     for r in order["rows"]:
         for point in r["open_points"]:
             assert point.replace("'", "&#x27;")[:60] in html
+
+
+def test_a_brake_whose_static_torque_the_answer_lacks_stays_open() -> None:
+    """Every dwell of the vertical Z axis held on the brake: the motor never holds at rest, so the answer has no
+    static torque; the holding torque is an open point, never 0 N m."""
+    import yaml
+
+    from drivetrain.sizing.pipeline import size
+
+    data = yaml.safe_load((ROOT / "examples" / "z_axis.yaml").read_text(encoding="utf-8"))
+    for step in data["profile"]:
+        if "dwell" in step:
+            step["holding"] = "brake"
+    result = size(data)
+    assert result.metrics["holding_torque_Nm"] == 0.0
+    motor = next(r for r in order_sheet(result).rows if r.part == "motor")
+    assert motor.spec["holding_brake"] == "required" and "brake_holding_torque_min_Nm" not in motor.spec
+    assert any("static load torque" in p and "not in the answer" in p for p in motor.open_points)
+    assert motor.status == "incomplete"
