@@ -230,7 +230,9 @@ def test_example_machine_runs_from_the_cli(tmp_path: Path, capsys: pytest.Captur
     assert y["motors"] == 2 and len(y["results"]) == 2 and y["load_shares"] == [0.5, 0.5]
     assert all(a["power_basis"] == "electrical" for a in out["axes"])
     bom = {(r["kind"], r["order_code"]): r["quantity"] for r in out["bill_of_materials"]}
-    assert bom[("motor", "1FT7044-5AK7")] == 5  # X, two on Y, Z, R
+    assert bom[("motor", "1FT7044-5AK7")] == 4  # X, two on Y, R; Z holds on a brake: its variant is still to choose
+    assert sum(r["quantity"] for r in out["bill_of_materials"]
+               if r["kind"] == "motor" and r["catalog_id"] == "1FT7044-5AK7") == 5
     assert bom[("drive", "SINAMICS S120 Motor Module 9 A")] == 5
     assert bom[("braking_resistor", None)] == 1  # none named: the row says what to choose
     assert out["phasing"]["free_axes"] == ["R"]
@@ -271,7 +273,8 @@ def test_the_documented_machine_file_is_valid(tmp_path: Path) -> None:
     b = out["buses"][0]
     assert b["capacitor_energy_per_event_J"] == 10.0
     assert b["resistor_equivalent_ohm"] == pytest.approx(50.0)
-    assert {r["kind"] for r in out["bill_of_materials"]} == {"motor", "braking_resistor"}
+    # the axis names no drive: the order sheet's drive specification is its row
+    assert {r["kind"] for r in out["bill_of_materials"]} == {"motor", "drive", "braking_resistor"}
 
 
 def test_one_axis_on_its_bus_reproduces_the_axis_regen_block() -> None:

@@ -69,7 +69,7 @@ def test_the_modes_stage_is_the_callers() -> None:
     path = ROOT / "examples" / "ball_screw.yaml"
     assert size(path).modes is None and "modes" not in size(path).to_dict()
     with_modes = drivetrain.size(path)
-    assert with_modes.modes is not None and list(with_modes.to_dict())[-2:] == ["modes", "verdict"]
+    assert with_modes.modes is not None and list(with_modes.to_dict())[-3:] == ["modes", "order", "verdict"]
 
 
 def test_no_hidden_state_in_the_sizing_layer() -> None:

@@ -55,6 +55,7 @@ def build_parser(optional: bool = True) -> argparse.ArgumentParser:
     p.add_argument("--all", action="store_true",
                    help="list every passing motor-gearbox pair, not only the best configuration of each motor")
     p.add_argument("--aas", metavar="FILE", help="write an IDTA 02021 sizing submodel (AAS JSON) to FILE")
+    p.add_argument("--bom", metavar="FILE.csv", help="write the order sheet (one row per part) to FILE.csv")
     p.set_defaults(handler=commands.size)
 
     p = sub.add_parser("select", help="same as size, with a catalog selection even if the axis names a motor")
@@ -65,6 +66,7 @@ def build_parser(optional: bool = True) -> argparse.ArgumentParser:
                    help="motors listed, each in its best configuration, 1 to 1000 (default: the axis file's "
                         "motor.select.top, else 10)")
     p.add_argument("--units", choices=UNIT_CHOICES, default="si", help=UNITS_HELP)
+    p.add_argument("--bom", metavar="FILE.csv", help="write the order sheet (one row per part) to FILE.csv")
     p.set_defaults(handler=commands.select)
 
     p = sub.add_parser("modes", help="natural frequencies, two-mass resonance and critical speeds of the axis")

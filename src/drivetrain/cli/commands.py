@@ -35,12 +35,12 @@ PLOT_SUFFIXES = (".png", ".svg", ".pdf")
 
 def _check_outputs(args: argparse.Namespace) -> None:
     """Refuse an output path that cannot be written before the work that fills it."""
-    if not any(getattr(args, name, None) for name in ("csv", "report", "plot")):
+    if not any(getattr(args, name, None) for name in ("csv", "report", "plot", "bom")):
         return
     from drivetrain.files import check_target
     from drivetrain.report import REPORT_SUFFIXES
 
-    for name in ("csv", "report", "plot"):
+    for name in ("csv", "report", "plot", "bom"):
         path = getattr(args, name, None)
         if path:
             check_target(path, f"--{name}")
@@ -49,6 +49,11 @@ def _check_outputs(args: argparse.Namespace) -> None:
         from drivetrain.errors import InputError
 
         raise InputError("--report", "must end in .html or .pdf", report)
+    bom = getattr(args, "bom", None)
+    if bom and Path(bom).suffix.lower() != ".csv":
+        from drivetrain.errors import InputError
+
+        raise InputError("--bom", "must end in .csv", bom)
     plot = getattr(args, "plot", None)
     if plot and Path(plot).suffix.lower() not in PLOT_SUFFIXES:
         from drivetrain.errors import InputError
@@ -82,6 +87,10 @@ def size(args: argparse.Namespace, axis: str | dict[str, Any] | None = None) -> 
         from drivetrain.machine.aas import axis_aas
 
         _write_text(args.aas, json.dumps(axis_aas(jsonable(result.to_dict())), indent=2), "--aas")
+    if getattr(args, "bom", None):
+        from drivetrain.cli.order import write_bom
+
+        write_bom(args.bom, result)
     if args.json:
         print(json.dumps(jsonable(result.to_dict()), indent=2))
         return _exit_code(result)
@@ -103,6 +112,8 @@ def size(args: argparse.Namespace, axis: str | dict[str, Any] | None = None) -> 
         print(f"time series written to {args.csv}")
     if args.report:
         print(f"report written to {Path(args.report).resolve()}")
+    if getattr(args, "bom", None):
+        print(f"order sheet written to {Path(args.bom).resolve()}")
     print(result.verdict_line())
     return _exit_code(result)
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from drivetrain.cli.order import print_result_order
 from drivetrain.cli.quantities import TableUnits
 from drivetrain.terminal import Col, print_table, table_console
 
@@ -52,6 +53,7 @@ def print_sizing(result: Any, units: TableUnits | None = None) -> None:
         _print_checks(console, "gearbox ratings (transmission)", gear, u)
     if result.candidates:
         _print_candidates(console, result, u)
+    print_result_order(console, result)
 
 
 def _motor_shaft_rows(result: Any, u: TableUnits) -> list[tuple[str, str]]:

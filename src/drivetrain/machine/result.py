@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from drivetrain.errors import InputError
-from drivetrain.machine.axes import AxisPower, axis_power, bom_items
+from drivetrain.machine.axes import AxisPower, axis_power
 from drivetrain.machine.model import BusGroup, Machine, load_machine, parse_machine
 from drivetrain.physics import dc_bus, regen
 from drivetrain.version import __version__
@@ -332,22 +332,56 @@ def _depends_on_free(m: Machine, name: str) -> bool:
     return a.free
 
 
+def axis_bom_rows(name: str, results: list[Any]) -> list[dict[str, Any]]:
+    """The bill-of-materials rows of one machine axis: each motor's order sheet (``sizing.order``), its rows
+    as they are, less the braking resistor (a machine sizes its resistors per DC bus); a row without an order
+    code carries its name, status and number of open points as ``note`` (the points in ``open_points``)."""
+    from drivetrain.sizing.order import order_sheet
+
+    rows = []
+    for res in results:
+        for r in order_sheet(res).to_dict()["rows"]:
+            if r["part"] == "braking_resistor":
+                continue
+            n = len(r["open_points"])
+            note = None if r["order_code"] else (f"{r['name']} ({r['status']}" + (f", {n} open point{'s' * (n > 1)}"
+                                                                                 if n else "") + ")")
+            rows.append({"kind": r["part"], "order_code": r["order_code"], "vendor": r["vendor"],
+                         "quantity": r["quantity"], "axis": name, "status": r["status"], "catalog_id": r["catalog_id"],
+                         "name": r["name"], "spec": r["spec"], "open_points": r["open_points"],
+                         **({"note": note} if note else {})})
+    return rows
+
+
+def _resistor_note(spec: dict[str, Any]) -> str:
+    """A bus resistor's specification in one line of the BOM."""
+    lo, hi = spec["resistance_min_ohm"], spec["resistance_max_ohm"]
+    window = (f", {'drive minimum not given' if lo is None else f'{lo:.4g}'} to "
+              f"{'(no bus voltage)' if hi is None else f'{hi:.4g}'} ohm")
+    values = spec.get("standard_values_ohm")
+    return (f"to choose: {spec['average_power_W']:.4g} W average, {spec['peak_power_W']:.4g} W peak, "
+            f"{spec['energy_per_cycle_J']:.4g} J per cycle{window}"
+            + (f" (E12: {', '.join(f'{v:g}' for v in values)} ohm)" if values else ""))
+
+
 def _bom(m: Machine, axes: dict[str, AxisPower], buses: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """One bill of materials: identical order codes merged, quantities added, axes listed.
+    """One bill of materials: each axis's order-sheet rows (``axis_bom_rows``), identical order codes (and
+    identical specifications) merged, quantities added, axes listed.
 
     A bus that needs a braking resistor but names none gets a row without order code saying what
     to choose (energy, average and peak power, resistance window)."""
-    rows: list[dict[str, Any]] = []
-    for a in m.axes:
-        rows.extend(bom_items(a, axes[a.name]))
+    rows = [r for a in m.axes for r in axis_bom_rows(a.name, axes[a.name].results)]
     for g, b in zip(m.buses, buses, strict=True):
         if not g.resistors and b["resistor_needed"]:
-            lo, hi = b.get("resistor_min_ohm"), b.get("resistor_max_ohm")
-            window = (f", {f'{lo:.4g}' if lo is not None else 'drive minimum not given'} to "
-                      f"{f'{hi:.4g}' if hi is not None else '(switch-on voltage not given)'} ohm")
+            from drivetrain.sizing.order_spec import resistor_spec
+
+            spec, open_points = resistor_spec(b["resistor_peak_power_W"], b["resistor_average_power_W"],
+                                              b["resistor_energy_per_cycle_J"], None, b.get("resistor_min_ohm"),
+                                              b.get("resistor_max_ohm"), None, b.get("dc_bus_voltage_V"))
             rows.append({"kind": "braking_resistor", "order_code": None, "vendor": None, "quantity": 1, "axis": g.name,
-                         "note": f"to choose: {b['resistor_average_power_W']:.4g} W average, "
-                                 f"{b['resistor_peak_power_W']:.4g} W peak{window}"})
+                         "status": "specification", "catalog_id": None, "name": "braking resistor of the DC bus",
+                         "spec": spec, "open_points": open_points,
+                         "note": _resistor_note(spec)})
     for g in m.buses:
         if g.supply_module is not None:
             rows.append({"kind": "supply_module", "order_code": g.supply_module.id, "vendor": g.supply_module.vendor,
@@ -357,14 +391,14 @@ def _bom(m: Machine, axes: dict[str, AxisPower], buses: list[dict[str, Any]]) ->
                          "quantity": res.quantity, "axis": g.name})
     merged: dict[tuple[str, str | None], dict[str, Any]] = {}
     for r in rows:
-        key = (r["kind"], r["order_code"] if r["order_code"] is not None else f"note:{r.get('note')}")
+        key = (r["kind"], r["order_code"] if r["order_code"] is not None else
+               f"note:{r.get('note')}:{sorted(r.get('spec', {}).items())}")
         if key in merged:
             merged[key]["quantity"] += r["quantity"]
             if r["axis"] not in merged[key]["used_by"]:
                 merged[key]["used_by"].append(r["axis"])
         else:
-            merged[key] = {
-                "kind": r["kind"], "order_code": r["order_code"], "vendor": r["vendor"], "quantity": r["quantity"],
-                "used_by": [r["axis"]], **({"note": r["note"]} if "note" in r else {})}
-    order = {"motor": 0, "drive": 1, "gearbox": 2, "supply_module": 3, "braking_resistor": 4}
+            merged[key] = {**{k: v for k, v in r.items() if k != "axis"}, "used_by": [r["axis"]]}
+    order = {"motor": 0, "drive": 1, "gearbox": 2, "supply_module": 3, "braking_resistor": 4, "brake": 5,
+             "coupling": 6, "screw": 7, "guide": 8}
     return sorted(merged.values(), key=lambda r: (order.get(r["kind"], 9), str(r["order_code"])))

@@ -63,6 +63,8 @@ class ReportModel:
     electrical: Table | None = None
     """drive, motor current, winding temperature and regen (drivetrain.report.electrical)"""
     regen: PlotSpec | None = None
+    order: tuple[Table, ...] = ()
+    """the order sheet: parts, then specifications and open points (drivetrain.report.order)"""
 
 
 def report_date() -> str:
@@ -93,6 +95,7 @@ def build_report(result: SizingResult, units: str = "si") -> ReportModel:
     """The report's content for ``result`` in the chosen units (si, imperial, as-given)."""
     from drivetrain.report.electrical import electrical_table, regen_plot, supply_curve_traces
     from drivetrain.report.mechanism import mechanism_checks_table, mechanism_modes, modes_plot, modes_table
+    from drivetrain.report.order import order_tables
     from drivetrain.version import __version__
 
     du = display_units(units, result.axis.raw)
@@ -149,4 +152,5 @@ def build_report(result: SizingResult, units: str = "si") -> ReportModel:
         modes_plot=modes_plot(modes, du) if modes is not None else None,
         electrical=electrical_table(result, du),
         regen=regen_plot(result, du, focus),
+        order=tuple(order_tables(result)),
     )

@@ -108,8 +108,9 @@ class SizingResult:
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON result of docs/axis-file.md (keys carry their unit), from the fields in this order:
-        the axis, versions, ``metrics``, ``extras``, ``motor``, ``selection``, ``candidates``, ``modes``, and
-        last the ``verdict`` (:attr:`status` and :attr:`unknowns`)."""
+        the axis, versions, ``metrics``, ``extras``, ``motor``, ``selection``, ``candidates``, ``modes``, the
+        order sheet (``order``: ``sizing.order.order_sheet``) and last the ``verdict`` (:attr:`status` and
+        :attr:`unknowns`)."""
         from drivetrain.catalog import DATA_VERSION
 
         out: dict[str, Any] = {"axis": self.axis.name, "drivetrain_version": __version__,
@@ -124,6 +125,9 @@ class SizingResult:
             out["candidates"] = self.candidates
         if self.modes is not None:
             out["modes"] = self.modes
+        import importlib  # the order sheet reads the result: looked up by name, so no circle of files
+
+        out["order"] = importlib.import_module("drivetrain.sizing.order").order_sheet(self).to_dict()
         out["verdict"] = {"status": self.status, "unknowns": [u.to_dict() for u in self.unknowns]}
         return out
 

@@ -9,6 +9,7 @@ import { AxisForm } from "./form.js";
 import { MachineView } from "./machine.js";
 import * as plots from "./plots.js";
 import * as R from "./results.js";
+import { renderOrder } from "./order.js";
 import { renderVersions } from "./versions.js";
 import { toYaml } from "./yaml.js";
 
@@ -188,6 +189,7 @@ function renderResult(payload) {
   R.renderWarnings($("result-warnings"), r);
   R.renderChecks($("checks"), r, payload.electrical);
   R.renderMetrics($("metrics"), r, payload.motion);
+  renderOrder($("order-sheet"), r);
   const hasMechanism = R.renderMechanism($("mechanism"), r, payload.modes);
   $("mechanism-title").hidden = !hasMechanism;
   $("mechanism").hidden = !hasMechanism;
