@@ -116,10 +116,18 @@ def test_a_candidate_answer_has_its_checks_with_reasons() -> None:
     assert names == ["settling_time", "following_error", "velocity_bandwidth", "stability_margin"]
     bw = r.checks[2]
     assert bw["status"] == "fail" and "anti-resonance" in bw["note"]  # the belt's compliance sets the limit
-    assert r.following_error.shape == (2,) and r.settling_time.shape == (2,)
+    # a linear check fails the candidate already: its profile is not simulated, and the two checks say so
+    assert not r.simulated and r.following_error.size == 0 and math.isinf(r.worst_settling)
+    for c in r.checks[:2]:
+        assert c["status"] == "unknown" and c["ok"] is None and c["available"] is None
+        assert c["note"].startswith("not simulated: the candidate already fails velocity_bandwidth")
     assert r.resonance_hz > r.anti_resonance_hz > 0
     d = r.to_dict()
-    assert d["status"] == "fail" and len(d["checks"]) == 4
+    assert d["status"] == "fail" and len(d["checks"]) == 4 and d["simulated"] is False
+    # without the bandwidth asked, the linear checks pass and the profile is simulated: per move, per stop
+    s = _response(_belt())
+    assert s.simulated and s.following_error.shape == (2,) and s.settling_time.shape == (2,)
+    assert [c["name"] for c in s.checks] == ["settling_time", "following_error", "stability_margin"]
 
 
 def test_a_mechanism_without_stiffness_data_makes_a_pass_unknown() -> None:

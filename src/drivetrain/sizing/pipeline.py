@@ -161,13 +161,26 @@ def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listi
     spec, margins = axis.spec.motor.select, axis.spec.motor.margins
     reselect = None if listing == "ranked" else (lambda: select(axis, duty, spec, margins))
     judge = None
+    memo = (context or Context()).drives
     if axis.requirements is not None:
         # the dynamic rule (docs/checks.md, "Dynamic selection") lives in the dynamics layer, above this
         # one: looked up by name, as the report is (docs/architecture.md)
         import importlib
 
-        judge = importlib.import_module("drivetrain.dynamics.dynamic_selection").Judge(axis)
-    chosen = orderable(axis, duty, chosen, reselect, (context or Context()).drives, judge)
+        fastest = spec.objective == "fastest_settling"
+        judge = importlib.import_module("drivetrain.dynamics.dynamic_selection").Judge(
+            axis, objective="fastest_settling" if fastest else "first_passing")
+        if fastest:  # judge the top candidates (refusing all) on a copy, then walk again to the fastest
+            import copy
+
+            chosen = reselect() if reselect is not None else chosen
+            reselect = None
+            probe = copy.copy(chosen)
+            probe.summary, probe.ranking = dict(chosen.summary), copy.copy(chosen.ranking)
+            judge.collect = True
+            orderable(axis, duty, probe, None, memo, judge)
+            judge.settle_on_fastest()
+    chosen = orderable(axis, duty, chosen, reselect, memo, judge)
     if judge is not None:
         chosen.summary["dynamics"] = judge.to_dict()
     return chosen
