@@ -150,12 +150,9 @@ def candidate_response(axis: Axis, motor: str, motor_inertia: float, torque_limi
     fails whatever its simulation would show, so it is not simulated (nor is the compiled kernel
     loaded for it).
     """
-    from drivetrain.dynamics.axis_model import AxisDynamics, load_friction, with_mechanism_spring
     from drivetrain.dynamics.chain import model_from_stages
     from drivetrain.dynamics.control import analyse_loop, tune
     from drivetrain.dynamics.linear import anti_resonance_frequencies, natural_frequencies
-    from drivetrain.dynamics.reference import Reference
-    from drivetrain.dynamics.simulation import default_step, simulate
 
     head, mech = stages[:-1], stages[-1]
     k_weak, x_weak = weakest_stiffness(stiffness)
@@ -196,6 +193,10 @@ def candidate_response(axis: Axis, motor: str, motor_inertia: float, torque_limi
         return linear
 
     # The simulation: the chain with the mechanism's spring following the load over one cycle.
+    from drivetrain.dynamics.axis_model import AxisDynamics, load_friction, with_mechanism_spring
+    from drivetrain.dynamics.reference import Reference
+    from drivetrain.dynamics.simulation import default_step, simulate
+
     dyn = AxisDynamics(model_from_stages(motor_inertia, stages, 0.0), motor, motor_inertia, stages)
     t, x, v, a = profile_samples(axis) if samples is None else samples
     dyn = with_mechanism_spring(axis, dyn, float(x[0]), stiffness)
