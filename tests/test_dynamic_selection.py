@@ -128,3 +128,74 @@ def test_fastest_settling_needs_requirements() -> None:
     with pytest.raises(InputError) as err:
         parse_axis(data)
     assert err.value.field == "motor.select.objective"
+
+
+def test_the_report_shows_the_dynamics_and_the_pick_passed_over(dynamic: Any, static: Any) -> None:
+    """report/dynamics.py: each judged candidate with settling, following error, bandwidth, margins,
+    resonance and anti-resonance; the static pick 'passed over for how it moves' with why; the
+    inertia ratio the answer ends up with."""
+    from drivetrain.report.html import render_html
+    from drivetrain.report.model import build_report
+
+    model = build_report(dynamic)
+    judged, over = model.dynamics
+    first, pick = static.selection["selected"]["motor"], dynamic.selection["selected"]["motor"]
+    rows = {r[0].text: [c.text for c in r] for r in judged.rows}
+    assert rows[first][-1] == "passed over for how it moves" and rows[first][2] == "not simulated"
+    assert rows[pick][-1] == "answer" and rows[pick][2].endswith(" ms") and rows[pick][5].endswith(" deg")
+    assert rows[pick][7].endswith(" Hz") and rows[pick][8].endswith(" Hz")  # first resonance, anti-resonance
+    assert f"{pick} ends up with an inertia ratio J_L/J_M of" in judged.note and "still applies" in judged.note
+    assert [r[0].text for r in over.rows] == [first] and over.rows[0][3].text.startswith("stability_margin:")
+    page = render_html(dynamic)
+    assert "How it moves: the dynamic checks" in page and "Static picks passed over for how it moves" in page
+    assert build_report(static).dynamics == []
+
+
+def test_the_web_panel_shows_the_dynamics(dynamic: Any) -> None:
+    """web/static/dynamics.js (through results.js): the candidates judged and the static pick labelled
+    'passed over for how it moves' (node, when available)."""
+    import shutil
+    import subprocess
+
+    node = shutil.which("node")
+    if node is None:
+        pytest.skip("node is not installed")
+    module = (ROOT / "src/drivetrain/web/static/dynamics.js").as_uri()
+    result = json.dumps(dynamic.to_dict()).replace("NaN", "null")
+    script = """
+      globalThis.Node = class {};
+      globalThis.document = { createElement: (t) => ({ tag: t, children: [], attrs: {},
+        setAttribute(k, v) { this.attrs[k] = v; }, append(...c) { this.children.push(...c); },
+        set textContent(v) { this.text = v; },
+        get textContent() {
+          return this.text ?? this.children.map((c) => typeof c === "string" ? c : c.textContent).join("|"); },
+        replaceChildren(...c) { this.children = c; } }) };
+      const D = await import(@MODULE@);
+      const result = @RESULT@;
+      console.log(D.dynamicsPanel(result).textContent);
+      console.log("FOLD " + D.passedOverForMotion(result.selection).textContent);
+    """.replace("@MODULE@", json.dumps(module)).replace("@RESULT@", result)
+    out = subprocess.run([node, "--input-type=module", "-e", script], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    first = dynamic.selection["dynamics"]["passed_over"][0]["motor"]
+    pick = dynamic.selection["selected"]["motor"]
+    assert "How it moves: the dynamic checks" in out.stdout and "passed over for how it moves" in out.stdout
+    assert f"{first}|–|not simulated|not simulated|" in out.stdout and f"{pick}|–|" in out.stdout
+    assert "|answer" in out.stdout and "ends up with an inertia ratio" in out.stdout
+    assert "FOLD 1 static pick passed over for how it moves" in out.stdout and "stability_margin" in out.stdout
+
+
+def test_the_dynamic_checks_count_and_explain(dynamic: Any, static: Any,
+                                              capsys: pytest.CaptureFixture[str]) -> None:
+    """failures_by_check counts the dynamic checks of the candidates judged; --explain MODEL lists them."""
+    sel = dynamic.selection
+    assert sel["failures_by_check"]["stability_margin"] == 1 and sel["failures_by_check"]["settling_time"] == 0
+    assert sel["unknown_by_check"]["settling_time"] == 0  # not simulated is not a gap in the data
+    assert "stability_margin" not in static.selection["failures_by_check"]
+    first = static.selection["selected"]["motor"]
+    assert cli.main(["size", str(EXAMPLE), "--explain", first]) == 0
+    out = capsys.readouterr().out
+    assert "dynamics (its best configuration): passed over for how it moves: stability_margin" in out
+    assert "FAIL stability_margin: required 45, available 40.7" in out
+    assert "??   settling_time: required 0.02, available n/a s (n/a): not simulated" in out
+    assert "dynamics (its best configuration): the answer" in dynamic.explain(sel["selected"]["motor"])

@@ -218,3 +218,44 @@ class Judge:
         from dataclasses import asdict
 
         return {"requirements": asdict(self.req), **self.answer.to_dict()}
+
+
+def failure_counts(dyn: dict[str, Any]) -> tuple[dict[str, int], dict[str, int]]:
+    """Of the candidates judged (the ``selection.dynamics`` block): how many each dynamic check fails, and
+    how many it cannot judge for want of data (a part taken rigid; a check left unsimulated because a
+    linear one already fails is neither)."""
+    fails: dict[str, int] = {}
+    unknown: dict[str, int] = {}
+    for c in dyn.get("candidates", []):
+        for ch in c["checks"]:
+            fails.setdefault(ch["name"], 0)
+            unknown.setdefault(ch["name"], 0)
+            if ch["status"] == "fail":
+                fails[ch["name"]] = fails.get(ch["name"], 0) + 1
+            elif ch["status"] == "unknown" and not ch["note"].startswith("not simulated"):
+                unknown[ch["name"]] = unknown.get(ch["name"], 0) + 1
+    return fails, unknown
+
+
+def explain_dynamics(dyn: dict[str, Any], model: str) -> str:
+    """The lines ``--explain MODEL`` adds for a motor the selection judged dynamically ("" if it was not):
+    each dynamic check with required, available, margin and why, and whether it was passed over."""
+    judged = [c for c in dyn.get("candidates", []) if str(c["motor"]).lower() == model.lower()]
+    if not judged:
+        return ""
+    chosen = dyn.get("chosen") or {}
+    over = {(p["motor"], p.get("gearbox")): p["reason"] for p in dyn.get("passed_over", [])}
+    mark = {"pass": "ok  ", "fail": "FAIL", "unknown": "??  "}
+    lines = []
+    for c in judged:
+        key = (c["motor"], c.get("gearbox"))
+        role = ("the answer" if key == (chosen.get("motor"), chosen.get("gearbox")) else
+                f"passed over for how it moves: {over[key]}" if key in over else c["status"])
+        lines.append(f"  dynamics ({c.get('gearbox') or 'its best configuration'}): {role}")
+        for ch in c["checks"]:
+            avail = "n/a" if ch["available"] is None else f"{ch['available']:.4g}"
+            margin = "n/a" if ch["margin"] is None else (
+                "inf" if math.isinf(ch["margin"]) else f"{ch['margin'] * 100:+.1f} %")
+            lines.append(f"  {mark[ch['status']]} {ch['name']}: required {ch['required']:.4g}, available {avail} "
+                         f"{ch['unit']} ({margin}): {ch['note']}")
+    return "\n" + "\n".join(lines)

@@ -117,6 +117,8 @@ def render_body(model: ReportModel, plot: Callable[[PlotSpec], str]) -> str:
         selection += _table(model.ratios)
     if selection:
         sections.append(("selection", "Selection and ratio", selection))
+    if model.dynamics:
+        sections.append(("dynamics", "How it moves: the dynamic checks", "".join(_table(t) for t in model.dynamics)))
     sections.append(("inputs", "Inputs", _table(model.inputs, "dt-inputs")))
     formulas = "".join(_formula(f) for f in model.formulas)
     sections.append(("formulas", "Formulas and sources",

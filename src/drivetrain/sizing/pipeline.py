@@ -182,7 +182,12 @@ def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listi
             judge.settle_on_fastest()
     chosen = orderable(axis, duty, chosen, reselect, memo, judge)
     if judge is not None:
-        chosen.summary["dynamics"] = judge.to_dict()
+        dyn = chosen.summary["dynamics"] = judge.to_dict()
+        # the dynamic checks count with the static ones (of the candidates judged)
+        fails, unknown = importlib.import_module("drivetrain.dynamics.dynamic_selection").failure_counts(dyn)
+        for name, counts in (("failures_by_check", fails), ("unknown_by_check", unknown)):
+            if isinstance(chosen.summary.get(name), dict):
+                chosen.summary[name] = {**chosen.summary[name], **counts}
     return chosen
 
 
