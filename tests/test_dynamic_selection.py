@@ -199,3 +199,40 @@ def test_the_dynamic_checks_count_and_explain(dynamic: Any, static: Any,
     assert "FAIL stability_margin: required 45, available 40.7" in out
     assert "??   settling_time: required 0.02, available n/a s (n/a): not simulated" in out
     assert "dynamics (its best configuration): the answer" in dynamic.explain(sel["selected"]["motor"])
+
+
+def test_the_settling_optimal_ratio_is_the_fastest_of_the_scan() -> None:
+    """requirements.settling_ratio: a coarse scan of ideal reductions in front of the answer's drive train,
+    inside its torque and speed; the answer is the fastest to settle; factor 1 is the answer as selected."""
+    data = copy.deepcopy(DATA)
+    data["requirements"].update({"settling_ratio": True, "settling": {"window": "20 um", "time": "20 ms"}})
+    r = size(data)
+    dyn = r.selection["dynamics"]
+    opt = dyn["settling_optimal_ratio"]
+    assert opt["motor"] == r.selection["selected"]["motor"] == dyn["chosen"]["motor"]
+    scan = {round(p["factor"], 9): p["settling_time_s"] for p in opt["per_ratio"]}
+    times = [t for t in scan.values() if t is not None]
+    assert opt["settling_time_s"] == min(times) and opt["scanned"] == len(scan) >= 5
+    assert scan[1.0] == pytest.approx(max(dyn["chosen"]["settling_time_per_stop_s"]))
+    assert opt["current_settling_time_s"] == scan[1.0]
+    # no factor beyond the motor's max speed: today's optimal ratio line names that limit
+    assert opt["range"][1] <= r.selection["optimal_ratio"]["max_ratio_for_speed"]
+    assert opt["stage"] == "gearbox ratio" and "ratio 5 ->" in opt["label"]
+    assert opt["settling_time_s"] < opt["current_settling_time_s"]  # a longer ratio settles this belt faster
+    assert "settling_optimal_ratio" not in size(EXAMPLE).selection["dynamics"]  # only when asked
+
+
+def test_feasible_factors_follow_the_torque_and_speed_limits() -> None:
+    import numpy as np
+
+    from drivetrain.duty.cycle import DutyCycle
+    from drivetrain.dynamics.settling_ratio import feasible_factors
+
+    class Cycle:  # T = 1 N m constant, alpha = 0, omega up to 100 rad/s
+        torque, alpha, omega, weights, period = np.ones(3), np.zeros(3), np.array([0.0, 100.0, 50.0]), np.ones(3), 3.0
+
+    cyc: DutyCycle = Cycle()  # type: ignore[assignment]
+    ok = feasible_factors(cyc, 1e-4, peak_torque=2.0, rated_torque=1.0, max_speed=300.0,
+                          factors=np.array([0.4, 0.5, 1.0, 2.0, 3.0, 3.5]))
+    # peak 1/i <= 2 -> i >= 0.5; RMS 1/i <= 1 -> i >= 1; speed 100 i <= 300 -> i <= 3
+    assert ok.tolist() == [False, False, True, True, True, False]

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from drivetrain.axis.model import Axis
     from drivetrain.axis.requirements import Requirements
+    from drivetrain.duty.cycle import DutyCycle
     from drivetrain.dynamics.response import Response, Samples
 
 
@@ -212,6 +213,18 @@ class Judge:
         out.chosen = best
         self._fastest = (out.responses[best].motor, out.responses[best].gearbox)
         return True
+
+    def settling_ratio(self, cycle: DutyCycle) -> dict[str, Any] | None:
+        """The chosen candidate's settling-optimal ratio (``settling_ratio.settling_optimal_ratio``), where
+        ``requirements.settling_ratio`` asks for it; ``cycle`` its duty cycle at its motor shaft."""
+        out = self.answer
+        if not self.req.settling_ratio or out.chosen is None:
+            return None
+        from drivetrain.dynamics.settling_ratio import settling_optimal_ratio
+
+        pick = out.responses[out.chosen]
+        return settling_optimal_ratio(self.axis, self.req, pick.motor, pick.gearbox, cycle, stiffness=self.stiffness,
+                                      samples=self.samples, current=pick)
 
     def to_dict(self) -> dict[str, Any]:
         """The ``selection.dynamics`` block: the requirements in SI and every candidate judged."""

@@ -132,8 +132,9 @@ def settling_ratio_sentence(dyn: dict[str, Any]) -> str | None:
     if opt.get("ratio") is None:
         return f"settling-optimal ratio for {opt['motor']}: {opt['reason']}"
     return (f"settling-optimal {opt['stage']} for {opt['motor']}: {opt['label']} (settles in "
-            f"{_ms(opt['settling_time_s'])}; at the axis's own, {_ms(opt['current_settling_time_s'])}), scanned over "
-            f"{opt['scanned']} values from {fmt_number(opt['range'][0])} to {fmt_number(opt['range'][1])}")
+            f"{_ms(opt['settling_time_s'])}; at its own ratio, {_ms(opt['current_settling_time_s'])}); "
+            f"{opt['scanned']} ratios scanned, {fmt_number(opt['range'][0])} to {fmt_number(opt['range'][1])} times "
+            "its own (within its torque and speed)")
 
 
 def dynamics_tables(result: SizingResult, du: DisplayUnits) -> list[Table]:

@@ -183,6 +183,12 @@ def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listi
     chosen = orderable(axis, duty, chosen, reselect, memo, judge)
     if judge is not None:
         dyn = chosen.summary["dynamics"] = judge.to_dict()
+        if axis.requirements is not None and axis.requirements.settling_ratio and chosen.ranking.best is not None:
+            from drivetrain.sizing.selection import candidate_cycle
+
+            ratio = judge.settling_ratio(candidate_cycle(axis, duty, chosen.ranking)[0])
+            if ratio is not None:
+                dyn["settling_optimal_ratio"] = ratio
         # the dynamic checks count with the static ones (of the candidates judged)
         fails, unknown = importlib.import_module("drivetrain.dynamics.dynamic_selection").failure_counts(dyn)
         for name, counts in (("failures_by_check", fails), ("unknown_by_check", unknown)):

@@ -88,7 +88,7 @@ export function dynamicsPanel(result) {
     parts.push(el("p", { class: "muted dynamics-ratio", text: opt.ratio === null
       ? `Settling-optimal ratio for ${opt.motor}: ${opt.reason}`
       : `Settling-optimal ${opt.stage} for ${opt.motor}: ${opt.label} (settles in ${ms(opt.settling_time_s)}; ` +
-        `at the axis's own, ${ms(opt.current_settling_time_s)}).` }));
+        `at its own ratio, ${ms(opt.current_settling_time_s)}).` }));
   }
   const folded = passedOverForMotion(sel);
   if (folded) parts.push(folded);
