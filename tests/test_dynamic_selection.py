@@ -236,3 +236,43 @@ def test_feasible_factors_follow_the_torque_and_speed_limits() -> None:
                           factors=np.array([0.4, 0.5, 1.0, 2.0, 3.0, 3.5]))
     # peak 1/i <= 2 -> i >= 0.5; RMS 1/i <= 1 -> i >= 1; speed 100 i <= 300 -> i <= 3
     assert ok.tolist() == [False, False, True, True, True, False]
+
+
+def test_requirements_as_a_study_parameter(tmp_path: Path) -> None:
+    """A study sweeps requirements.settling.window like any axis-file key: each variant is the selection
+    with that requirement, and the dynamics group is recorded by default (the selected candidate's
+    settling time, margins, how many were judged and passed over). 20 ms into 20 um: MQMF042L1 settles in
+    7.4 ms; 5 ms into 20 um it does not, and another motor (or none) is the answer."""
+    from drivetrain.study import sweep
+
+    study = tmp_path / "req.yaml"
+    study.write_text(yaml.safe_dump({
+        "study": 1, "base": str(EXAMPLE), "design": "grid",
+        "parameters": {"requirements.settling.time": {"values": [5, 20], "unit": "ms"},
+                       "requirements.settling.window": {"values": [20, 100], "unit": "um"}}}), encoding="utf-8")
+    table = sweep(study, workers=0).table
+    assert {"dynamics_settling_time_s", "dynamics_phase_margin_deg", "dynamics_judged",
+            "dynamics_passed_over"} <= set(table.columns)
+    for _, row in table.iterrows():
+        data = copy.deepcopy(DATA)
+        data["requirements"]["settling"] = {"time": f"{row['requirements.settling.time']} ms",
+                                            "window": f"{row['requirements.settling.window']} um"}
+        ref = size(data)
+        dyn = ref.selection["dynamics"]
+        assert bool(row["ok"]) == ref.ok and row["dynamics_judged"] == dyn["judged"]
+        if row["ok"]:
+            assert row["motor"] == ref.selection["selected"]["motor"]
+            assert row["dynamics_settling_time_s"] <= row["requirements.settling.time"] * 1e-3
+    strict = table[(table["requirements.settling.time"] == 5) & (table["requirements.settling.window"] == 20)]
+    loose = table[(table["requirements.settling.time"] == 20) & (table["requirements.settling.window"] == 20)]
+    assert loose["motor"].iloc[0] == "MQMF042L1" and loose["dynamics_settling_time_s"].iloc[0] > 5e-3
+    assert strict["motor"].iloc[0] != "MQMF042L1" or not strict["ok"].iloc[0]
+
+
+def test_a_study_without_requirements_records_no_dynamics(tmp_path: Path) -> None:
+    from drivetrain.study import parse_study
+
+    body = {"study": 1, "base": str(ROOT / "examples" / "belt.yaml"), "parameters": {"mechanism.load.mass": [5, 10]}}
+    assert "dynamics" not in parse_study(yaml.safe_dump(body)).spec.record
+    body["parameters"] = {"requirements.settling.time": {"values": [5, 10], "unit": "ms"}}
+    assert parse_study(yaml.safe_dump(body)).spec.record[-1] == "dynamics"
