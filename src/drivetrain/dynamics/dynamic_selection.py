@@ -186,8 +186,10 @@ class Judge:
         if self.exhausted:
             return False, (f"dynamics: not judged (requirements.candidates = {self.req.candidates} candidates "
                            "simulated before it)")
-        resp = _judged(self.axis, self.req, motor_id, gearbox_id, self.stiffness, self.samples)
-        self._seen[key] = resp
+        resp = self._seen.get(key)  # judged ahead by ``first``
+        if resp is None:
+            resp = _judged(self.axis, self.req, motor_id, gearbox_id, self.stiffness, self.samples)
+            self._seen[key] = resp
         out.responses.append(resp)
         out.judged += 1
         ok = self._ok(resp)
@@ -199,6 +201,20 @@ class Judge:
         else:
             out.passed_over.append(_passed_over(resp))
         return ok, reason(resp)
+
+    def first(self, motor_id: str, gearbox_id: str | None) -> bool:
+        """Judge the static answer ahead of the walk (a search's answer, whose whole ranking the walk
+        would need first): True when it passes, and it is then the dynamic answer, judged alone (the
+        walk that would have met it first is not needed); False leaves it for the walk to count."""
+        key = (motor_id, gearbox_id)
+        resp = _judged(self.axis, self.req, motor_id, gearbox_id, self.stiffness, self.samples)
+        self._seen[key] = resp
+        if not self._ok(resp):
+            return False
+        out = self.answer
+        out.responses.append(resp)
+        out.judged, out.chosen, out.stopped_early = 1, 0, self.req.candidates > 1
+        return True
 
     def settle_on_fastest(self) -> bool:
         """After the collecting pass: keep the candidate that meets the requirements and settles fastest

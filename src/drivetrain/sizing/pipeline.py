@@ -161,6 +161,7 @@ def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listi
     spec, margins = axis.spec.motor.select, axis.spec.motor.margins
     reselect = None if listing == "ranked" else (lambda: select(axis, duty, spec, margins))
     judge = None
+    judged_first = False
     memo = (context or Context()).drives
     if axis.requirements is not None:
         # the dynamic rule (docs/checks.md, "Dynamic selection") lives in the dynamics layer, above this
@@ -180,7 +181,22 @@ def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listi
             judge.collect = True
             orderable(axis, duty, probe, None, memo, judge)
             judge.settle_on_fastest()
-    chosen = orderable(axis, duty, chosen, reselect, memo, judge)
+        elif reselect is not None:
+            # a search's answer: its orderable pick is judged first; only when it is passed over is the whole
+            # ranking needed for the walk (the same walk, in the same order, meeting that pick first)
+            searched = chosen
+            chosen = orderable(axis, duty, chosen, reselect, memo)
+            reselect = reselect if chosen is searched else None  # else the drive rule ranked in full already
+            best = chosen.ranking.best
+            if best is not None and "drive_advice" not in chosen.summary:
+                c, gb = chosen.ranking.candidates, chosen.ranking.gearboxes
+                g = int(c.gearbox(best))
+                judged_first = judge.first(str(chosen.ranking.motors.ids[int(c.motor[best])]),
+                                           str(gb.ids[g]) if g >= 0 and gb is not None else None)
+            if not judged_first and reselect is not None:
+                chosen, reselect = reselect(), None
+    if not judged_first:
+        chosen = orderable(axis, duty, chosen, reselect, memo, judge)
     if judge is not None:
         dyn = chosen.summary["dynamics"] = judge.to_dict()
         if axis.requirements is not None and axis.requirements.settling_ratio and chosen.ranking.best is not None:
@@ -189,11 +205,20 @@ def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listi
             ratio = judge.settling_ratio(candidate_cycle(axis, duty, chosen.ranking)[0])
             if ratio is not None:
                 dyn["settling_optimal_ratio"] = ratio
-        # the dynamic checks count with the static ones (of the candidates judged)
-        fails, unknown = importlib.import_module("drivetrain.dynamics.dynamic_selection").failure_counts(dyn)
-        for name, counts in (("failures_by_check", fails), ("unknown_by_check", unknown)):
-            if isinstance(chosen.summary.get(name), dict):
-                chosen.summary[name] = {**chosen.summary[name], **counts}
+        return _count_dynamics(chosen, judge)
+    return chosen
+
+
+def _count_dynamics(chosen: Selection, judge: Any) -> Selection:
+    """The dynamic checks count with the static ones in ``failures_by_check`` and ``unknown_by_check`` (of
+    the candidates judged: ``dynamic_selection.failure_counts``)."""
+    import importlib
+
+    dyn = chosen.summary["dynamics"]
+    fails, unknown = importlib.import_module("drivetrain.dynamics.dynamic_selection").failure_counts(dyn)
+    for name, counts in (("failures_by_check", fails), ("unknown_by_check", unknown)):
+        if isinstance(chosen.summary.get(name), dict):
+            chosen.summary[name] = {**chosen.summary[name], **counts}
     return chosen
 
 
