@@ -9,7 +9,11 @@ judged, each decided by its linear loop: nothing simulated, the compiled kernel 
 `candidates: 20` with a settling window (1 um in 1 ms) no candidate meets and the default margins (20
 judged and 20 simulated). Reported: the median CPU time of each and the ratios to the static one; the
 target is at most 1.5 for 20 candidates.
-Run: ``.venv/bin/python bench/bench_dynamic_select.py``.
+
+Then a study (``--study``): the same axis over a 16-value grid of load mass, with and without its
+requirements (as shipped, and with a 30 deg phase margin that the static pick meets), in this process
+after a warm-up run, CPU per variant; the target is at most 3x per variant.
+Run: ``.venv/bin/python bench/bench_dynamic_select.py [--study]``.
 """
 
 from __future__ import annotations
@@ -67,5 +71,37 @@ def main() -> None:
         print(f"  {k:14s} {m:.3f} s  ratio {m / base:.2f}")
 
 
+def study() -> None:
+    """CPU per variant of a study with requirements against the same study without them."""
+    import copy
+    import time
+
+    from drivetrain.study import sweep
+
+    data = yaml.safe_load(EXAMPLE.read_text(encoding="utf-8"))
+    static = copy.deepcopy(data)
+    del static["requirements"]
+    met = copy.deepcopy(data)
+    met["requirements"]["stability"] = {"phase_margin": "30 deg"}
+    per: dict[str, float] = {}
+    with tempfile.TemporaryDirectory() as folder:
+        for name, base in (("static", static), ("requirements (shipped)", data), ("requirements (30 deg)", met)):
+            b = Path(folder, "base.yaml")
+            b.write_text(yaml.safe_dump(base), encoding="utf-8")
+            s = Path(folder, "study.yaml")
+            s.write_text(yaml.safe_dump({"study": 1, "base": str(b), "design": "grid", "parameters": {
+                "mechanism.load.mass": {"start": "6 kg", "stop": "20 kg", "num": 16}}}), encoding="utf-8")
+            sweep(s, workers=0)  # warm
+            runs = []
+            for _ in range(3):
+                t = time.process_time()
+                n = len(sweep(s, workers=0).table)
+                runs.append((time.process_time() - t) / n)
+            per[name] = statistics.median(runs)
+    print("study, 16 variants in this process, CPU per variant, median of 3:")
+    for k, v in per.items():
+        print(f"  {k:24s} {v * 1e3:.1f} ms  ratio {v / per['static']:.2f}")
+
+
 if __name__ == "__main__":
-    main()
+    study() if "--study" in sys.argv else main()
