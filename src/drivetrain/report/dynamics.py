@@ -68,11 +68,11 @@ def candidates_table(dyn: dict[str, Any], du: DisplayUnits) -> Table:
         key = (c["motor"], c.get("gearbox"))
         result = ("answer" if key == chosen else PASSED_OVER if key in over else c["status"])
         cls = "pass" if key == chosen else "fail" if c["status"] == "fail" else "warn" if key in over else ""
+        gm = f"{c['gain_margin_dB']:.1f} dB" if math.isfinite(c["gain_margin_dB"]) else "inf"
+        modes = f"{_hz(c.get('resonance_Hz'))} / {_hz(c.get('anti_resonance_Hz'))}"
         rows.append([Cell(c["motor"]), Cell(c.get("gearbox") or "-"), Cell(_settling(c)), Cell(_follow(c, motion, du)),
-                     Cell(_hz(c["velocity_bandwidth_Hz"])), Cell(f"{c['phase_margin_deg']:.1f} deg"),
-                     Cell(f"{c['gain_margin_dB']:.1f} dB" if math.isfinite(c["gain_margin_dB"]) else "inf"),
-                     Cell(_hz(c.get("resonance_Hz"))), Cell(_hz(c.get("anti_resonance_Hz"))),
-                     Cell("yes" if c.get("notch") else "no"), Cell(result, cls)])
+                     Cell(_hz(c["velocity_bandwidth_Hz"])), Cell(f"{c['phase_margin_deg']:.1f} deg / {gm}"),
+                     Cell(modes), Cell("yes" if c.get("notch") else "no"), Cell(result, cls)])
     req = dyn["requirements"]
     asked = [f"settling into {position(req['settling_window'], motion, du)}"
              + (f" within {_ms(req['settling_time'])}" if req.get("settling_time") is not None else "")]
@@ -92,9 +92,11 @@ def candidates_table(dyn: dict[str, Any], du: DisplayUnits) -> Table:
             f"position. Asked: {'; '.join(asked)} ({loop}). {dyn['judged']} candidate(s) judged, best-ranked "
             f"first, up to {req['candidates']}; the answer is {objective}. A candidate that fails a linear check "
             "(margins, bandwidth) is not simulated.")
-    columns = ["motor", "gearbox", "settling", "following error", "bandwidth", "phase margin", "gain margin",
-               "resonance", "anti-res.", "notch", "result"]
-    return Table("dynamics", "Candidates judged on how they move", columns, rows, "llrrrrrrrll", note)
+    columns = ["motor", "gearbox", "settling", "following error", "bandwidth", "phase / gain margin",
+               "resonance / anti-resonance", "notch", "result"]
+    # relative column widths for the PDF: the names and the result wrap least
+    widths = [1.15, 1.0, 0.95, 1.1, 1.0, 1.55, 1.5, 0.6, 1.2]
+    return Table("dynamics", "Candidates judged on how they move", columns, rows, "llrrrrrll", note, widths)
 
 
 def passed_over_table(dyn: dict[str, Any]) -> Table | None:
@@ -106,7 +108,7 @@ def passed_over_table(dyn: dict[str, Any]) -> Table | None:
                                                                      else "warn"), Cell(p["reason"])]
             for p in over]
     return Table("dynamics-passed-over", "Static picks " + PASSED_OVER, ["motor", "gearbox", "dynamic result", "why"],
-                 rows, "llll")
+                 rows, "llll", widths=[1.0, 1.0, 0.8, 3.2])
 
 
 def inertia_sentence(result: SizingResult) -> str | None:
