@@ -146,6 +146,7 @@ def test_the_report_shows_the_dynamics_and_the_pick_passed_over(dynamic: Any, st
     assert " deg / " in rows[pick][5] and rows[pick][5].endswith(" dB")  # phase and gain margin
     assert rows[pick][6].count(" Hz") == 2  # first resonance, anti-resonance
     assert f"{pick} ends up with an inertia ratio J_L/J_M of" in judged.note and "still applies" in judged.note
+    assert dynamic.selection["dynamics"]["answer_inertia_ratio"] == dynamic.selection["selected"]["inertia_ratio"]
     assert [r[0].text for r in over.rows] == [first] and over.rows[0][3].text.startswith("stability_margin:")
     page = render_html(dynamic)
     assert "How it moves: the dynamic checks" in page and "Static picks passed over for how it moves" in page

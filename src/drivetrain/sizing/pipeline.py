@@ -211,7 +211,8 @@ def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listi
 
 def _count_dynamics(chosen: Selection, judge: Any) -> Selection:
     """The dynamic checks count with the static ones in ``failures_by_check`` and ``unknown_by_check`` (of
-    the candidates judged: ``dynamic_selection.failure_counts``)."""
+    the candidates judged: ``dynamic_selection.failure_counts``); ``dynamics.answer_inertia_ratio`` is the
+    inertia ratio the dynamic pick ends up with."""
     import importlib
 
     dyn = chosen.summary["dynamics"]
@@ -219,6 +220,10 @@ def _count_dynamics(chosen: Selection, judge: Any) -> Selection:
     for name, counts in (("failures_by_check", fails), ("unknown_by_check", unknown)):
         if isinstance(chosen.summary.get(name), dict):
             chosen.summary[name] = {**chosen.summary[name], **counts}
+    pick = chosen.summary.get("selected") or {}
+    if dyn.get("chosen") and pick.get("motor") == dyn["chosen"]["motor"]:
+        # the inertia ratio is a consequence: the one the dynamic pick ends up with (docs/checks.md)
+        dyn["answer_inertia_ratio"] = pick.get("inertia_ratio")
     return chosen
 
 
