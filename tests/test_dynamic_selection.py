@@ -278,3 +278,22 @@ def test_a_study_without_requirements_records_no_dynamics(tmp_path: Path) -> Non
     assert "dynamics" not in parse_study(yaml.safe_dump(body)).spec.record
     body["parameters"] = {"requirements.settling.time": {"values": [5, 10], "unit": "ms"}}
     assert parse_study(yaml.safe_dump(body)).spec.record[-1] == "dynamics"
+
+
+@pytest.mark.parametrize("margin, objective", [("30 deg", "smallest"), ("45 deg", "smallest"), ("80 deg", "smallest"),
+                                               ("30 deg", "fastest_settling")])
+def test_a_search_answers_as_the_whole_ranking_does(margin: str, objective: str) -> None:
+    """listing="selected" (a study's search, its pick judged first, the whole ranking only when it is
+    passed over) answers the same motor, the same dynamic choice and the same judged candidates as the
+    ranked listing's walk."""
+    data = copy.deepcopy(DATA)
+    data["motor"]["select"]["objective"] = objective
+    data["requirements"].update({"candidates": 4, "stability": {"phase_margin": margin},
+                                 "settling": {"window": "20 um", "time": "20 ms"}})
+    ranked, searched = size(data), size(data, listing="selected")
+    assert searched.ok == ranked.ok
+    assert searched.selection["selected"]["motor"] == ranked.selection["selected"]["motor"]
+    a, b = ranked.selection["dynamics"], searched.selection["dynamics"]
+    assert (a["chosen"] or {}).get("motor") == (b["chosen"] or {}).get("motor")
+    assert [c["motor"] for c in a["candidates"]] == [c["motor"] for c in b["candidates"]]
+    assert [p["motor"] for p in a["passed_over"]] == [p["motor"] for p in b["passed_over"]]
