@@ -1,8 +1,9 @@
 """The selection that knows how the axis will move: walk the static passes best first and keep the
 first that also passes its dynamic checks (``response.candidate_response``), or, for the objective
-``fastest_settling``, the one that settles fastest among those judged.
+``fastest_settling``, the one that settles fastest among those judged (``Judge``, the rule the
+pipeline's drive stage runs in the selection's walk).
 
-Input is the ranked list of static passes as (motor id, catalog gearbox id or None); the answer says
+The walk calls it with each static pass as (motor id, catalog gearbox id or None); the answer says
 which was chosen, every candidate judged with its checks, and the static picks passed over with why.
 Candidates whose dynamic answer is ``unknown`` (a part taken rigid for want of data) are accepted
 under ``select.unknown: flag`` and passed over under ``fail``.
@@ -11,7 +12,6 @@ under ``select.unknown: flag`` and passed over under ``fail``.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -77,42 +77,6 @@ def _judged(axis: Axis, req: Requirements, motor_id: str, gearbox_id: str | None
 
 def _passed_over(resp: Response, why: str | None = None) -> dict[str, Any]:
     return {"motor": resp.motor, "gearbox": resp.gearbox, "status": resp.status, "reason": why or reason(resp)}
-
-
-def judge(axis: Axis, ranked: Sequence[tuple[str, str | None]], *, accept_unknown: bool = True,
-          objective: str = "first_passing") -> DynamicSelection:
-    """Judge the static passes ``ranked`` (best first) dynamically against ``axis.requirements``.
-
-    ``first_passing`` stops at the first candidate that passes (or is unknown, when
-    ``accept_unknown``); ``fastest_settling`` judges the first ``requirements.candidates`` and keeps
-    the one with the shortest worst settling time among those that do not fail.
-    """
-    from drivetrain.dynamics.axis_model import TABLE_POINTS
-    from drivetrain.dynamics.axis_stiffness import mechanism_stiffness_of
-    from drivetrain.dynamics.response import profile_samples
-
-    req = axis.requirements
-    if req is None:
-        raise ValueError("judge needs an axis with requirements")
-    stiffness = mechanism_stiffness_of(axis, TABLE_POINTS)
-    samples = profile_samples(axis)
-    out = DynamicSelection(chosen=None, objective=objective)
-    best_time = math.inf
-    for k, (motor_id, gearbox_id) in enumerate(ranked[: req.candidates]):
-        resp = _judged(axis, req, motor_id, gearbox_id, stiffness, samples)
-        out.responses.append(resp)
-        out.judged = k + 1
-        ok = resp.status == "pass" or (accept_unknown and resp.status == "unknown")
-        if objective == "fastest_settling":
-            if ok and resp.worst_settling < best_time:
-                best_time, out.chosen = resp.worst_settling, k
-            continue
-        if ok:
-            out.chosen, out.stopped_early = k, k + 1 < min(len(ranked), req.candidates)
-            break
-    last = len(out.responses) if out.chosen is None else out.chosen
-    out.passed_over = [_passed_over(r, _slower(r, out, accept_unknown)) for r in out.responses[:last]]
-    return out
 
 
 def _slower(resp: Response, out: DynamicSelection, accept_unknown: bool) -> str | None:
