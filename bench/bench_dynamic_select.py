@@ -13,7 +13,7 @@ target is at most 1.5 for 20 candidates.
 Then a study (``--study``): the same axis over a 16-value grid of load mass, with and without its
 requirements (as shipped, and with a 30 deg phase margin that the static pick meets), in this process
 after a warm-up run, CPU per variant; the target is at most 3x per variant.
-Run: ``.venv/bin/python bench/bench_dynamic_select.py [--study]``.
+Run: ``.venv/bin/python bench/bench_dynamic_select.py [--study]`` (``BENCH_RUNS`` alternated runs, default 5).
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "belt_dynamic.yaml"
-RUNS = 5
+RUNS = int(os.environ.get("BENCH_RUNS", "5"))
 
 
 def _cpu(cmd: list[str]) -> float:
