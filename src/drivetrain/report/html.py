@@ -103,6 +103,8 @@ def render_body(model: ReportModel, plot: Callable[[PlotSpec], str]) -> str:
     mechanism = _mechanism_section(model, plot)
     if mechanism:
         sections.append(("mechanism", "Mechanism: checks and modes", mechanism))
+    if model.dynamics:
+        sections.append(("dynamics", "How it moves: the dynamic checks", "".join(_table(t) for t in model.dynamics)))
     electrical = ""
     if model.regen is not None:
         electrical += _figure(model.regen, plot(model.regen))
@@ -117,8 +119,6 @@ def render_body(model: ReportModel, plot: Callable[[PlotSpec], str]) -> str:
         selection += _table(model.ratios)
     if selection:
         sections.append(("selection", "Selection and ratio", selection))
-    if model.dynamics:
-        sections.append(("dynamics", "How it moves: the dynamic checks", "".join(_table(t) for t in model.dynamics)))
     sections.append(("inputs", "Inputs", _table(model.inputs, "dt-inputs")))
     formulas = "".join(_formula(f) for f in model.formulas)
     sections.append(("formulas", "Formulas and sources",

@@ -60,11 +60,11 @@ class ReportModel:
     mechanism_checks: Table | None = None
     modes: Table | None = None
     modes_plot: PlotSpec | None = None
+    dynamics: list[Table] = field(default_factory=list)
+    """how the axis will move, with requirements (drivetrain.report.dynamics)"""
     electrical: Table | None = None
     """drive, motor current, winding temperature and regen (drivetrain.report.electrical)"""
     regen: PlotSpec | None = None
-    dynamics: list[Table] = field(default_factory=list)
-    """how the axis will move, with requirements (drivetrain.report.dynamics)"""
 
 
 def report_date() -> str:
@@ -150,7 +150,7 @@ def build_report(result: SizingResult, units: str = "si") -> ReportModel:
         mechanism_checks=mechanism_checks_table(result, du),
         modes=modes_table(modes, du) if modes is not None else None,
         modes_plot=modes_plot(modes, du) if modes is not None else None,
+        dynamics=dynamics_tables(result, du),
         electrical=electrical_table(result, du),
         regen=regen_plot(result, du, focus),
-        dynamics=dynamics_tables(result, du),
     )

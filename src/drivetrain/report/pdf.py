@@ -397,14 +397,15 @@ def write_pdf(model: ReportModel, path: Path) -> None:
             sections.append(("Drive and regeneration", electrical))
         if model.mechanism_checks is not None or model.modes is not None:
             sections.append(("Mechanism: checks and modes", mechanism))
-        if model.candidates is not None or model.ratios is not None:
-            sections.append(("Selection and ratio", selection))
+
         def dynamics() -> None:
             for t in model.dynamics:
                 doc.table(t)
 
         if model.dynamics:
             sections.append(("How it moves: the dynamic checks", dynamics))
+        if model.candidates is not None or model.ratios is not None:
+            sections.append(("Selection and ratio", selection))
         sections.append(("Inputs", lambda: doc.table(model.inputs)))
         sections.append(("Formulas and sources", lambda: doc.formulas(model)))
         for k, (title, draw) in enumerate(sections, start=1):
