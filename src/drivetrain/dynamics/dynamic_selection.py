@@ -51,11 +51,9 @@ class DynamicSelection:
 
 def reason(resp: Response) -> str:
     """One line: the first failing (else unknown) dynamic check's note, with its name."""
-    for state in ("fail", "unknown"):
-        for c in resp.checks:
-            if c["status"] == state:
-                return f"{c['name']}: {c['note']}"
-    return "passes"
+    from drivetrain.dynamics.response import first_reason
+
+    return first_reason(resp)
 
 
 def _judged(axis: Axis, req: Requirements, motor_id: str, gearbox_id: str | None, stiffness: Any,

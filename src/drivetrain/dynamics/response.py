@@ -125,6 +125,15 @@ def _none(x: float) -> float | None:
     return None if math.isnan(x) else x
 
 
+def first_reason(resp: Response) -> str:
+    """One line: the first failing (else unknown) dynamic check's note, with its name ("passes" if none)."""
+    for state in ("fail", "unknown"):
+        for c in resp.checks:
+            if c["status"] == state:
+                return f"{c['name']}: {c['note']}"
+    return "passes"
+
+
 def weakest_stiffness(stiff: MechanismStiffness | None) -> tuple[float | None, float]:
     """The mechanism's smallest torsional stiffness over the stroke [N m/rad at its input] and where [m]."""
     if stiff is None:

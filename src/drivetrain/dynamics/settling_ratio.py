@@ -142,9 +142,9 @@ def _only_settling_fails(r: Response) -> bool:
 
 
 def _first_fail(answers: list[Response]) -> str:
-    from drivetrain.dynamics.dynamic_selection import reason
+    from drivetrain.dynamics.response import first_reason
 
-    return reason(answers[0]) if answers else "none"
+    return first_reason(answers[0]) if answers else "none"
 
 
 def _finite(x: float) -> float | None:

@@ -43,10 +43,8 @@ MAX_SEED = 2**32 - 1
 DESIGNS = ("grid", "random", "lhs", "sobol", "saltelli", "morris")
 RECORD_GROUPS = ("motor", "gearbox", "margins", "rms", "peak", "energy", "checks")
 DYNAMICS_GROUP = "dynamics"
-"""The group of the dynamic checks' figures (``study.record``); recorded by default when the study has
-requirements (the base's ``requirements:`` or a parameter under ``requirements.``)."""
+"""The dynamic answer's figures; recorded by default when the study has requirements (``parse_study``)."""
 GROUPS = (*RECORD_GROUPS, DYNAMICS_GROUP)
-"""Every record group a study file may name."""
 OBJECTIVES = {"motor_size": ("rated_power_W", "minimize"), "energy": ("energy_per_cycle_J", "minimize"),
               "rms_margin": ("margin_rms_torque", "maximize"), "peak_margin": ("margin_peak_torque", "maximize"),
               "worst_margin": ("worst_margin", "maximize"),
