@@ -16,7 +16,7 @@ HERE = Path(__file__).parent
 # latency percentiles with 1, 4 and 16 clients (fairness: p99 within 3x p50 at 4 clients)
 BENCHES: list[tuple[str, list[str]]] = [
     ("bench_size.py", []), ("bench_select.py", []), ("bench_select_drives.py", []), ("bench_dynamic_select.py", []),
-    ("bench_simulate.py", []),
+    ("bench_dynamic_select.py", ["--study"]), ("bench_simulate.py", []),
     ("bench_study.py", []), ("bench_startup.py", []), ("bench_pip_first_run.py", []), ("bench_duty.py", []),
     ("bench_scale.py", []), ("bench_move.py", []),
     ("bench_web_load.py", ["--workers", "2", "--think", "250"]), ("bench_web_load.py", ["--workers", "2"]),

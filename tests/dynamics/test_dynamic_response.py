@@ -116,10 +116,18 @@ def test_a_candidate_answer_has_its_checks_with_reasons() -> None:
     assert names == ["settling_time", "following_error", "velocity_bandwidth", "stability_margin"]
     bw = r.checks[2]
     assert bw["status"] == "fail" and "anti-resonance" in bw["note"]  # the belt's compliance sets the limit
-    assert r.following_error.shape == (2,) and r.settling_time.shape == (2,)
+    # a linear check fails the candidate already: its profile is not simulated, and the two checks say so
+    assert not r.simulated and r.following_error.size == 0 and math.isinf(r.worst_settling)
+    for c in r.checks[:2]:
+        assert c["status"] == "unknown" and c["ok"] is None and c["available"] is None
+        assert c["note"].startswith("not simulated: the candidate already fails velocity_bandwidth")
     assert r.resonance_hz > r.anti_resonance_hz > 0
     d = r.to_dict()
-    assert d["status"] == "fail" and len(d["checks"]) == 4
+    assert d["status"] == "fail" and len(d["checks"]) == 4 and d["simulated"] is False
+    # without the bandwidth asked, the linear checks pass and the profile is simulated: per move, per stop
+    s = _response(_belt())
+    assert s.simulated and s.following_error.shape == (2,) and s.settling_time.shape == (2,)
+    assert [c["name"] for c in s.checks] == ["settling_time", "following_error", "stability_margin"]
 
 
 def test_a_mechanism_without_stiffness_data_makes_a_pass_unknown() -> None:
@@ -203,3 +211,22 @@ def test_modes_names_both_models(tmp_path: Path, capsys: pytest.CaptureFixture[s
     text = capsys.readouterr().out
     assert "the mechanism rigid: natural frequencies: 433.1 Hz" in text
     assert "weakest position (1200 mm): natural frequencies: 154.9 Hz" in text
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 5, 8])
+def test_the_tridiagonal_frequency_response_equals_the_state_space_solve(n: int) -> None:
+    """``linear.frequency_response`` (Thomas algorithm along the chain, vectorised over frequencies)
+    against the (2n x 2n) state-space solve, every input and output, damped and undamped chains: within
+    1e-8 of the largest magnitude over the band."""
+    from drivetrain.dynamics.linear import _frequency_response_ss, frequency_response
+
+    rng = np.random.default_rng(n)
+    f = np.geomspace(0.1, 4000.0, 2400)
+    for trial in range(4):
+        chain = Chain(inertia=rng.uniform(1e-5, 1e-2, n), stiffness=rng.uniform(50.0, 5e4, n - 1),
+                      damping=rng.uniform(0.0, 1.0, n - 1) * (trial % 2),
+                      ground_damping=rng.uniform(0.0, 1e-3, n) * (trial >= 2))
+        for inp in ("motor_torque", "load_torque"):
+            for out in ("motor_position", "motor_speed", "load_position", "load_speed"):
+                ours, ss = frequency_response(chain, f, inp, out), _frequency_response_ss(chain, f, inp, out)
+                assert np.max(np.abs(ours - ss)) <= 1e-8 * np.max(np.abs(ss))

@@ -568,6 +568,19 @@ def test_mechanism_checks_and_modes_show_in_the_results(page: Any) -> None:
     assert page.locator("#plot-modes").is_hidden()
 
 
+def test_the_dynamics_show_in_the_results(page: Any) -> None:
+    """The belt axis with requirements: the candidates judged (web/static/dynamics.js) under the mechanism,
+    the static pick labelled "passed over for how it moves", and folded apart in the banner."""
+    page.select_option("#example-select", "belt_dynamic")
+    wait_sized(page)
+    wait_until(page, "() => document.querySelector('.dynamics-table') !== null")
+    first = size(ROOT / "examples" / "belt_dynamic.yaml").selection["dynamics"]["passed_over"][0]["motor"]
+    table = page.inner_text(".dynamics-table")
+    assert first in table and "passed over for how it moves" in table and "answer" in table
+    assert "static pick passed over for how it moves" in page.inner_text("#result-banner")
+    assert "ends up with an inertia ratio" in page.inner_text(".dynamics-inertia")
+
+
 def test_history_restores_and_delete_asks_twice(page: Any) -> None:
     """Restoring a version adds one; a project is deleted on the second click within 4 s, one click only arms."""
     page.fill("#project-name", "to be deleted")

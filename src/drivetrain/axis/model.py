@@ -93,7 +93,7 @@ class SelectSpec(Spec):
     gearbox: Literal["auto", "none", "only"] = "auto"
     gearbox_series: list[str] | str | None = None
     max_inertia_ratio: float | None = Field(default=None, gt=0.0)
-    objective: Literal["smallest", "rms_utilisation", "inertia_match", "energy"] = "smallest"
+    objective: Literal["smallest", "rms_utilisation", "inertia_match", "energy", "fastest_settling"] = "smallest"
     top: int = Field(default=10, ge=1, le=1000)
     unknown: Literal["flag", "fail"] = "flag"
 
@@ -271,6 +271,10 @@ def parse_axis(data: Any, *, text_checked: bool = False) -> Axis:
         raise exc.at("") from None
     check_ratio_chain([*stages, mechanism.stage], len(stages))
     requirements(spec.requirements, mechanism.motion)  # its windows' units depend on the mechanism: checked here
+    if (spec.requirements is None and spec.motor is not None and spec.motor.select is not None
+            and spec.motor.select.objective == "fastest_settling"):
+        raise InputError("motor.select.objective", "fastest_settling needs a requirements: block (at least "
+                         "settling: {window: ...}) to simulate the candidates against", "fastest_settling")
     motor = _motor_data(spec.motor) if spec.motor is not None else None
     electrical = None
     if spec.motor is not None and spec.motor.select is None:

@@ -10,6 +10,7 @@ Keys (docs/axis-file.md, "Dynamic requirements"), all optional::
       loop: {current_bandwidth: 2000 Hz, loop_delay: 125 us, encoder_counts: 1048576,
              feedforward: true, notch: true}
       candidates: 20                           # static passes judged dynamically, best first
+      settling_ratio: false                    # also scan the answer's ratio for the fastest settling
 
 The block loads into the SI dataclass ``Requirements``. Absent, the selection is the static one.
 """
@@ -75,6 +76,7 @@ class RequirementsSpec(Spec):
     stability: StabilitySpec = StabilitySpec()
     loop: LoopContextSpec = LoopContextSpec()
     candidates: int = Field(default=20, ge=1, le=MAX_CANDIDATES)
+    settling_ratio: bool = False
 
 
 @dataclass(frozen=True)
@@ -94,6 +96,7 @@ class Requirements:
         feedforward: velocity and acceleration feed-forward on.
         notch: a notch filter on the first resonance is allowed.
         candidates: how many static passes are judged, best first [-].
+        settling_ratio: scan the answer's ratio for the shortest settling (``settling_ratio``).
     """
 
     motion: str
@@ -109,6 +112,7 @@ class Requirements:
     feedforward: bool
     notch: bool
     candidates: int
+    settling_ratio: bool = False
 
     @property
     def stated(self) -> tuple[str, ...]:
@@ -157,7 +161,7 @@ def requirements(spec: RequirementsSpec | None, motion: str) -> Requirements | N
         velocity_bandwidth=spec.velocity_bandwidth, phase_margin_deg=math.degrees(spec.stability.phase_margin),
         gain_margin_db=gm_db, current_bandwidth=spec.loop.current_bandwidth, loop_delay=spec.loop.loop_delay,
         encoder_counts=spec.loop.encoder_counts, feedforward=spec.loop.feedforward, notch=spec.loop.notch,
-        candidates=spec.candidates)
+        candidates=spec.candidates, settling_ratio=spec.settling_ratio)
 
 
 def _decibels(value: str | float, field: str) -> float:

@@ -256,10 +256,15 @@ def _print_candidates(console: Any, result: Any, u: TableUnits) -> None:
                 console.print(f"  ... and {more} more passed over for their drive (selection.drive_passed_over)")
         dyn = sel.get("dynamics")
         if dyn and dyn.get("chosen"):
-            console.print(f"dynamics of {dyn['chosen']['motor']} ({dyn['judged']} candidate(s) simulated): "
+            from drivetrain.report.dynamics import inertia_sentence
+
+            console.print(f"dynamics of {dyn['chosen']['motor']} ({dyn['judged']} candidate(s) judged): "
                           + "; ".join(f"{ch['name']} {ch['status']}: {ch['note']}" for ch in dyn["chosen"]["checks"]))
+            decided = inertia_sentence(result)
+            if decided:
+                console.print(f"  {decided}")
         elif dyn:
-            console.print(f"[bold red]dynamics: none of the {dyn['judged']} candidates simulated passes[/]")
+            console.print(f"[bold red]dynamics: none of the {dyn['judged']} candidates judged passes[/]")
         _print_selected_electrical(console, pick, u)
         if pick.get("unknown"):
             console.print("  not judged (the catalog lacks the data): "
@@ -279,6 +284,10 @@ def _print_candidates(console: Any, result: Any, u: TableUnits) -> None:
             console.print(f"optimal ratio for {opt['motor']}: {opt['min_rms_ratio']:.3g} (min RMS), "
                           f"{opt['inertia_match_ratio']:.3g} (inertia match)"
                           + (f", nearest catalog ratio {near:g}" if near else ""))
+        if dyn and dyn.get("settling_optimal_ratio"):
+            from drivetrain.report.dynamics import settling_ratio_sentence
+
+            console.print(settling_ratio_sentence(dyn))
     elif sel.get("advice"):
         for line in str(sel["advice"]).splitlines():
             console.print(f"[bold red]{line}[/]")

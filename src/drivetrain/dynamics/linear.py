@@ -168,7 +168,48 @@ def disturbance_tf(chain: Chain, *, as_control: bool | None = None) -> Any:
 
 def frequency_response(chain: Chain, freq_hz: ArrayLike, input: str = "motor_torque",
                        output: str = "motor_speed") -> NDArray[np.complex128]:
-    """G(j 2 pi f) = C (j w I - A)^-1 B evaluated directly (no polynomials) [SI per N m]."""
+    """G(j 2 pi f) = C (j w I - A)^-1 B evaluated directly (no polynomials) [SI per N m].
+
+    The chain's equations M theta'' + C theta' + K theta = tau are a tridiagonal system per
+    frequency: (K - w^2 M + j w C) Theta = T, solved for every frequency at once by the Thomas
+    algorithm (forward elimination and back substitution along the chain, each step an array over the
+    frequencies; Golub, Van Loan, *Matrix Computations*, 4th ed. (2013), §4.3.6, algorithm 4.3.6);
+    a speed is j w Theta. The same answer as the state-space solve (``_frequency_response_ss``, kept
+    for the tests), at O(n F) instead of O((2n)^3 F).
+    """
+    j, i = _io_index(chain, input, output)
+    f = np.atleast_1d(np.asarray(freq_hz, dtype=float))
+    n = chain.n
+    w = 2.0 * math.pi * f
+    stiff, damp = chain.stiffness_matrix(), chain.damping_matrix()
+    inertia = np.asarray(chain.inertia, dtype=float)
+    diag = stiff.diagonal()[None, :] - (w * w)[:, None] * inertia[None, :] + 1j * w[:, None] * damp.diagonal()[None, :]
+    off = (np.diagonal(stiff, 1)[None, :] + 1j * w[:, None] * np.diagonal(damp, 1)[None, :]) if n > 1 else None
+    rhs = np.zeros((f.size, n), dtype=complex)
+    rhs[:, 0 if j == 0 else n - 1] = 1.0 if j == 0 else -1.0  # motor torque on the first, load torque on the last
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cp = np.zeros((f.size, max(n - 1, 0)), dtype=complex)
+        dp = np.empty((f.size, n), dtype=complex)
+        piv = diag[:, 0]
+        dp[:, 0] = rhs[:, 0] / piv
+        for k in range(1, n):  # along the chain's few inertias; each step is an array over the frequencies
+            assert off is not None
+            cp[:, k - 1] = off[:, k - 1] / piv
+            piv = diag[:, k] - off[:, k - 1] * cp[:, k - 1]
+            dp[:, k] = (rhs[:, k] - off[:, k - 1] * dp[:, k - 1]) / piv
+        x = dp[:, n - 1]
+        for k in range(n - 2, -1, -1):
+            if k < i % n:
+                break
+            x = dp[:, k] - cp[:, k] * x
+    theta = x
+    return np.asarray(theta * (1j * w) if i >= n else theta, dtype=complex)
+
+
+def _frequency_response_ss(chain: Chain, freq_hz: ArrayLike, input: str = "motor_torque",
+                           output: str = "motor_speed") -> NDArray[np.complex128]:
+    """``frequency_response`` by the state-space solve (j w I - A)^-1 B over the frequencies (the check
+    of the tridiagonal solve)."""
     j, i = _io_index(chain, input, output)
     m = state_space_matrices(chain)
     f = np.atleast_1d(np.asarray(freq_hz, dtype=float))

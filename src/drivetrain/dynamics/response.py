@@ -37,6 +37,7 @@ if TYPE_CHECKING:
     from drivetrain.physics.stage import Stage
 
 FloatArray = NDArray[np.float64]
+Samples = tuple[FloatArray, FloatArray, FloatArray, FloatArray]
 
 SRC_SETTLING = ("closed-loop simulation of the candidate's chain (docs/checks.md, 'Dynamic selection'); "
                 "tuning rule: Ellis, Control System Design Guide, 4th ed. (2012), ch. Compliance and Resonance")
@@ -65,6 +66,9 @@ class Response:
         window: the settling window at the load [m or rad].
         rigid: parts taken rigid for want of data, each with what to give.
         stable: the tuned closed loop is stable (False: nothing was simulated; every check fails).
+        simulated: the profile was simulated (False: a linear check, stability_margin or
+            velocity_bandwidth, already fails the candidate; settling and following error are then
+            not judged, and say so).
         checks: the dynamic checks (name, required, available, unit, margin, ok, status, note, source).
     """
 
@@ -83,6 +87,7 @@ class Response:
     window: float
     rigid: tuple[str, ...]
     stable: bool = True
+    simulated: bool = True
     checks: list[dict[str, Any]] = field(default_factory=list)
 
     @property
@@ -93,8 +98,11 @@ class Response:
 
     @property
     def worst_settling(self) -> float:
-        """The longest settling time over the stops [s] (inf when a stop never settles)."""
+        """The longest settling time over the stops [s] (inf when a stop never settles or nothing was
+        simulated)."""
         s = self.settling_time
+        if not self.simulated:
+            return math.inf
         return math.inf if s.size and np.isnan(s).any() else float(np.max(s)) if s.size else 0.0
 
     def to_dict(self) -> dict[str, Any]:
@@ -104,7 +112,8 @@ class Response:
             "velocity_bandwidth_Hz": self.velocity_bandwidth_hz, "bandwidth_limit": self.bandwidth_limit,
             "phase_margin_deg": self.phase_margin_deg, "gain_margin_dB": self.gain_margin_db,
             "resonance_Hz": _none(self.resonance_hz), "anti_resonance_Hz": _none(self.anti_resonance_hz),
-            "notch": self.notch, "stable": self.stable, "weakest_position_m": _none(self.weakest_position),
+            "notch": self.notch, "stable": self.stable, "simulated": self.simulated,
+            "weakest_position_m": _none(self.weakest_position),
             "following_error_per_move": [float(v) for v in self.following_error],
             "settling_time_per_stop_s": [_none(float(v)) for v in self.settling_time],
             "settling_window": self.window, "rigid_for_want_of_data": list(self.rigid),
@@ -114,6 +123,15 @@ class Response:
 
 def _none(x: float) -> float | None:
     return None if math.isnan(x) else x
+
+
+def first_reason(resp: Response) -> str:
+    """One line: the first failing (else unknown) dynamic check's note, with its name ("passes" if none)."""
+    for state in ("fail", "unknown"):
+        for c in resp.checks:
+            if c["status"] == state:
+                return f"{c['name']}: {c['note']}"
+    return "passes"
 
 
 def weakest_stiffness(stiff: MechanismStiffness | None) -> tuple[float | None, float]:
@@ -127,20 +145,23 @@ def weakest_stiffness(stiff: MechanismStiffness | None) -> tuple[float | None, f
 
 def candidate_response(axis: Axis, motor: str, motor_inertia: float, torque_limit: float,
                        stages: tuple[Stage, ...], req: Requirements, *, gearbox: str | None = None,
-                       stiffness: MechanismStiffness | None = None, rigid: tuple[str, ...] = ()) -> Response:
+                       stiffness: MechanismStiffness | None = None, rigid: tuple[str, ...] = (),
+                       samples: Samples | None = None) -> Response:
     """The dynamic answer of one candidate (module docstring).
 
     ``motor_inertia`` [kg m^2], ``torque_limit`` the motor's peak torque [N m]; ``stages`` from the
     motor outward with the mechanism last (``axis_model.stages_with_gearbox``); ``stiffness`` the
     mechanism's stiffness across the stroke (None: rigid); ``rigid`` names parts already known to be
-    taken rigid for want of data (a catalog gearbox without stiffness), with what to give.
+    taken rigid for want of data (a catalog gearbox without stiffness), with what to give;
+    ``samples`` the axis's load profile sampled by ``profile_samples`` (shared between candidates).
+
+    The linear checks come first: where stability_margin or velocity_bandwidth fails, the candidate
+    fails whatever its simulation would show, so it is not simulated (nor is the compiled kernel
+    loaded for it).
     """
-    from drivetrain.dynamics.axis_model import AxisDynamics, load_friction, with_mechanism_spring
     from drivetrain.dynamics.chain import model_from_stages
     from drivetrain.dynamics.control import analyse_loop, tune
     from drivetrain.dynamics.linear import anti_resonance_frequencies, natural_frequencies
-    from drivetrain.dynamics.reference import Reference
-    from drivetrain.dynamics.simulation import default_step, simulate
 
     head, mech = stages[:-1], stages[-1]
     k_weak, x_weak = weakest_stiffness(stiffness)
@@ -172,16 +193,21 @@ def candidate_response(axis: Axis, motor: str, motor_inertia: float, torque_limi
         pole = analysis.poles[int(np.argmax(analysis.poles.real))]
         why = (f"no stable tuning: a closed-loop pole at {abs(pole.imag) / (2 * math.pi):.1f} Hz grows even at "
                f"{analysis.velocity_bandwidth_hz:.1f} Hz of bandwidth" + ("" if req.notch else "; allow a notch"))
-        unstable = replace(base, bandwidth_limit=why, stable=False, following_error=np.array([math.inf]),
-                           settling_time=np.array([math.nan]))
+        unstable = replace(base, bandwidth_limit=why, stable=False, simulated=False,
+                           following_error=np.array([math.inf]), settling_time=np.array([math.nan]))
         return replace(unstable, checks=dynamic_checks(unstable, req))
+    linear = replace(base, simulated=False)
+    linear = replace(linear, checks=dynamic_checks(linear, req))
+    if linear.status == "fail":
+        return linear
 
     # The simulation: the chain with the mechanism's spring following the load over one cycle.
+    from drivetrain.dynamics.axis_model import AxisDynamics, load_friction, with_mechanism_spring
+    from drivetrain.dynamics.reference import Reference
+    from drivetrain.dynamics.simulation import default_step, simulate
+
     dyn = AxisDynamics(model_from_stages(motor_inertia, stages, 0.0), motor, motor_inertia, stages)
-    cycle = axis.cycle()
-    t = np.linspace(0.0, cycle.period, REFERENCE_POINTS + 1)
-    kin = cycle.evaluate(t)
-    x = np.asarray(kin.x, dtype=float)
+    t, x, v, a = profile_samples(axis) if samples is None else samples
     dyn = with_mechanism_spring(axis, dyn, float(x[0]), stiffness)
     friction, load_torque = load_friction(axis, stages, axis.spec.dynamics or {})
     chain = dyn.chain
@@ -190,12 +216,22 @@ def candidate_response(axis: Axis, motor: str, motor_inertia: float, torque_limi
         frictions[-1] = friction
         chain = chain.with_(friction=tuple(frictions))
     ratio = math.prod(s.ratio for s in stages)
-    ref = Reference.from_load(t, x, kin.v, kin.a, ratio)
+    ref = Reference.from_load(t, x, v, a, ratio)
     sim = simulate(chain, loop, ref, load_torque=load_torque, step=default_step(chain, loop),
                    settle_tolerance=req.settling_window * ratio, check_stability=False)  # judged above
     follow = _per_move_error(sim.states["reference_speed"], sim.load_error) / ratio
     resp = replace(base, following_error=follow, settling_time=np.asarray(sim.settling_time, dtype=float))
     return replace(resp, checks=dynamic_checks(resp, req))
+
+
+def profile_samples(axis: Axis) -> Samples:
+    """One cycle of the axis's load profile at ``REFERENCE_POINTS`` + 1 instants: time [s], position,
+    speed, acceleration [m, m/s, m/s^2 or rad, rad/s, rad/s^2 at the load]; the same for every
+    candidate, so computed once per selection."""
+    cycle = axis.cycle()
+    t = np.linspace(0.0, cycle.period, REFERENCE_POINTS + 1)
+    kin = cycle.evaluate(t)
+    return (t, np.asarray(kin.x, dtype=float), np.asarray(kin.v, dtype=float), np.asarray(kin.a, dtype=float))
 
 
 def _per_move_error(ref_speed: FloatArray, load_error: FloatArray) -> FloatArray:
@@ -214,46 +250,73 @@ def _per_move_error(ref_speed: FloatArray, load_error: FloatArray) -> FloatArray
 def dynamic_checks(resp: Response, req: Requirements) -> list[dict[str, Any]]:
     """The checks of ``resp`` against ``req``: settling_time, following_error, velocity_bandwidth
     (where stated) and stability_margin, shaped like the other checks; ``unknown`` where a judged
-    pass rests on a part taken rigid for want of data."""
+    pass rests on a part taken rigid for want of data, or where the profile was not simulated
+    because a linear check already fails the candidate (the note says which)."""
     unit = "m" if req.motion == "linear" else "rad"
     why = resp.bandwidth_limit
-    rigid_note = ("; rigid for want of data: " + "; ".join(resp.rigid)) if resp.rigid else ""
     checks: list[dict[str, Any]] = []
+    linear = _linear_checks(resp, req)
 
-    def add(name: str, required: float, available: float, unit: str, margin: float, note: str, source: str) -> None:
-        ok = bool(margin >= 0.0)
-        status = "fail" if not ok else ("unknown" if resp.rigid else "pass")
-        checks.append({"name": name, "required": required, "available": available, "unit": unit,
-                       "margin": margin, "ok": None if status == "unknown" else ok, "status": status,
-                       "approximate": False, "note": note + ("" if status == "fail" else rigid_note),
-                       "source": source})
+    def add(name: str, required: float, available: float, unit: str, margin: float, note: str) -> None:
+        checks.append(_check(resp, name, required, available, unit, margin, note, SRC_SETTLING))
 
+    if resp.stable and not resp.simulated:
+        decided = [c["name"] for c in linear if c["status"] == "fail"]
+        skip = ("not simulated: the candidate already fails " + ", ".join(decided) if decided
+                else "not simulated: the linear checks are judged first")
+        for name, required, u in (("settling_time", req.settling_time, "s"),
+                                  ("following_error", req.following_error, unit)):
+            if required is not None:
+                checks.append({"name": name, "required": required, "available": None, "unit": u, "margin": None,
+                               "ok": None, "status": "unknown", "approximate": False,
+                               "note": f"{skip} (a simulation of the profile would decide it)",
+                               "source": SRC_SETTLING})
+        return checks + linear
     if req.settling_time is not None:
-        worst = resp.worst_settling
+        worst = resp.worst_settling if resp.stable else math.inf
         margin = req.settling_time / worst - 1.0 if worst > 0 else math.inf
         text = ("never settles inside the window before the next move" if math.isinf(worst)
                 else f"settles in {worst * 1e3:.1f} ms")
         cmp = "<=" if margin >= 0 else ">"
         add("settling_time", req.settling_time, worst, "s", margin,
-            f"{text} {cmp} {req.settling_time * 1e3:g} ms into {_window(resp.window, req.motion)}: {why}",
-            SRC_SETTLING)
+            f"{text} {cmp} {req.settling_time * 1e3:g} ms into {_window(resp.window, req.motion)}: {why}")
     if req.following_error is not None:
         worst_e = float(np.max(resp.following_error)) if resp.following_error.size else 0.0
         margin = req.following_error / worst_e - 1.0 if worst_e > 0 else math.inf
         add("following_error", req.following_error, worst_e, unit, margin,
             f"largest load position error during a move {_window(worst_e, req.motion)} "
-            f"({'<=' if margin >= 0 else '>'} {_window(req.following_error, req.motion)}): {why}", SRC_SETTLING)
+            f"({'<=' if margin >= 0 else '>'} {_window(req.following_error, req.motion)}): {why}")
+    return checks + linear
+
+
+def _check(resp: Response, name: str, required: float, available: float, unit: str, margin: float, note: str,
+           source: str) -> dict[str, Any]:
+    """One dynamic check: fail below margin 0; a pass resting on a part taken rigid is unknown."""
+    ok = bool(margin >= 0.0)
+    status = "fail" if not ok else ("unknown" if resp.rigid else "pass")
+    rigid_note = ("; rigid for want of data: " + "; ".join(resp.rigid)) if resp.rigid else ""
+    return {"name": name, "required": required, "available": available, "unit": unit, "margin": margin,
+            "ok": None if status == "unknown" else ok, "status": status, "approximate": False,
+            "note": note + ("" if status == "fail" else rigid_note), "source": source}
+
+
+def _linear_checks(resp: Response, req: Requirements) -> list[dict[str, Any]]:
+    """velocity_bandwidth (where stated) and stability_margin: decided by the tuned linear loop alone."""
+    why = resp.bandwidth_limit
+    checks: list[dict[str, Any]] = []
     if req.velocity_bandwidth is not None:
         margin = resp.velocity_bandwidth_hz / req.velocity_bandwidth - 1.0
-        add("velocity_bandwidth", req.velocity_bandwidth, resp.velocity_bandwidth_hz, "Hz", margin,
-            f"tuned velocity loop reaches {resp.velocity_bandwidth_hz:.1f} Hz: {why}", SRC_SETTLING)
+        checks.append(_check(resp, "velocity_bandwidth", req.velocity_bandwidth, resp.velocity_bandwidth_hz, "Hz",
+                             margin, f"tuned velocity loop reaches {resp.velocity_bandwidth_hz:.1f} Hz: {why}",
+                             SRC_SETTLING))
     pm = resp.phase_margin_deg / req.phase_margin_deg - 1.0
     gm = resp.gain_margin_db / req.gain_margin_db - 1.0 if math.isfinite(resp.gain_margin_db) else math.inf
     text = (f"velocity loop phase margin {resp.phase_margin_deg:.1f} deg (>= {req.phase_margin_deg:g}), gain margin "
             f"{resp.gain_margin_db:.1f} dB (>= {req.gain_margin_db:g})")
     if not resp.stable:
         pm, gm, text = -1.0, -1.0, why
-    add("stability_margin", req.phase_margin_deg, resp.phase_margin_deg, "deg", min(pm, gm), text, SRC_MARGINS)
+    checks.append(_check(resp, "stability_margin", req.phase_margin_deg, resp.phase_margin_deg, "deg", min(pm, gm),
+                         text, SRC_MARGINS))
     return checks
 
 

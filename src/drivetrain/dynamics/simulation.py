@@ -30,7 +30,6 @@ of the kernels' arguments ``kernel_io``.
 from __future__ import annotations
 
 import math
-from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -299,6 +298,8 @@ def sweep(
         for lo, hi in bounds:
             run_range(lo, hi)
     else:
+        from concurrent.futures import ThreadPoolExecutor  # only here: its import costs 20 ms
+
         with ThreadPoolExecutor(max_workers=workers) as pool:
             for fut in [pool.submit(run_range, lo, hi) for lo, hi in bounds]:
                 fut.result()

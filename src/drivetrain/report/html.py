@@ -107,6 +107,8 @@ def render_body(model: ReportModel, plot: Callable[[PlotSpec], str]) -> str:
     mechanism = _mechanism_section(model, plot)
     if mechanism:
         sections.append(("mechanism", "Mechanism: checks and modes", mechanism))
+    if model.dynamics:
+        sections.append(("dynamics", "How it moves: the dynamic checks", "".join(_table(t) for t in model.dynamics)))
     electrical = ""
     if model.regen is not None:
         electrical += _figure(model.regen, plot(model.regen))

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from drivetrain.report import tables
@@ -60,6 +60,8 @@ class ReportModel:
     mechanism_checks: Table | None = None
     modes: Table | None = None
     modes_plot: PlotSpec | None = None
+    dynamics: list[Table] = field(default_factory=list)
+    """how the axis will move, with requirements (drivetrain.report.dynamics)"""
     electrical: Table | None = None
     """drive, motor current, winding temperature and regen (drivetrain.report.electrical)"""
     regen: PlotSpec | None = None
@@ -93,6 +95,7 @@ def catalog_version(result: SizingResult) -> str:
 
 def build_report(result: SizingResult, units: str = "si") -> ReportModel:
     """The report's content for ``result`` in the chosen units (si, imperial, as-given)."""
+    from drivetrain.report.dynamics import dynamics_tables
     from drivetrain.report.electrical import electrical_table, regen_plot, supply_curve_traces
     from drivetrain.report.mechanism import mechanism_checks_table, mechanism_modes, modes_plot, modes_table
     from drivetrain.report.order import order_tables
@@ -150,6 +153,7 @@ def build_report(result: SizingResult, units: str = "si") -> ReportModel:
         mechanism_checks=mechanism_checks_table(result, du),
         modes=modes_table(modes, du) if modes is not None else None,
         modes_plot=modes_plot(modes, du) if modes is not None else None,
+        dynamics=dynamics_tables(result, du),
         electrical=electrical_table(result, du),
         regen=regen_plot(result, du, focus),
         order=tuple(order_tables(result)),

@@ -404,6 +404,13 @@ def write_pdf(model: ReportModel, path: Path) -> None:
             sections.append(("Drive and regeneration", electrical))
         if model.mechanism_checks is not None or model.modes is not None:
             sections.append(("Mechanism: checks and modes", mechanism))
+
+        def dynamics() -> None:
+            for t in model.dynamics:
+                doc.table(t)
+
+        if model.dynamics:
+            sections.append(("How it moves: the dynamic checks", dynamics))
         if model.candidates is not None or model.ratios is not None:
             sections.append(("Selection and ratio", selection))
         def order() -> None:

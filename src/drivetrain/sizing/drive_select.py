@@ -349,6 +349,8 @@ def _walk(axis: Axis, duty: DutyCycle, ranking: Ranking, strict: bool,
     passed: list[dict[str, Any]] = []
     supply = stated_supply(axis)
     for k in best_per_motor(c, ranking.ranked)[:_WALK]:
+        if judge is not None and getattr(judge, "exhausted", False):
+            break  # the rule judged all it may: the rest would be refused unjudged
         m = int(c.motor[k])
         vc = voltage_class_check(supply, _motor_voltage(motors, m))
         if vc is not None and (vc["status"] == "fail" or (strict and vc["status"] == "unknown")):

@@ -161,15 +161,69 @@ def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listi
     spec, margins = axis.spec.motor.select, axis.spec.motor.margins
     reselect = None if listing == "ranked" else (lambda: select(axis, duty, spec, margins))
     judge = None
+    judged_first = False
+    memo = (context or Context()).drives
     if axis.requirements is not None:
         # the dynamic rule (docs/checks.md, "Dynamic selection") lives in the dynamics layer, above this
         # one: looked up by name, as the report is (docs/architecture.md)
         import importlib
 
-        judge = importlib.import_module("drivetrain.dynamics.dynamic_selection").Judge(axis)
-    chosen = orderable(axis, duty, chosen, reselect, (context or Context()).drives, judge)
+        fastest = spec.objective == "fastest_settling"
+        judge = importlib.import_module("drivetrain.dynamics.dynamic_selection").Judge(
+            axis, objective="fastest_settling" if fastest else "first_passing")
+        if fastest:  # judge the top candidates (refusing all) on a copy, then walk again to the fastest
+            import copy
+
+            chosen = reselect() if reselect is not None else chosen
+            reselect = None
+            probe = copy.copy(chosen)
+            probe.summary, probe.ranking = dict(chosen.summary), copy.copy(chosen.ranking)
+            judge.collect = True
+            orderable(axis, duty, probe, None, memo, judge)
+            judge.settle_on_fastest()
+        elif reselect is not None:
+            # a search's answer: its orderable pick is judged first; only when it is passed over is the whole
+            # ranking needed for the walk (the same walk, in the same order, meeting that pick first)
+            searched = chosen
+            chosen = orderable(axis, duty, chosen, reselect, memo)
+            reselect = reselect if chosen is searched else None  # else the drive rule ranked in full already
+            best = chosen.ranking.best
+            if best is not None and "drive_advice" not in chosen.summary:
+                c, gb = chosen.ranking.candidates, chosen.ranking.gearboxes
+                g = int(c.gearbox(best))
+                judged_first = judge.first(str(chosen.ranking.motors.ids[int(c.motor[best])]),
+                                           str(gb.ids[g]) if g >= 0 and gb is not None else None)
+            if not judged_first and reselect is not None:
+                chosen, reselect = reselect(), None
+    if not judged_first:
+        chosen = orderable(axis, duty, chosen, reselect, memo, judge)
     if judge is not None:
-        chosen.summary["dynamics"] = judge.to_dict()
+        dyn = chosen.summary["dynamics"] = judge.to_dict()
+        if axis.requirements is not None and axis.requirements.settling_ratio and chosen.ranking.best is not None:
+            from drivetrain.sizing.selection import candidate_cycle
+
+            ratio = judge.settling_ratio(candidate_cycle(axis, duty, chosen.ranking)[0])
+            if ratio is not None:
+                dyn["settling_optimal_ratio"] = ratio
+        return _count_dynamics(chosen, judge)
+    return chosen
+
+
+def _count_dynamics(chosen: Selection, judge: Any) -> Selection:
+    """The dynamic checks count with the static ones in ``failures_by_check`` and ``unknown_by_check`` (of
+    the candidates judged: ``dynamic_selection.failure_counts``); ``dynamics.answer_inertia_ratio`` is the
+    inertia ratio the dynamic pick ends up with."""
+    import importlib
+
+    dyn = chosen.summary["dynamics"]
+    fails, unknown = importlib.import_module("drivetrain.dynamics.dynamic_selection").failure_counts(dyn)
+    for name, counts in (("failures_by_check", fails), ("unknown_by_check", unknown)):
+        if isinstance(chosen.summary.get(name), dict):
+            chosen.summary[name] = {**chosen.summary[name], **counts}
+    pick = chosen.summary.get("selected") or {}
+    if dyn.get("chosen") and pick.get("motor") == dyn["chosen"]["motor"]:
+        # the inertia ratio is a consequence: the one the dynamic pick ends up with (docs/checks.md)
+        dyn["answer_inertia_ratio"] = pick.get("inertia_ratio")
     return chosen
 
 

@@ -147,7 +147,13 @@ class SizingResult:
 
         if self.selection is None or self.ranking is None:
             raise InputError("--explain", "needs a catalog selection (motor: {select: ...})", model)
-        return explain(self.selection, self.ranking, model)
+        text = explain(self.selection, self.ranking, model)
+        if self.selection.get("dynamics"):  # the dynamic checks: the dynamics layer's, looked up by name
+            import importlib
+
+            text += importlib.import_module("drivetrain.dynamics.dynamic_selection").explain_dynamics(
+                self.selection["dynamics"], model)
+        return text
 
     def series(self) -> dict[str, np.ndarray]:
         """The sampled cycle as columns (SI): time, load motion, motor-shaft speed and torque."""

@@ -14,8 +14,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from drivetrain.errors import InputError
-from drivetrain.study.record import CHECK_NAMES
-from drivetrain.study.spec import OBJECTIVES, RECORD_GROUPS, Study
+from drivetrain.study.record import CHECK_NAMES, dynamics_columns
+from drivetrain.study.spec import DYNAMICS_GROUP, OBJECTIVES, RECORD_GROUPS, Study
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -47,7 +47,9 @@ def optimize(study: Study, progress: bool = False) -> tuple[pd.DataFrame, dict[s
     opt = study.spec.optimize
     assert opt is not None
     col, direction = objective_column(study)
-    record = list(dict.fromkeys([*RECORD_GROUPS, *study.spec.record, *([] if col in _GROUP_COLUMNS else [col])]))
+    dyn = [DYNAMICS_GROUP] if col in dynamics_columns(None) else []  # a dynamic figure as the objective
+    record = list(dict.fromkeys([*RECORD_GROUPS, *dyn, *study.spec.record,
+                                 *([] if col in _GROUP_COLUMNS else [col])]))
     plan = replace(make_plan(replace(study, spec=study.spec.model_copy(update={"record": record}))))
     rows: list[dict[str, Any]] = []
     bar = _Progress(opt.trials, 0, progress, f"{study.spec.name} ({opt.method})")
@@ -92,7 +94,7 @@ def optimize(study: Study, progress: bool = False) -> tuple[pd.DataFrame, dict[s
 
 _GROUP_COLUMNS = {"rated_power_W", "energy_per_cycle_J", "worst_margin", "rms_torque_Nm", "peak_torque_Nm",
                   "load_rms_torque_Nm", "load_peak_torque_Nm", "ratio",
-                  *(f"margin_{n}" for n in CHECK_NAMES)}
+                  *(f"margin_{n}" for n in CHECK_NAMES), *dynamics_columns(None)}
 
 
 def _plain(v: Any) -> Any:

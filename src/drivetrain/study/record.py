@@ -10,7 +10,13 @@ Groups (``record:`` in the study file):
   and the load's own at the motor shaft (``load_rms_torque_Nm``, ``load_peak_torque_Nm``);
 * ``energy``: ``energy_per_cycle_J``, what the motor delivers per cycle (regeneration not credited);
 * ``checks``: ``ok_<check>`` of every check, the axis's own (slip, guide, brake, the ratings of a
-  gearbox given in ``transmission:``, the mechanism's) included.
+  gearbox given in ``transmission:``, the mechanism's) included;
+* ``dynamics`` (by default when the study has ``requirements:``): the dynamic answer of the selected
+  candidate (``selection.dynamics.chosen``): ``dynamics_settling_time_s`` (its worst stop; NaN when it
+  never settles or none passes), ``dynamics_following_error`` (its worst move, m or rad at the load),
+  ``dynamics_velocity_bandwidth_Hz``, ``dynamics_phase_margin_deg``, ``dynamics_gain_margin_dB``, and
+  ``dynamics_judged`` (candidates judged) and ``dynamics_passed_over`` (static picks passed over for how
+  they move).
 
 Every row has ``variant``, the parameters, ``ok`` (every check passes) and ``error`` (an input error of
 that variant, e.g. a lead that makes the profile impossible; empty otherwise).
@@ -77,23 +83,41 @@ def row_from(result: dict[str, Any], record: list[str]) -> dict[str, Any]:
                 row[f"ok_{own}"] = bool(result[own]["ok"])
         if "mechanism_checks" in result:
             row["ok_mechanism_checks"] = all(bool(c["ok"]) for c in result["mechanism_checks"])
+    if "dynamics" in groups:
+        row.update(dynamics_columns((sel or {}).get("dynamics")))
     for name in record:
         if "." in name or "[" in name or name not in ("motor", "gearbox", "margins", "rms", "peak", "energy",
-                                                      "checks"):
+                                                      "checks", "dynamics"):
             found, value = get_dotted(result, name)
             row[name] = value if found and not isinstance(value, (dict, list)) else (
                 None if not found else str(value))
     return row
 
 
+def dynamics_columns(dyn: dict[str, Any] | None) -> dict[str, Any]:
+    """The ``dynamics`` group's columns from ``selection.dynamics`` (NaN where not judged or none passes)."""
+    chosen = (dyn or {}).get("chosen") or {}
+    stops = chosen.get("settling_time_per_stop_s") or []
+    errs = chosen.get("following_error_per_move") or []
+    settle = math.nan if not stops or any(v is None for v in stops) else max(stops)
+    gm = chosen.get("gain_margin_dB")
+    return {"dynamics_settling_time_s": float(settle),
+            "dynamics_following_error": float(max(errs)) if errs else math.nan,
+            "dynamics_velocity_bandwidth_Hz": _num(chosen.get("velocity_bandwidth_Hz")),
+            "dynamics_phase_margin_deg": _num(chosen.get("phase_margin_deg")),
+            "dynamics_gain_margin_dB": _num(gm),
+            "dynamics_judged": int((dyn or {}).get("judged", 0)),
+            "dynamics_passed_over": len((dyn or {}).get("passed_over", []))}
+
+
 def fast_covers(fast: dict[str, Any], full: dict[str, Any], record: list[str]) -> tuple[bool, list[str]]:
     """(the batched result has every dotted key asked for, the keys the full result lacks too)."""
-    from drivetrain.study.spec import RECORD_GROUPS
+    from drivetrain.study.spec import GROUPS
 
     missing_fast = False
     unknown: list[str] = []
     for name in record:
-        if name in RECORD_GROUPS:
+        if name in GROUPS:
             continue
         if not get_dotted(full, name)[0]:
             unknown.append(name)
@@ -102,4 +126,4 @@ def fast_covers(fast: dict[str, Any], full: dict[str, Any], record: list[str]) -
     return not missing_fast, unknown
 
 
-__all__ = ["CHECK_NAMES", "OWN_CHECKS", "fast_covers", "row_from"]
+__all__ = ["CHECK_NAMES", "OWN_CHECKS", "dynamics_columns", "fast_covers", "row_from"]

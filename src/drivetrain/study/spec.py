@@ -42,9 +42,13 @@ MAX_SEED = 2**32 - 1
 """Largest seed: SALib's samplers seed numpy's legacy generator, which takes 0 to 2**32 - 1."""
 DESIGNS = ("grid", "random", "lhs", "sobol", "saltelli", "morris")
 RECORD_GROUPS = ("motor", "gearbox", "margins", "rms", "peak", "energy", "checks")
+DYNAMICS_GROUP = "dynamics"
+"""The dynamic answer's figures; recorded by default when the study has requirements (``parse_study``)."""
+GROUPS = (*RECORD_GROUPS, DYNAMICS_GROUP)
 OBJECTIVES = {"motor_size": ("rated_power_W", "minimize"), "energy": ("energy_per_cycle_J", "minimize"),
               "rms_margin": ("margin_rms_torque", "maximize"), "peak_margin": ("margin_peak_torque", "maximize"),
-              "worst_margin": ("worst_margin", "maximize")}
+              "worst_margin": ("worst_margin", "maximize"),
+              "settling_time": ("dynamics_settling_time_s", "minimize")}
 """Named objectives: the result column and its direction."""
 
 Scalar = float | int | str | bool
@@ -487,6 +491,10 @@ def parse_study(text: str, source: str = "<text>", base_dir: Path | None = None,
         for p in params:
             if p.values is None and (p.low is None or p.high is None):
                 raise InputError(f"parameters.{p.path}", "an optimisation needs a range or a list", has_value=False)
+    if "record" not in spec.model_fields_set and ("requirements" in base or any(
+            p.path.startswith("requirements.") or p.path == "requirements" for p in params)):
+        # requirements swept or stated: their figures are recorded with the default groups
+        spec = spec.model_copy(update={"record": [*spec.record, DYNAMICS_GROUP]})
     study = Study(spec=spec, text=text, source=source, base=base, base_text=base_text,
                   parameters=params)
     _check_paths(study)
@@ -566,12 +574,12 @@ def _same_dimension(base_value: str, unit: str, field: str) -> None:
 
 def _check_record(study: Study) -> None:
     for k, name in enumerate(study.spec.record):
-        if name in RECORD_GROUPS:
+        if name in GROUPS:
             continue
         try:
             parse_path(name, f"record[{k}]")
         except InputError:
-            raise InputError(f"record[{k}]", f"is neither one of {', '.join(RECORD_GROUPS)} nor a dotted key of "
+            raise InputError(f"record[{k}]", f"is neither one of {', '.join(GROUPS)} nor a dotted key of "
                              "the size result", name) from None
 
 
@@ -586,6 +594,6 @@ def load_study(path: str | Path, yes: bool = False) -> Study:
     return parse_study(text, str(p), p.parent, yes=yes)
 
 
-__all__ = ["DESIGNS", "MAX_PARAMETER_VALUES", "MAX_SEED", "MAX_STUDY_VARIANTS", "MAX_VARIANTS", "OBJECTIVES",
-           "RECORD_GROUPS", "VERSION", "Parameter", "Study", "StudySpec", "build_parameter", "load_study",
-           "parse_study"]
+__all__ = ["DESIGNS", "DYNAMICS_GROUP", "GROUPS", "MAX_PARAMETER_VALUES", "MAX_SEED", "MAX_STUDY_VARIANTS",
+           "MAX_VARIANTS", "OBJECTIVES", "RECORD_GROUPS", "VERSION", "Parameter", "Study", "StudySpec",
+           "build_parameter", "load_study", "parse_study"]

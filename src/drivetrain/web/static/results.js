@@ -2,6 +2,7 @@
 // side-by-side comparison. Text only through textContent (never HTML from data).
 
 import { el } from "./dom.js";
+import { dynamicsPanel, passedOverForMotion } from "./dynamics.js";
 
 // A number for reading: up to ``sig`` significant digits, plain between 0.001 and 1e6
 // (1.27, 0.54, 3000), else in engineering notation, the exponent a multiple of 3 (12.5e-6, 2.4e6).
@@ -125,6 +126,8 @@ export function renderBanner(node, result) {
     );
     const folded = passedOver(s);
     if (folded) node.append(folded);
+    const moved = passedOverForMotion(s);
+    if (moved) node.append(moved);
   } else {
     const said = v.status === "pass" ? ": every check passes." : v.status === "pass with unknowns" ? ": no judged check fails." : `: ${v.failed}`;
     node.replaceChildren(el("strong", { text: `Motor ${v.who}: ${v.ok ? "OK" : "FAILS"}` }), said);
@@ -135,9 +138,11 @@ export function renderBanner(node, result) {
 // The motors a selection passed over for their drive, folded: a count in the summary, each motor with
 // its reason inside (selection.drive_passed_over lists the first 20 of drive_passed_over_count).
 export function passedOver(sel) {
-  const over = sel.drive_passed_over || [];
+  // the ones passed over for how they move are folded apart (dynamics.js)
+  const over = (sel.drive_passed_over || []).filter((p) => p.drive_status !== "dynamics");
   if (!over.length) return null;
-  const n = Math.max(sel.drive_passed_over_count || 0, over.length);
+  const moved = (sel.drive_passed_over || []).length - over.length;
+  const n = Math.max((sel.drive_passed_over_count || 0) - moved, over.length);
   const list = el("ul", { class: "passed-over-list" }, ...over.map((p) => el("li", { text: `${p.motor}: ${p.reason}` })));
   if (n > over.length) list.append(el("li", { class: "muted", text: `… and ${n - over.length} more` }));
   const rest = sel.drive_advice ? sel.drive_advice.split("; ").slice(1).join("; ") : "";
@@ -329,9 +334,11 @@ const MECHANISM_NAMES = {
 // with the servo-bandwidth check. Returns false when there is nothing to show.
 export function renderMechanism(node, result, modes) {
   const checks = [...(result.mechanism_checks || []), ...((modes && modes.checks) || [])];
+  const dynamics = dynamicsPanel(result);
   if (!checks.length) {
-    node.replaceChildren();
-    return false;
+    if (dynamics) node.replaceChildren(dynamics);
+    else node.replaceChildren();
+    return Boolean(dynamics);
   }
   const unit = (u) => (u === "-" ? "" : u);
   const rows = checks.map((c) => {
@@ -360,6 +367,7 @@ export function renderMechanism(node, result, modes) {
         `f1 allows up to ${fmt(modes.max_velocity_bandwidth_Hz)} Hz.`,
     }));
   }
+  if (dynamics) parts.push(dynamics);
   node.replaceChildren(...parts);
   return true;
 }
