@@ -25,6 +25,7 @@ from drivetrain.axis.model import Margins, load_axis
 from drivetrain.duty.cycle import duty_cycle
 from drivetrain.sizing import selection
 from drivetrain.sizing.kernel import (
+    BRAKE,
     D_INERTIA,
     D_PEAK,
     D_RMS,
@@ -56,11 +57,11 @@ def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArr
           worst: NDArray[np.float64], failed: NDArray[np.uint16], unknown: NDArray[np.uint16],
           detail: NDArray[np.float64]) -> None:
     """The selection checks as first written: one candidate at a time, in plain Python floats."""
-    (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, cont_mean, full_row, env_full, g_ratio, g_eff,
+    (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, m_brake, cont_mean, full_row, env_full, g_ratio, g_eff,
      hull_speed, hull_t, hull_a, all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_nmax, gb_nmean, gb_t2n, gb_t2b,
      gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, par) = model
     period, tm, rm, sm, limit, out_cubic, run_t = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
-    out_peak, fs = par[7], par[8]
+    out_peak, fs, hold = par[7], par[8], par[9]
     n_motors, n_bins, n_v, n_all = j_rotor.shape[0], hull_speed.shape[1], hull_t.shape[2], all_t.shape[1]
     top = n_bins - 1
     listed = pick.shape[1] > 0
@@ -206,11 +207,18 @@ def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArr
             mar[PEAK], mar[RMS], mar[SPEED], mar[INERTIA], mar[FIT] = mar_p[q], mar_r, mar_motor_speed, mar_i, mar_f
             mar[GB_PEAK], mar[GB_RATED], mar[GB_ESTOP] = r_mar_t2b[q], r_mar_t2n[q], mar_ge
             mar[GB_SPEED], mar[GB_MEAN_SPEED] = r_mar_speed[q], r_mar_mean[q]
+            # motor brake: only where the axis needs one (hold not NaN)
+            req_b, av_b, mar_b = 0.0, math.inf, math.inf
+            if not math.isnan(hold):
+                req_b, av_b = hold / i * g_eff[g], m_brake[m]
+                mar_b = math.nan if math.isnan(av_b) else (av_b / req_b - 1.0 if req_b > 0.0 else math.inf)
+            mar[BRAKE] = mar_b
             if listed:
                 detail[PEAK, k], detail[RMS, k], detail[SPEED, k] = req_p[q], req_r, req_s * _RPM
                 detail[INERTIA, k], detail[FIT, k] = ir, (0.0 if direct else sh * _MM)
                 detail[GB_PEAK, k], detail[GB_RATED, k], detail[GB_ESTOP, k] = req_t2b, req_t2n, req_ge
                 detail[GB_SPEED, k], detail[GB_MEAN_SPEED, k] = req_s * _RPM, req_mean * _RPM
+                detail[BRAKE, k], detail[N_CHECKS + BRAKE, k] = req_b, av_b
                 a = N_CHECKS
                 detail[a + PEAK, k], detail[a + RMS, k], detail[a + SPEED, k] = av_p[q], cont, w_m * _RPM
                 detail[a + INERTIA, k], detail[a + FIT, k] = limit, r_bmax[q] * _MM
@@ -242,14 +250,14 @@ def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArr
 
 def _sub_model(model: tuple[Any, ...], motors: NDArray[np.intp]) -> tuple[Any, ...]:
     """The model of the selection restricted to some motors (every group, gearbox row and envelope row)."""
-    out = [a[motors] for a in model[:6]]
-    return (*out, model[6][motors], model[7][:, motors], *model[8:])
+    out = [a[motors] for a in model[:7]]
+    return (*out, model[7][motors], model[8][:, motors], *model[9:])
 
 
 def _motors_to_check(model: tuple[Any, ...], rng: np.random.Generator) -> NDArray[np.intp]:
     """Motors of every kind the checks tell apart: fast enough for the top bin of some group (with and
     without an unknown envelope there), too slow for every group, and a random few."""
-    full_row, env_full = model[7], model[8]
+    full_row, env_full = model[8], model[9]
     reach = np.flatnonzero((full_row >= 0).any(axis=0))
     gap_rows = np.flatnonzero(np.isnan(env_full).any(axis=1))
     with_gap = np.unique(np.nonzero(np.isin(full_row, gap_rows))[1])

@@ -128,7 +128,9 @@ class MotorTable(_Table):
     rated_speed: FloatArray  # [rad/s]
     max_speed: FloatArray  # [rad/s]
     rotor_inertia: FloatArray  # [kg m^2]
-    rotor_inertia_brake: FloatArray  # [kg m^2]
+    rotor_inertia_brake: FloatArray  # [kg m^2] the brake variant's (with-brake total; NaN: not in the catalog)
+    brake_holding_torque: FloatArray  # [N m] the brake variant's holding torque (NaN: not in the catalog)
+    brake_code: StrArray  # the brake variant's order code ("" where not in the catalog)
     mass: FloatArray  # [kg]
     flange: FloatArray  # [m]
     shaft_diameter: FloatArray  # [m] output shaft (NaN where unknown)

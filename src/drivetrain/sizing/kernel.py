@@ -25,7 +25,12 @@ Per candidate k (motor m, group g of ratio i and efficiency eta, gearbox row r o
   factor above 1000 cycles/h), T2N against the cubic-mean output torque, T2NOT against the
   torque that passes at the motor's peak, ((1 - k)(T_M - T_L/i) + T_L/i) i eta with
   k = J / (J + J_L/i^2) (lecture, Dynamic Loading and Gearbox Sizing), n1max against the peak
-  input speed x speed margin, n1N against the mean input speed.
+  input speed x speed margin, n1N against the mean input speed;
+* motor brake (only where the axis needs a holding brake, ``motor_brake.holding_need``): the brake
+  variant's holding torque against the static load torque at the axis's motor shaft / i x eta
+  (the load drives back through the gearbox: ``physics.brake.held_torque``) x the brake factor;
+  unknown where the catalog lacks the holding torque. The rotor inertia is then the brake
+  variant's (``motor_brake.braked_motors``, before the model is built).
 
 A margin is NaN where a rating or dimension it needs is unknown; the candidate's ``unknown``
 bits say which. Envelopes are not computed here: the caller passes them, computed by
@@ -45,8 +50,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 # rows of the check arrays, in the order of selection.CHECK_UNITS
-(PEAK, RMS, SPEED, INERTIA, FIT, GB_PEAK, GB_RATED, GB_ESTOP, GB_SPEED, GB_MEAN_SPEED) = range(10)
-N_CHECKS = 10
+(PEAK, RMS, SPEED, INERTIA, FIT, GB_PEAK, GB_RATED, GB_ESTOP, GB_SPEED, GB_MEAN_SPEED, BRAKE) = range(11)
+N_CHECKS = 11
 
 _RPM = 60.0 / (2.0 * np.pi)
 _MM = 1e3
@@ -84,10 +89,10 @@ def check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np
     and margin of every check, its RMS and peak torque and inertia ratio.
 
     ``model`` (see ``selection.evaluate``). Motors (M): rotor inertia [kg m^2], peak torque [N m],
-    max speed [rad/s], shaft, flange and pilot diameter [m]. Envelopes [N m]: ``cont_mean`` (M, G)
-    continuous at each group's mean speed, ``env_full[full_row[g, m]]`` (B,) intermittent at every
-    bin of group g where the motor reaches the top bin (row -1 where it does not). Groups (G):
-    ratio, efficiency, the demand behind the ratio: ``hull_speed`` (G, B) bin upper edges [rad/s],
+    max speed [rad/s], shaft, flange and pilot diameter [m], brake holding torque [N m]. Envelopes
+    [N m]: ``cont_mean`` (M, G) continuous at each group's mean speed, ``env_full[full_row[g, m]]``
+    (B,) intermittent at every bin of group g where the motor reaches the top bin (row -1 where it does not).
+    Groups (G): ratio, efficiency, the demand behind the ratio: ``hull_speed`` (G, B) bin upper edges [rad/s],
     ``hull_t``/``hull_a`` (G, B, V) hull vertices per bin [N m, rad/s^2], ``all_t``/``all_a`` (G,
     V2) hull of the whole cycle, ``sums`` (G, 3) S_TT, S_Ta, S_aa, ``g_speed`` (G, 2) max and mean
     |omega| [rad/s], reflected load inertia [kg m^2]. ``rows[row_start[g]:row_start[g + 1]]`` are
@@ -95,7 +100,8 @@ def check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np
     m^2] (0 where unknown), n1max and n1N [rad/s], T2N, T2B and T2NOT [N m], input bore max and min,
     flange and pilot [m]. ``par``: period [s], torque, RMS and speed margins, inertia-ratio limit,
     cubic-mean output torque [N m], running load torque [N m], peak output torque [N m], shock
-    factor (NaN where the cycle rate needs one that is not given).
+    factor (NaN where the cycle rate needs one that is not given), static torque the brake must hold
+    at the axis's motor shaft x the brake factor [N m] (NaN: the axis needs no brake).
     """
     listed = pick.shape[1] > 0
     with np.errstate(all="ignore"):  # inf and NaN are values here (an unknown rating, a zero demand)
@@ -230,11 +236,11 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     """Candidates (motor m, group g, slot q; listed: 1-D, grid: motors as a column, slots as a row):
     listed, their margins (N_CHECKS, n) and detail vectors (N_DETAIL, n); grid, each check's margins
     (broadcast over motors and slots) and whether each motor is too slow for the cycle's top bin."""
-    (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, cont_mean, full_row, env_full, g_ratio, g_eff,
+    (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, m_brake, cont_mean, full_row, env_full, g_ratio, g_eff,
      hull_speed, hull_t, hull_a, all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_nmax, gb_nmean, gb_t2n, gb_t2b,
      gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, par) = model
     period, tm, rm, sm, limit, out_cubic, run_t = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
-    out_peak, fs = par[7], par[8]
+    out_peak, fs, hold = par[7], par[8], par[9]
     top = hull_speed.shape[1] - 1
     shape = np.broadcast_shapes(m.shape, q.shape)
     req_t2b = out_peak * tm * (1.0 if np.isnan(fs) else fs)
@@ -300,7 +306,15 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     # gearbox: what passes at the motor's peak against the emergency-stop torque
     req_ge = np.where(direct, 0.0, ((1.0 - j / (j + j_l)) * (t_pk - t_l) + t_l) * i * g_eff[g])
     mar_ge = np.where(np.isnan(r_t2not), _NAN, np.where(direct, _INF, _over(r_t2not, req_ge)))
-    margins = [mar_p, mar_r, mar_motor_speed, mar_i, mar_f, r_mar_t2b, r_mar_t2n, mar_ge, r_mar_speed, r_mar_mean]
+    # motor brake: holding torque against the static torque through the gearbox (holding direction)
+    if np.isnan(hold):
+        req_b, av_b, mar_b = np.zeros(1), np.full(1, _INF), np.full(1, _INF)  # no brake needed: never limits
+    else:
+        req_b = hold / i * g_eff[g]
+        av_b = m_brake[m]
+        mar_b = np.where(np.isnan(av_b), _NAN, _over(av_b, req_b))
+    margins = [mar_p, mar_r, mar_motor_speed, mar_i, mar_f, r_mar_t2b, r_mar_t2n, mar_ge, r_mar_speed, r_mar_mean,
+               mar_b]
     if not listed:
         return margins, slow
     mar = np.empty((N_CHECKS, *shape))
@@ -308,9 +322,9 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
         mar[c] = x
     out = np.empty((N_DETAIL, *shape))
     for c, x in enumerate((req_p, req_r, req_s * _RPM, ir, np.where(direct, 0.0, sh * _MM), req_t2b, req_t2n,
-                           req_ge, req_s * _RPM, req_mean * _RPM,
+                           req_ge, req_s * _RPM, req_mean * _RPM, req_b,
                            av_p, cont, w_m * _RPM, limit, r_bmax * _MM, r_t2b, r_t2n, r_t2not, r_speed * _RPM,
-                           r_mean * _RPM)):
+                           r_mean * _RPM, av_b)):
         out[c] = x
     out[2 * N_CHECKS:3 * N_CHECKS] = mar
     out[D_RMS], out[D_PEAK], out[D_INERTIA] = rms, peak_all, ir
@@ -371,6 +385,6 @@ def closest_failing(worst: NDArray[np.float64], failed: NDArray[Any], n: int) ->
     return failing[np.argsort(-key, kind="stable")[:n]].astype(np.int64)
 
 
-__all__ = ["BLOCK", "D_INERTIA", "D_PEAK", "D_RMS", "FIT", "FIT_TOLERANCE", "GB_ESTOP", "GB_MEAN_SPEED", "GB_PEAK",
-           "GB_RATED", "GB_SPEED", "INERTIA", "N_CHECKS", "N_DETAIL", "PEAK", "RMS", "SPEED", "check",
+__all__ = ["BLOCK", "BRAKE", "D_INERTIA", "D_PEAK", "D_RMS", "FIT", "FIT_TOLERANCE", "GB_ESTOP", "GB_MEAN_SPEED",
+           "GB_PEAK", "GB_RATED", "GB_SPEED", "INERTIA", "N_CHECKS", "N_DETAIL", "PEAK", "RMS", "SPEED", "check",
            "closest_failing"]

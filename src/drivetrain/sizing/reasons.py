@@ -11,6 +11,7 @@ import numpy as np
 
 from drivetrain.errors import InputError
 from drivetrain.sizing.candidates import CHECK_UNITS, MOTOR_CHECKS, Candidates, closest, column
+from drivetrain.sizing.motor_brake import brake_variant
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Margins, SelectSpec
@@ -72,6 +73,9 @@ def _unknown_note(name: str, c: Candidates, fit_gap: str) -> str:
                 "motor.margins.gearbox_shock_factor from the vendor's chart")
     if name in _RATING_NAMES:
         return f"the catalog lacks the gearbox's {_RATING_NAMES[name]}"
+    if name == "motor_brake":
+        return ("the catalog lacks the holding torque of this motor's brake variant (motor_brakes.csv "
+                "brake_holding_torque_Nm): the vendor's brake table decides it")
     return "the catalog lacks a rating it needs"
 
 
@@ -110,7 +114,7 @@ def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable |
     geared = g >= 0 and gb is not None
     fit_bad, fit_gap = _fit_reason(motors, m, gb, g) if geared and gb is not None else ("", "")
     checks: dict[str, dict[str, Any]] = {}
-    for n in CHECK_UNITS:
+    for n in c.check_names():
         if n not in MOTOR_CHECKS and not geared:
             continue
         req, avail, mar = float(d.required[n][0]), float(d.available[n][0]), float(d.margin[n][0])
@@ -148,6 +152,7 @@ def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable |
         "failed": failures[0] if failures else "", "failures": failures,
         "approximate_envelope": bool(~motors.has_curve[m]), "rated_torque_derived": bool(motors.approx_rated[m]),
         **_derived(motors, m), **_trace(motors, m, gb if geared else None, g), "checks": list(checks.values()),
+        **({"brake": brake_variant(motors, m)} if c.brake_needed else {}),
     }
 
 

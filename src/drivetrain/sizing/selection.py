@@ -32,7 +32,7 @@ from drivetrain.physics.averages import cubic_mean
 from drivetrain.physics.stage import Stage
 from drivetrain.sizing.candidates import (
     CHECK_UNITS,
-    FIT_BIT,
+    KNOWN_FIRST,
     MOTOR_CHECKS,
     Candidates,
     Details,
@@ -44,6 +44,7 @@ from drivetrain.sizing.candidates import (
 from drivetrain.sizing.checks import running_torque, shock_factor
 from drivetrain.sizing.demand import Demand
 from drivetrain.sizing.envelope import continuous_torque, intermittent_torque, motor_envelopes
+from drivetrain.sizing.motor_brake import braked_motors, holding_need
 from drivetrain.sizing.motor_fit import demand
 from drivetrain.sizing.reasons import advice, candidate_dict, explain
 from drivetrain.units import to_rpm
@@ -194,11 +195,14 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
         gb_cols = [np.zeros(1)] * 9
     out_peak = float(np.max(np.abs(duty.torque))) if duty.torque.size else 0.0
     shock = shock_factor(duty.period, margins.gearbox_shock_factor)
+    need = holding_need(axis, duty)
+    hold = need.torque * margins.brake if need.needed else math.nan
     par = np.array([duty.period, margins.torque, margins.rms_torque or margins.torque, margins.speed, limit,
-                    out_cubic, run_t, out_peak, shock])
+                    out_cubic, run_t, out_peak, shock, hold])
     f64 = np.ascontiguousarray
     model = (f64(motors.rotor_inertia, dtype=float), f64(peak, dtype=float), f64(w_max, dtype=float),
-             *(f64(column(motors, c), dtype=float) for c in ("shaft_diameter", "flange", "pilot_diameter")),
+             *(f64(column(motors, c), dtype=float) for c in ("shaft_diameter", "flange", "pilot_diameter",
+                                                              "brake_holding_torque")),
              cont_mean, full_row, f64(env_full, dtype=float), ratio, eff_g, hull_speed, hull_t, hull_a, all_t,
              all_a, sums, g_speed, g_j_load, f64(gb_j, dtype=float), *(f64(c, dtype=float) for c in gb_cols), par)
     n = n_m * len(rows)
@@ -291,8 +295,9 @@ def best_per_motor(c: Candidates, ranked: NDArray[np.intp]) -> NDArray[np.intp]:
     return ranked[np.sort(first)]
 
 
-def catalog_tables(axis: Axis, spec: SelectSpec) -> tuple[MotorTable, GearboxTable | None, bool]:
-    """The catalog motors and gearboxes a selection searches, and whether direct drive is a candidate."""
+def catalog_tables(axis: Axis, spec: SelectSpec, brake: bool = False) -> tuple[MotorTable, GearboxTable | None, bool]:
+    """The catalog motors and gearboxes a selection searches, and whether direct drive is a candidate.
+    ``brake``: the axis needs a holding brake, so every motor is its brake variant (``braked_motors``)."""
     from drivetrain import catalog
 
     kind = None if spec.kind == "any" else spec.kind
@@ -303,6 +308,8 @@ def catalog_tables(axis: Axis, spec: SelectSpec) -> tuple[MotorTable, GearboxTab
     if len(motors) == 0:
         raise InputError("motor.select", "no motor matches these filters: relax voltage or flange "
                          f"(voltage={spec.voltage}, flange={spec.flange}, vendor={spec.vendor})", has_value=False)
+    if brake:
+        motors = braked_motors(motors)
     gb = None
     own_gearbox = any(st.kind == "gearbox" for st in axis.transmission)
     if spec.gearbox == "only" or (spec.gearbox == "auto" and not own_gearbox):
@@ -317,10 +324,11 @@ def catalog_tables(axis: Axis, spec: SelectSpec) -> tuple[MotorTable, GearboxTab
 def ranked(c: Candidates, motors: MotorTable, gb: GearboxTable | None, objective: str,
            duty: DutyCycle) -> NDArray[np.intp]:
     """The passing candidates, best first: by the objective (ties in candidate order), a pair not
-    known to assemble (a dimension missing) after every pair known to."""
+    known to assemble (a dimension missing), or whose brake's holding torque the catalog lacks, after
+    every one known to (``candidates.KNOWN_FIRST``)."""
     passing = np.flatnonzero(c.ok)
     passing = passing[np.argsort(objective_scores(c, passing, motors, gb, objective, duty), kind="stable")]
-    return passing[np.argsort((c.unknown[passing] & FIT_BIT) != 0, kind="stable")]
+    return passing[np.argsort((c.unknown[passing] & KNOWN_FIRST) != 0, kind="stable")]
 
 
 def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
@@ -330,7 +338,7 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
     The ranked list holds the best configuration of each motor (its best gearbox), so the top
     ``spec.top`` are that many different motors; ``all_pairs`` lists every passing pair instead.
     """
-    motors, gb, allow_direct = catalog_tables(axis, spec)
+    motors, gb, allow_direct = catalog_tables(axis, spec, holding_need(axis, duty).needed)
     c = evaluate(axis, duty, motors, gb, margins, allow_direct=allow_direct, max_inertia_ratio=spec.max_inertia_ratio,
                  strict=spec.unknown == "fail")
     passing = ranked(c, motors, gb, spec.objective, duty)
