@@ -31,8 +31,9 @@ from drivetrain.errors import InputError
 from drivetrain.physics.averages import cubic_mean
 from drivetrain.physics.stage import Stage
 from drivetrain.sizing.candidates import (
+    BRAKE_BIT,
     CHECK_UNITS,
-    KNOWN_FIRST,
+    FIT_BIT,
     MOTOR_CHECKS,
     Candidates,
     Details,
@@ -325,10 +326,13 @@ def ranked(c: Candidates, motors: MotorTable, gb: GearboxTable | None, objective
            duty: DutyCycle) -> NDArray[np.intp]:
     """The passing candidates, best first: by the objective (ties in candidate order), a pair not
     known to assemble (a dimension missing), or whose brake's holding torque the catalog lacks, after
-    every one known to (``candidates.KNOWN_FIRST``)."""
+    every one known to (``candidates.KNOWN_FIRST``; an unknown fit after an unknown brake)."""
     passing = np.flatnonzero(c.ok)
     passing = passing[np.argsort(objective_scores(c, passing, motors, gb, objective, duty), kind="stable")]
-    return passing[np.argsort((c.unknown[passing] & KNOWN_FIRST) != 0, kind="stable")]
+    gaps = c.unknown[passing]
+    # a pair not known to assemble last, then, before it, one whose brake is not known
+    key = ((gaps & FIT_BIT) != 0).astype(np.int8) * 2 + ((gaps & BRAKE_BIT) != 0)
+    return passing[np.argsort(key, kind="stable")]
 
 
 def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
@@ -366,7 +370,7 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
     if len(passing):
         best = int(passing[0])
         summary["selected"] = row(best, 1)
-        summary["next_smaller"] = _next_smaller(c, motors, gb, best)
+        summary["next_smaller"] = next_smaller(c, motors, gb, best)
         summary["optimal_ratio"] = optimal_ratio(axis, duty, motors, int(c.motor[best]), gb)
         top = passing[:2000]
         front = pareto_front(size_key(motors)[c.motor[top]], c.worst_margin[top], c.details(top).inertia_ratio)
@@ -389,7 +393,7 @@ def _label(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None) -
 _MAX_SPEED_BIT = list(CHECK_UNITS).index("max_speed")
 
 
-def _next_smaller(c: Candidates, motors: MotorTable, gb: GearboxTable | None, best: int) -> dict[str, Any] | None:
+def next_smaller(c: Candidates, motors: MotorTable, gb: GearboxTable | None, best: int) -> dict[str, Any] | None:
     """The next smaller motor than the selected one, in its best configuration, and why it fails."""
     size = size_key(motors)
     smaller = np.flatnonzero(size < size[c.motor[best]])  # every motor has candidates
@@ -462,4 +466,5 @@ def optimal_ratio(axis: Axis, duty: DutyCycle, motors: MotorTable, m: int,
 
 __all__ = ["CHECK_UNITS", "MOTOR_CHECKS", "Candidates", "Details", "Ranking", "Selection", "best_per_motor",
            "candidate_cycle", "catalog_tables", "closest_failing", "evaluate", "explain", "gearbox_options",
-           "lossy_torque", "objective_scores", "optimal_ratio", "ranked", "select", "size_key", "to_rpm"]
+           "lossy_torque", "next_smaller", "objective_scores", "optimal_ratio", "ranked", "select", "size_key",
+           "to_rpm"]
