@@ -52,14 +52,32 @@ _RPM = 60.0 / (2.0 * np.pi)
 _MM = 1e3
 
 
+def _eq(motor: float, adapter: float) -> float:
+    """A motor dimension against the adapter's: +inf within FIT_TOLERANCE, NaN where either is unknown."""
+    if math.isnan(motor) or math.isnan(adapter):
+        return math.nan
+    return math.inf if abs(motor - adapter) <= FIT_TOLERANCE else -abs(motor / adapter - 1.0)
+
+
+def _comb(*xs: float) -> float:
+    """The smallest known shortfall, else NaN where any is unknown, else the smallest."""
+    lo, gap = math.inf, False
+    for x in xs:
+        if math.isnan(x):
+            gap = True
+        elif x < lo:
+            lo = x
+    return lo if (lo < 0.0 or not gap) else math.nan
+
+
 def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np.int64],
           pick: NDArray[np.int64], motor: NDArray[np.int32], slot: NDArray[np.int32],
           worst: NDArray[np.float64], failed: NDArray[np.uint16], unknown: NDArray[np.uint16],
           detail: NDArray[np.float64]) -> None:
     """The selection checks as first written: one candidate at a time, in plain Python floats."""
-    (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, m_brake, cont_mean, full_row, env_full, g_ratio, g_eff,
-     hull_speed, hull_t, hull_a, all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_nmax, gb_nmean, gb_t2n, gb_t2b,
-     gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, par) = model
+    (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, m_bolt, m_brake, cont_mean, full_row, env_full, g_ratio,
+     g_eff, hull_speed, hull_t, hull_a, all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_nmax, gb_nmean, gb_t2n, gb_t2b,
+     gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, gb_adapters, par) = model
     period, tm, rm, sm, limit, out_cubic, run_t = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
     out_peak, fs, hold = par[7], par[8], par[9]
     n_motors, n_bins, n_v, n_all = j_rotor.shape[0], hull_speed.shape[1], hull_t.shape[2], all_t.shape[1]
@@ -72,6 +90,7 @@ def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArr
     r_j, r_speed, r_mean, r_t2n, r_t2b, r_t2not = (np.empty(width), np.empty(width), np.empty(width),
                                                    np.empty(width), np.empty(width), np.empty(width))
     r_bmax, r_bmin, r_fl, r_pi = np.empty(width), np.empty(width), np.empty(width), np.empty(width)
+    r_row = np.empty(width, dtype=np.int64)
     # the margins that depend on the row alone
     r_mar_speed, r_mar_mean, r_mar_t2n, r_mar_t2b = np.empty(width), np.empty(width), np.empty(width), np.empty(width)
     j, peak_all, s = np.empty(width), np.empty(width), np.empty(width)
@@ -93,6 +112,7 @@ def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArr
         if listed or g != g_loaded:
             for q in range(n):
                 r = rows[q0 + q]
+                r_row[q] = r
                 d = r < 0
                 r_direct[q] = d
                 r_j[q] = 0.0 if d else gb_j[r]
@@ -164,7 +184,7 @@ def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArr
         # the other checks, each a closed form in J
         s_tt, s_ta, s_aa = sums[g, 0], sums[g, 1], sums[g, 2]
         cont, w_m, j_l, t_pk = cont_mean[m, g], w_max[m], g_j_load[g], t_peak[m]
-        sh, fl_m, pi_m = m_shaft[m], m_flange[m], m_pilot[m]
+        sh, fl_m, pi_m, bc_m = m_shaft[m], m_flange[m], m_pilot[m], m_bolt[m]
         mar_motor_speed = w_m / req_s - 1.0 if req_s > 0.0 else math.inf
         t_l = run_t / i
         for q in range(n):
@@ -184,21 +204,22 @@ def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArr
                 m2 = sh / r_bmin[q] - 1.0 if not math.isnan(r_bmin[q]) else math.inf
                 if math.isnan(sh):
                     m2 = math.nan
-                m3 = math.inf
-                if not math.isnan(r_fl[q]):
-                    m3 = math.nan if math.isnan(fl_m) else (
-                        math.inf if abs(fl_m - r_fl[q]) <= FIT_TOLERANCE else -abs(fl_m / r_fl[q] - 1.0))
-                m4 = math.inf
-                if not math.isnan(r_pi[q]):
-                    m4 = math.nan if math.isnan(pi_m) else (
-                        math.inf if abs(pi_m - r_pi[q]) <= FIT_TOLERANCE else -abs(pi_m / r_pi[q] - 1.0))
-                lo, gap = math.inf, False
-                for x in (m1, m2, m3, m4):
-                    if math.isnan(x):
-                        gap = True
-                    elif x < lo:
-                        lo = x
-                mar_f = lo if (lo < 0.0 or not gap) else math.nan
+                # the flange onto one of the drawn adapters, else onto the named adapter (unknown: not named)
+                ad = gb_adapters[r_row[q]].reshape(-1, 3)
+                drawn = [a for a in range(len(ad)) if not math.isnan(ad[a, 1])]
+                if drawn:
+                    each = [_comb(ad[a, 0] / sh - 1.0 if not math.isnan(ad[a, 0]) else math.nan, _eq(pi_m, ad[a, 1]),
+                                  _eq(bc_m, ad[a, 2])) for a in drawn]
+                    known = [e for e in each if not math.isnan(e)]
+                    best = max(known) if known else -math.inf
+                    m3 = best if best >= 0.0 else (math.nan if len(known) < len(each) else best)
+                else:
+                    pilot_m = math.inf if math.isnan(r_pi[q]) else _eq(pi_m, r_pi[q])
+                    if math.isnan(r_fl[q]):
+                        m3 = pilot_m if pilot_m < 0.0 else math.nan
+                    else:
+                        m3 = _comb(_eq(fl_m, r_fl[q]), pilot_m)
+                mar_f = _comb(m1, m2, m3)
             # gearbox: what passes at the motor's peak against the emergency-stop torque
             req_ge = 0.0 if direct else ((1.0 - jq / (jq + j_l)) * (t_pk - t_l) + t_l) * i * g_eff[g]
             mar_ge = math.inf if direct else (r_t2not[q] / req_ge - 1.0 if req_ge > 0.0 else math.inf)
@@ -250,14 +271,14 @@ def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArr
 
 def _sub_model(model: tuple[Any, ...], motors: NDArray[np.intp]) -> tuple[Any, ...]:
     """The model of the selection restricted to some motors (every group, gearbox row and envelope row)."""
-    out = [a[motors] for a in model[:7]]
-    return (*out, model[7][motors], model[8][:, motors], *model[9:])
+    out = [a[motors] for a in model[:8]]
+    return (*out, model[8][motors], model[9][:, motors], *model[10:])
 
 
 def _motors_to_check(model: tuple[Any, ...], rng: np.random.Generator) -> NDArray[np.intp]:
     """Motors of every kind the checks tell apart: fast enough for the top bin of some group (with and
     without an unknown envelope there), too slow for every group, and a random few."""
-    full_row, env_full = model[8], model[9]
+    full_row, env_full = model[9], model[10]
     reach = np.flatnonzero((full_row >= 0).any(axis=0))
     gap_rows = np.flatnonzero(np.isnan(env_full).any(axis=1))
     with_gap = np.unique(np.nonzero(np.isin(full_row, gap_rows))[1])

@@ -427,7 +427,12 @@ def test_no_mechanism_section_without_mechanism_data() -> None:
     raw.pop("guide")
     raw["motor"] = {"name": "given", "inertia": "2 kg*cm^2", "rated_torque": "1.3 N*m", "peak_torque": "3.8 N*m",
                     "max_speed": "5000 rpm"}
-    assert 'id="dt-mechanism"' not in render_html(drivetrain.size(raw))
+    # a screw without its block is still bounded from its nominal diameter (the section says what decides it)
+    html = render_html(drivetrain.size(raw))
+    assert 'id="dt-mechanism"' in html and "mechanism.screw.root_diameter" in html
+    rotary = yaml.safe_load((EXAMPLES / "rotary.yaml").read_text(encoding="utf-8"))
+    rotary["motor"] = raw["motor"]
+    assert 'id="dt-mechanism"' not in render_html(drivetrain.size(rotary))
 
 
 @needs_poppler

@@ -189,6 +189,7 @@ class GearboxTable(_Table):
     input_bore_min: FloatArray  # [m] smallest motor shaft (with the vendor's bushing); NaN: not printed
     input_flange: FloatArray  # [m] motor flange (square) the input adapter is made for; NaN: not printed
     input_pilot: FloatArray  # [m] motor pilot (centring) diameter of the input; NaN: not printed
+    input_adapters: StrArray  # the drawn input adapters, "bore/pilot/bolt circle/screw" [mm] each ("": none)
     verified: BoolArray  # True: every number of the row traced to a vendor document
 
 

@@ -25,6 +25,7 @@ CHECK_NAMES: dict[str, str] = {
     "gearbox_emergency_stop_torque": "Gearbox T2NOT (emergency stop)",
     "gearbox_max_input_speed": "Gearbox n1max (max input speed)",
     "gearbox_mean_input_speed": "Gearbox n1N (mean input speed)",
+    "motor_brake": "Motor brake holding torque",
     "slip_limit": "Load slip on its carrier",
     "brake_holding_torque": "Brake holding torque",
     "guide_normal": "Guide normal force",

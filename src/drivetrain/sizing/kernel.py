@@ -49,6 +49,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from drivetrain.sizing.checks import mechanical_fit
+
 # rows of the check arrays, in the order of selection.CHECK_UNITS
 (PEAK, RMS, SPEED, INERTIA, FIT, GB_PEAK, GB_RATED, GB_ESTOP, GB_SPEED, GB_MEAN_SPEED, BRAKE) = range(11)
 N_CHECKS = 11
@@ -236,9 +238,9 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     """Candidates (motor m, group g, slot q; listed: 1-D, grid: motors as a column, slots as a row):
     listed, their margins (N_CHECKS, n) and detail vectors (N_DETAIL, n); grid, each check's margins
     (broadcast over motors and slots) and whether each motor is too slow for the cycle's top bin."""
-    (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, m_brake, cont_mean, full_row, env_full, g_ratio, g_eff,
-     hull_speed, hull_t, hull_a, all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_nmax, gb_nmean, gb_t2n, gb_t2b,
-     gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, par) = model
+    (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, m_bolt, m_brake, cont_mean, full_row, env_full, g_ratio,
+     g_eff, hull_speed, hull_t, hull_a, all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_nmax, gb_nmean, gb_t2n, gb_t2b,
+     gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, gb_adapters, par) = model
     period, tm, rm, sm, limit, out_cubic, run_t = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
     out_peak, fs, hold = par[7], par[8], par[9]
     top = hull_speed.shape[1] - 1
@@ -256,6 +258,7 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     r_t2n, r_t2b, r_t2not = row(gb_t2n, _INF), row(gb_t2b, _INF), row(gb_t2not, _INF)
     r_bmax, r_bmin, r_fl, r_pi = row(gb_bore_max, _INF), row(gb_bore_min, _NAN), row(gb_flange, _NAN), \
         row(gb_pilot, _NAN)
+    r_ad = np.concatenate([np.full((1, gb_adapters.shape[1]), _NAN), gb_adapters])[r]  # drawn adapters, flat
     req_s = g_speed[g, 0] * sm
     req_mean = g_speed[g, 1]
     # margins of the row alone; an unknown rating leaves its check unknown, whatever is required
@@ -287,7 +290,7 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     s_tt, s_ta, s_aa = sums[g, 0], sums[g, 1], sums[g, 2]
     cont = cont_mean[m, g] if listed else cont_mean[m[:, 0]][:, g[0]]  # (rows, then columns: the faster way)
     w_m, j_l, t_pk = w_max[m], g_j_load[g], t_peak[m]
-    sh, fl_m, pi_m = m_shaft[m], m_flange[m], m_pilot[m]
+    sh, fl_m, pi_m, bc_m = m_shaft[m], m_flange[m], m_pilot[m], m_bolt[m]
     mar_motor_speed = _over(w_m, req_s)
     t_l = run_t / i
     # RMS torque against the continuous torque at the mean speed
@@ -297,11 +300,14 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     # inertia ratio, the gearbox's input inertia on the load side
     ir = (j_l + r_j) / j_m
     mar_i = np.where(ir > 0.0, limit / ir - 1.0, _INF)
-    # mechanical fit: once per distinct motor (shaft, flange, pilot) and gearbox input (bores, flange,
-    # pilot), then looked up: it depends on nothing else
-    motor_dims, at_motor = _distinct(np.stack([x.ravel() for x in (sh, fl_m, pi_m)], axis=1))
-    row_dims, at_row = _distinct(np.stack([x.ravel() for x in (r_bmax, r_bmin, r_fl, r_pi, direct)], axis=1))
-    fits = _fit(*(c[:, None] for c in motor_dims.T), *(c[None, :] for c in row_dims.T))
+    # mechanical fit: once per distinct motor (shaft, flange, pilot, bolt circle) and gearbox input (bores,
+    # flange, pilot, drawn adapters), then looked up: it depends on nothing else
+    motor_dims, at_motor = _distinct(np.stack([x.ravel() for x in (sh, fl_m, pi_m, bc_m)], axis=1))
+    flat = [x.ravel() for x in (r_bmax, r_bmin, r_fl, r_pi, direct)]
+    row_dims, at_row = _distinct(np.concatenate([np.stack(flat, axis=1), r_ad.reshape(len(flat[0]), -1)], axis=1))
+    md, rd = motor_dims.T[:, :, None], row_dims.T[:5, None, :]
+    fits = _fit(md[0], md[1], md[2], md[3], rd[0], rd[1], rd[2], rd[3], rd[4],
+                row_dims[None, :, 5:].reshape(1, len(row_dims), -1, 3))
     mar_f = fits[at_motor.reshape(sh.shape), at_row.reshape(r_bmax.shape)]
     # gearbox: what passes at the motor's peak against the emergency-stop torque
     req_ge = np.where(direct, 0.0, ((1.0 - j / (j + j_l)) * (t_pk - t_l) + t_l) * i * g_eff[g])
@@ -345,30 +351,15 @@ def _distinct(a: Array) -> tuple[Array, NDArray[np.intp]]:
     return np.where(found == _SENTINEL, _NAN, found), np.asarray(at).ravel()
 
 
-def _fit(sh: Array, fl_m: Array, pi_m: Array, r_bmax: Array, r_bmin: Array, r_fl: Array, r_pi: Array,
-         direct: Array) -> Array:
-    """Margin of the mechanical fit (``checks.mechanical_fit``): the motor shaft [m] into the gearbox's
-    input bore range, flange and pilot [m] equal to its adapter's where given; a known shortfall first,
-    NaN where one is unknown and none falls short, infinite for direct drive."""
-    m1 = r_bmax / sh - 1.0
-    m2 = np.where(np.isnan(sh), _NAN, np.where(np.isnan(r_bmin), _INF, sh / r_bmin - 1.0))
-    m3 = _same_size(fl_m, r_fl)
-    m4 = _same_size(pi_m, r_pi)
-    lo = np.full(np.broadcast_shapes(m1.shape, m2.shape, m3.shape, m4.shape), _INF)
-    gap = np.zeros(lo.shape, dtype=bool)
-    for x in (m1, m2, m3, m4):
-        nan = np.isnan(x)
-        gap |= nan
-        lo = np.where(~nan & (x < lo), x, lo)
-    return np.where(direct > 0.0, _INF, np.where((lo < 0.0) | ~gap, lo, _NAN))
-
-
-def _same_size(motor: Array, gearbox: Array) -> Array:
-    """Margin of a motor flange or pilot against the gearbox adapter's: infinite where the gearbox gives
-    none or they are equal within FIT_TOLERANCE, NaN where only the motor's is unknown, else the
-    relative difference, negative."""
-    differ = np.where(np.abs(motor - gearbox) <= FIT_TOLERANCE, _INF, -np.abs(motor / gearbox - 1.0))
-    return np.where(np.isnan(gearbox), _INF, np.where(np.isnan(motor), _NAN, differ))
+def _fit(sh: Array, fl_m: Array, pi_m: Array, bc_m: Array, r_bmax: Array, r_bmin: Array, r_fl: Array, r_pi: Array,
+         direct: Array, r_ad: Array) -> Array:
+    """Margin of the mechanical fit (``checks.mechanical_fit``, whose arithmetic this is): the motor shaft
+    [m] into the gearbox's input bore range, and its flange onto the input adapter: one of the drawn
+    adapters ``r_ad`` (..., A, 3: bore, pilot, bolt circle [m]) where the catalog draws them, else the
+    adapter's square flange and pilot where named (unknown where not); a known shortfall first, NaN where
+    one is unknown and none falls short, infinite for direct drive."""
+    return np.where(direct > 0.0, _INF, mechanical_fit(sh, fl_m, pi_m, r_bmax, r_bmin, r_fl, r_pi, FIT_TOLERANCE,
+                                                       bc_m, r_ad))
 
 
 def closest_failing(worst: NDArray[np.float64], failed: NDArray[Any], n: int) -> NDArray[np.int64]:

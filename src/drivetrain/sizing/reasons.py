@@ -11,6 +11,7 @@ import numpy as np
 
 from drivetrain.errors import InputError
 from drivetrain.sizing.candidates import CHECK_UNITS, MOTOR_CHECKS, Candidates, closest, column
+from drivetrain.sizing.checks import adapter_arrays, adapter_margin
 from drivetrain.sizing.motor_brake import brake_variant
 
 if TYPE_CHECKING:
@@ -49,13 +50,31 @@ def _fit_reason(motors: MotorTable, m: int, gb: GearboxTable, g: int) -> tuple[s
         bad.append(f"motor shaft {_mm(shaft)} > gearbox input bore {_mm(bmax)}")
     if not math.isnan(shaft) and not math.isnan(bmin) and shaft < bmin:
         bad.append(f"motor shaft {_mm(shaft)} < smallest bore with bushing {_mm(bmin)}")
-    for what, mine, theirs in (("flange", flange, gfl), ("pilot", pilot, gpi)):
-        if math.isnan(theirs):
-            continue
-        if math.isnan(mine):
-            gaps.append(f"the motor's {what} (the adapter takes {_mm(theirs)})")
-        elif abs(mine - theirs) > FIT_TOLERANCE:
-            bad.append(f"motor {what} {_mm(mine)} ≠ gearbox adapter {what} {_mm(theirs)}")
+    adapters = adapter_arrays([str(gb.input_adapters[g])])[0]
+    drawn = adapters[~np.isnan(adapters[:, 1])]
+    if len(drawn):
+        bolt = float(column(motors, "bolt_circle")[m])
+        names = ", ".join(f"{_mm(a[0])} bore / {_mm(a[1])} pilot / {_mm(a[2])} bolt circle" for a in drawn)
+        fits = float(adapter_margin(shaft, pilot, bolt, drawn))
+        if math.isnan(fits):
+            lacking = [w for w, v in (("shaft diameter", shaft), ("pilot", pilot), ("bolt circle", bolt))
+                       if math.isnan(v)]
+            gaps.append(f"the motor's {' and '.join(lacking)} to match a drawn adapter ({names})")
+        elif fits < 0.0:
+            bad.append(f"no drawn adapter takes the motor (shaft {_mm(shaft)}, pilot {_mm(pilot)}, bolt circle "
+                       f"{_mm(bolt)}); drawn: {names}")
+    else:
+        for what, mine, theirs in (("flange", flange, gfl), ("pilot", pilot, gpi)):
+            if math.isnan(theirs):
+                continue
+            if math.isnan(mine):
+                gaps.append(f"the motor's {what} (the adapter takes {_mm(theirs)})")
+            elif abs(mine - theirs) > FIT_TOLERANCE:
+                bad.append(f"motor {what} {_mm(mine)} ≠ gearbox adapter {what} {_mm(theirs)}")
+        if math.isnan(gfl) and not bad:
+            gaps.append("the gearbox's motor adapter (catalog input_adapters: bore/pilot/bolt circle, or input_flange "
+                        "with input_pilot): ask the vendor for the adapter of this motor's flange"
+                        + (f" ({_mm(flange)} flange, {_mm(pilot)} pilot)" if not math.isnan(flange) else ""))
     return "; ".join(bad), ("the catalog lacks " + " and ".join(gaps) if gaps else "")
 
 

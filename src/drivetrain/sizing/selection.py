@@ -42,7 +42,7 @@ from drivetrain.sizing.candidates import (
     closest,
     column,
 )
-from drivetrain.sizing.checks import running_torque, shock_factor
+from drivetrain.sizing.checks import MAX_ADAPTERS, adapter_arrays, running_torque, shock_factor
 from drivetrain.sizing.demand import Demand
 from drivetrain.sizing.envelope import continuous_torque, intermittent_torque, motor_envelopes
 from drivetrain.sizing.motor_brake import braked_motors, holding_need
@@ -191,9 +191,11 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
         gb_cols = [gb.max_input_speed, gb.rated_input_speed, gb.rated_output_torque, gb.max_output_torque,
                    gb.emergency_stop_torque] + [column(gb, c) for c in ("input_bore_max", "input_bore_min",
                                                                           "input_flange", "input_pilot")]
+        gb_adapters = adapter_arrays(gb.input_adapters).reshape(len(gb), -1)
     else:
         gb_j = np.zeros(1)
         gb_cols = [np.zeros(1)] * 9
+        gb_adapters = np.full((1, 3 * MAX_ADAPTERS), np.nan)
     out_peak = float(np.max(np.abs(duty.torque))) if duty.torque.size else 0.0
     shock = shock_factor(duty.period, margins.gearbox_shock_factor)
     need = holding_need(axis, duty)
@@ -203,9 +205,10 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
     f64 = np.ascontiguousarray
     model = (f64(motors.rotor_inertia, dtype=float), f64(peak, dtype=float), f64(w_max, dtype=float),
              *(f64(column(motors, c), dtype=float) for c in ("shaft_diameter", "flange", "pilot_diameter",
-                                                              "brake_holding_torque")),
+                                                              "bolt_circle", "brake_holding_torque")),
              cont_mean, full_row, f64(env_full, dtype=float), ratio, eff_g, hull_speed, hull_t, hull_a, all_t,
-             all_a, sums, g_speed, g_j_load, f64(gb_j, dtype=float), *(f64(c, dtype=float) for c in gb_cols), par)
+             all_a, sums, g_speed, g_j_load, f64(gb_j, dtype=float), *(f64(c, dtype=float) for c in gb_cols),
+             f64(gb_adapters, dtype=float), par)
     n = n_m * len(rows)
     motor_idx, slot = np.empty(n, dtype=np.int32), np.empty(n, dtype=np.int32)
     worst, failed, unknown = np.empty(n), np.empty(n, dtype=np.uint16), np.empty(n, dtype=np.uint16)
