@@ -138,3 +138,15 @@ def test_a_horizontal_axis_has_no_brake_check() -> None:
     assert all(ch["name"] != "motor_brake" for ch in sel.listed[0]["checks"]) and "brake" not in sel.listed[0]
     cat = catalog.motors(vendor="Mitsubishi Electric")
     assert np.array_equal(sel.ranking.motors.rotor_inertia, cat.rotor_inertia)
+
+
+def test_an_axis_with_its_own_brake_needs_no_motor_brake() -> None:
+    """A `brake` element in transmission: holds the load (brake_check judges it): the motor is not its brake
+    variant and has no motor_brake check."""
+    d = _vertical()
+    d["transmission"] = [{"type": "brake", "holding_torque": "2 N*m"}]
+    ax = parse_axis(d)
+    assert not holding_need(ax, duty_cycle(ax)).needed
+    res = size(ax)
+    assert all(ch["name"] != "motor_brake" for ch in res.selection["selected"]["checks"])
+    assert res.extras["brake_check"]["ok"]

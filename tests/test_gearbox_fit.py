@@ -121,3 +121,47 @@ def test_t2b_at_a_cycle_rate_that_needs_the_shock_factor_is_unknown_on_the_trans
     slow = size(parse_axis(_table(gearbox=gearbox, period="5 s")))
     t2b = next(c for c in slow.extras["gearbox_checks"]["checks"] if c["name"] == "gearbox_peak_torque")
     assert t2b["status"] == "pass"
+
+
+def _gantry(**belt: Any) -> dict[str, Any]:
+    mech: dict[str, Any] = {"type": "timing_belt", "diameter": "60 mm", "load": {"mass": "30 kg"}}
+    if belt:
+        mech["belt"] = belt
+    return {"axis": "gantry", "mechanism": mech,
+            "profile": [{"move": "1 m", "time": "0.8 s"}, {"dwell": "0.5 s"}],
+            "motor": {"select": {"gearbox": "only", "gearbox_series": "GPB"}}}
+
+
+def test_a_pulley_on_the_gearbox_output_is_checked_against_f2r() -> None:
+    """The belt's pull with the default pretension (the largest pull) on one span: the pulley shaft
+    carries sqrt(T_t^2 + T_s^2 + 2 T_t T_s) = T_t + T_s at 180 deg wrap; against each row's F2r."""
+    from drivetrain.sizing.mechanism_checks import axial_force, output_loads
+
+    ax = parse_axis(_gantry())
+    duty = duty_cycle(ax)
+    radial, axial = output_loads(ax, duty)
+    peak = float(np.max(np.abs(axial_force(ax, duty))))
+    assert axial == 0.0 and radial == pytest.approx(3.0 * peak, rel=1e-9)  # tight 2 x pull, slack = pull
+    sel = selection.select(ax, duty, ax.spec.motor.select, ax.spec.motor.margins)
+    c, gb = sel.ranking.candidates, sel.ranking.gearboxes
+    ks = np.arange(len(c.motor))
+    d = c.details(ks)
+    rows = c.gearbox(ks)
+    f2r = gb.max_radial_load[rows]
+    known = ~np.isnan(f2r)
+    assert known.any()
+    np.testing.assert_allclose(d.required["gearbox_radial_load"], radial)
+    np.testing.assert_allclose(d.margin["gearbox_radial_load"][known], f2r[known] / radial - 1.0)
+    assert np.all(np.isnan(d.margin["gearbox_radial_load"][~known]))
+    bit = 1 << list(selection.CHECK_UNITS).index("gearbox_radial_load")
+    small = known & (f2r < radial)
+    assert np.all((c.failed[small] & bit) != 0)
+
+
+def test_an_output_load_not_modelled_is_unknown() -> None:
+    """A rotary table on the gearbox output: its loads are not modelled, so F2r and F2a cannot be judged."""
+    ax = parse_axis(_table(gearbox_series="AG2250 PLE"))
+    sel = selection.select(ax, duty_cycle(ax), ax.spec.motor.select, ax.spec.motor.margins)
+    row = next(r for r in sel.listed if r["gearbox"] is not None)
+    f2r = next(ch for ch in row["checks"] if ch["name"] == "gearbox_radial_load")
+    assert f2r["status"] == "unknown" and "not modelled" in f2r["note"]

@@ -31,9 +31,11 @@ from drivetrain.sizing.kernel import (
     D_RMS,
     FIT,
     FIT_TOLERANCE,
+    GB_AXIAL,
     GB_ESTOP,
     GB_MEAN_SPEED,
     GB_PEAK,
+    GB_RADIAL,
     GB_RATED,
     GB_SPEED,
     INERTIA,
@@ -77,9 +79,9 @@ def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArr
     """The selection checks as first written: one candidate at a time, in plain Python floats."""
     (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, m_bolt, m_brake, cont_mean, full_row, env_full, g_ratio,
      g_eff, hull_speed, hull_t, hull_a, all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_nmax, gb_nmean, gb_t2n, gb_t2b,
-     gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, gb_adapters, par) = model
+     gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, gb_adapters, gb_f2r, gb_f2a, par) = model
     period, tm, rm, sm, limit, out_cubic, run_t = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
-    out_peak, fs, hold = par[7], par[8], par[9]
+    out_peak, fs, hold, load_r, load_a = par[7], par[8], par[9], par[10], par[11]
     n_motors, n_bins, n_v, n_all = j_rotor.shape[0], hull_speed.shape[1], hull_t.shape[2], all_t.shape[1]
     top = n_bins - 1
     listed = pick.shape[1] > 0
@@ -234,12 +236,21 @@ def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArr
                 req_b, av_b = hold / i * g_eff[g], m_brake[m]
                 mar_b = math.nan if math.isnan(av_b) else (av_b / req_b - 1.0 if req_b > 0.0 else math.inf)
             mar[BRAKE] = mar_b
+            # output loads against F2r / F2a (the row's)
+            f2r = math.inf if direct else gb_f2r[r_row[q]]
+            f2a = math.inf if direct else gb_f2a[r_row[q]]
+            mar[GB_RADIAL] = math.inf if direct or load_r == 0.0 else (
+                math.nan if math.isnan(f2r) else f2r / load_r - 1.0)
+            mar[GB_AXIAL] = math.inf if direct or load_a == 0.0 else (
+                math.nan if math.isnan(f2a) else f2a / load_a - 1.0)
             if listed:
                 detail[PEAK, k], detail[RMS, k], detail[SPEED, k] = req_p[q], req_r, req_s * _RPM
                 detail[INERTIA, k], detail[FIT, k] = ir, (0.0 if direct else sh * _MM)
                 detail[GB_PEAK, k], detail[GB_RATED, k], detail[GB_ESTOP, k] = req_t2b, req_t2n, req_ge
                 detail[GB_SPEED, k], detail[GB_MEAN_SPEED, k] = req_s * _RPM, req_mean * _RPM
                 detail[BRAKE, k], detail[N_CHECKS + BRAKE, k] = req_b, av_b
+                detail[GB_RADIAL, k], detail[N_CHECKS + GB_RADIAL, k] = (0.0 if direct else load_r), f2r
+                detail[GB_AXIAL, k], detail[N_CHECKS + GB_AXIAL, k] = (0.0 if direct else load_a), f2a
                 a = N_CHECKS
                 detail[a + PEAK, k], detail[a + RMS, k], detail[a + SPEED, k] = av_p[q], cont, w_m * _RPM
                 detail[a + INERTIA, k], detail[a + FIT, k] = limit, r_bmax[q] * _MM

@@ -19,7 +19,8 @@ Array = NDArray[np.float64]
 CHECK_UNITS = {"peak_torque": "N*m", "rms_torque": "N*m", "max_speed": "rpm", "inertia_ratio": "-",
                "mechanical_fit": "mm", "gearbox_peak_torque": "N*m", "gearbox_rated_torque": "N*m",
                "gearbox_emergency_stop_torque": "N*m", "gearbox_max_input_speed": "rpm",
-               "gearbox_mean_input_speed": "rpm", "motor_brake": "N*m"}
+               "gearbox_mean_input_speed": "rpm", "motor_brake": "N*m", "gearbox_radial_load": "N",
+               "gearbox_axial_load": "N"}
 """Every check of a candidate with its unit, in the order of the compiled pass's arrays (kernel.py)."""
 
 FIT_BIT = 1 << list(CHECK_UNITS).index("mechanical_fit")

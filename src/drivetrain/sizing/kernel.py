@@ -30,7 +30,10 @@ Per candidate k (motor m, group g of ratio i and efficiency eta, gearbox row r o
   variant's holding torque against the static load torque at the axis's motor shaft / i x eta
   (the load drives back through the gearbox: ``physics.brake.held_torque``) x the brake factor;
   unknown where the catalog lacks the holding torque. The rotor inertia is then the brake
-  variant's (``motor_brake.braked_motors``, before the model is built).
+  variant's (``motor_brake.braked_motors``, before the model is built);
+* output loads: the radial and axial load the axis puts on the gearbox output
+  (``mechanism_checks.output_loads``: a belt pulley's shaft load, a pinion's forces) against F2r and
+  F2a as the catalog gives them; unknown where either is not known.
 
 A margin is NaN where a rating or dimension it needs is unknown; the candidate's ``unknown``
 bits say which. Envelopes are not computed here: the caller passes them, computed by
@@ -52,8 +55,9 @@ from numpy.typing import NDArray
 from drivetrain.sizing.checks import mechanical_fit
 
 # rows of the check arrays, in the order of selection.CHECK_UNITS
-(PEAK, RMS, SPEED, INERTIA, FIT, GB_PEAK, GB_RATED, GB_ESTOP, GB_SPEED, GB_MEAN_SPEED, BRAKE) = range(11)
-N_CHECKS = 11
+(PEAK, RMS, SPEED, INERTIA, FIT, GB_PEAK, GB_RATED, GB_ESTOP, GB_SPEED, GB_MEAN_SPEED, BRAKE, GB_RADIAL,
+ GB_AXIAL) = range(13)
+N_CHECKS = 13
 
 _RPM = 60.0 / (2.0 * np.pi)
 _MM = 1e3
@@ -103,7 +107,9 @@ def check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np
     flange and pilot [m]. ``par``: period [s], torque, RMS and speed margins, inertia-ratio limit,
     cubic-mean output torque [N m], running load torque [N m], peak output torque [N m], shock
     factor (NaN where the cycle rate needs one that is not given), static torque the brake must hold
-    at the axis's motor shaft x the brake factor [N m] (NaN: the axis needs no brake).
+    at the axis's motor shaft x the brake factor [N m] (NaN: the axis needs no brake), radial and
+    axial load on the gearbox output [N] (NaN: not modelled). Gearbox rows also: drawn adapters
+    (R, 3 A) [m], F2r and F2a [N].
     """
     listed = pick.shape[1] > 0
     with np.errstate(all="ignore"):  # inf and NaN are values here (an unknown rating, a zero demand)
@@ -240,9 +246,9 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     (broadcast over motors and slots) and whether each motor is too slow for the cycle's top bin."""
     (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, m_bolt, m_brake, cont_mean, full_row, env_full, g_ratio,
      g_eff, hull_speed, hull_t, hull_a, all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_nmax, gb_nmean, gb_t2n, gb_t2b,
-     gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, gb_adapters, par) = model
+     gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, gb_adapters, gb_f2r, gb_f2a, par) = model
     period, tm, rm, sm, limit, out_cubic, run_t = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
-    out_peak, fs, hold = par[7], par[8], par[9]
+    out_peak, fs, hold, load_r, load_a = par[7], par[8], par[9], par[10], par[11]
     top = hull_speed.shape[1] - 1
     shape = np.broadcast_shapes(m.shape, q.shape)
     req_t2b = out_peak * tm * (1.0 if np.isnan(fs) else fs)
@@ -259,6 +265,10 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     r_bmax, r_bmin, r_fl, r_pi = row(gb_bore_max, _INF), row(gb_bore_min, _NAN), row(gb_flange, _NAN), \
         row(gb_pilot, _NAN)
     r_ad = np.concatenate([np.full((1, gb_adapters.shape[1]), _NAN), gb_adapters])[r]  # drawn adapters, flat
+    r_f2r, r_f2a = row(gb_f2r, _INF), row(gb_f2a, _INF)
+    # the output loads against F2r / F2a: nothing needed passes; an unknown load or rating is unknown
+    r_mar_f2r = np.where(direct | (load_r == 0.0), _INF, np.where(np.isnan(r_f2r), _NAN, r_f2r / load_r - 1.0))
+    r_mar_f2a = np.where(direct | (load_a == 0.0), _INF, np.where(np.isnan(r_f2a), _NAN, r_f2a / load_a - 1.0))
     req_s = g_speed[g, 0] * sm
     req_mean = g_speed[g, 1]
     # margins of the row alone; an unknown rating leaves its check unknown, whatever is required
@@ -320,7 +330,7 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
         av_b = m_brake[m]
         mar_b = np.where(np.isnan(av_b), _NAN, _over(av_b, req_b))
     margins = [mar_p, mar_r, mar_motor_speed, mar_i, mar_f, r_mar_t2b, r_mar_t2n, mar_ge, r_mar_speed, r_mar_mean,
-               mar_b]
+               mar_b, r_mar_f2r, r_mar_f2a]
     if not listed:
         return margins, slow
     mar = np.empty((N_CHECKS, *shape))
@@ -328,9 +338,10 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
         mar[c] = x
     out = np.empty((N_DETAIL, *shape))
     for c, x in enumerate((req_p, req_r, req_s * _RPM, ir, np.where(direct, 0.0, sh * _MM), req_t2b, req_t2n,
-                           req_ge, req_s * _RPM, req_mean * _RPM, req_b,
+                           req_ge, req_s * _RPM, req_mean * _RPM, req_b, np.where(direct, 0.0, load_r),
+                           np.where(direct, 0.0, load_a),
                            av_p, cont, w_m * _RPM, limit, r_bmax * _MM, r_t2b, r_t2n, r_t2not, r_speed * _RPM,
-                           r_mean * _RPM, av_b)):
+                           r_mean * _RPM, av_b, r_f2r, r_f2a)):
         out[c] = x
     out[2 * N_CHECKS:3 * N_CHECKS] = mar
     out[D_RMS], out[D_PEAK], out[D_INERTIA] = rms, peak_all, ir
@@ -376,6 +387,6 @@ def closest_failing(worst: NDArray[np.float64], failed: NDArray[Any], n: int) ->
     return failing[np.argsort(-key, kind="stable")[:n]].astype(np.int64)
 
 
-__all__ = ["BLOCK", "BRAKE", "D_INERTIA", "D_PEAK", "D_RMS", "FIT", "FIT_TOLERANCE", "GB_ESTOP", "GB_MEAN_SPEED",
-           "GB_PEAK", "GB_RATED", "GB_SPEED", "INERTIA", "N_CHECKS", "N_DETAIL", "PEAK", "RMS", "SPEED", "check",
-           "closest_failing"]
+__all__ = ["BLOCK", "BRAKE", "D_INERTIA", "D_PEAK", "D_RMS", "FIT", "FIT_TOLERANCE", "GB_AXIAL", "GB_ESTOP",
+           "GB_MEAN_SPEED", "GB_PEAK", "GB_RADIAL", "GB_RATED", "GB_SPEED", "INERTIA", "N_CHECKS", "N_DETAIL", "PEAK",
+           "RMS", "SPEED", "check", "closest_failing"]

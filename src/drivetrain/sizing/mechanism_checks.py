@@ -122,6 +122,49 @@ def belt_stiffness_note(axis: Axis) -> dict[str, Any] | None:
             "note": f"the modes treat the belt as rigid: give {' and '.join(gaps)} to include its stiffness"}
 
 
+def output_loads(axis: Axis, duty: DutyCycle) -> tuple[float, float]:
+    """The largest radial and axial load the axis puts on the shaft that drives its mechanism [N]: what a
+    catalog gearbox's output carries when it drives the mechanism directly (its F2r / F2a checks,
+    kernel.py). NaN where it is not modelled.
+
+    * belt, timing belt, conveyor: the drive pulley's shaft load, sqrt(T_t^2 + T_s^2 - 2 T_t T_s cos(wrap))
+      over the cycle (``belt_rack.pulley_shaft_load``), with the tensions of ``_belt_checks`` (the stated
+      pretension, default the largest pull; all pull on one span where the belt's geometry is not given);
+      no axial load;
+    * rack and pinion: the pinion's sqrt(F_t^2 + F_r^2) radial and F_t tan(beta) axial
+      (``belt_rack.pinion_shaft_load``, Shigley ch. 13);
+    * ball and lead screw: none on the drive shaft (the screw's thrust is carried by its fixed bearing);
+    * a first transmission stage that is a coupling: none (a flexible coupling carries no shaft load);
+      any other first stage, and the other mechanisms (rotary, roll, hoist, chain, custom): NaN.
+    """
+    kind = getattr(axis.spec.mechanism, "type", "")
+    first = axis.transmission[0].kind if axis.transmission else None
+    if first == "coupling" or (kind in ("ball_screw", "lead_screw") and first is None):
+        return 0.0, 0.0
+    if first is not None or kind not in ("belt", "timing_belt", "conveyor", "rack_pinion"):
+        return math.nan, math.nan
+    force = axial_force(axis, duty)
+    if kind == "rack_pinion":
+        rack = getattr(axis.spec.mechanism, "rack", None)
+        alpha, beta = (rack.pressure_angle, rack.helix_angle) if rack is not None else (math.radians(20.0), 0.0)
+        radial, axial = belt_rack.pinion_shaft_load(np.abs(force), alpha, beta)
+        return float(np.max(radial)), float(np.max(np.abs(axial)))
+    belt = getattr(axis.spec.mechanism, "belt", None)
+    pull = np.abs(force)
+    lp, lo = np.zeros_like(pull), np.ones_like(pull)  # all pull on one span: the largest shaft load
+    if belt is not None and belt.centre_distance is not None:
+        try:
+            lp, lo = belt_rack.linear_belt_spans(belt_positions(axis, duty), belt.centre_distance, belt.layout,
+                                                 belt.clamp_offset)
+            lp, lo = np.where(force >= 0.0, lo, lp), np.where(force >= 0.0, lp, lo)
+        except InputError:
+            return math.nan, math.nan
+    pre = belt.pretension if belt is not None and belt.pretension is not None else float(pull.max())
+    tight, slack = belt_rack.linear_belt_tensions(pull, pre, lp, lo)
+    wrap = belt.wrap_angle if belt is not None else math.pi
+    return float(np.max(belt_rack.pulley_shaft_load(tight, slack, wrap))), 0.0
+
+
 def axial_force(axis: Axis, duty: DutyCycle) -> Array:
     """Force the mechanism transmits to the load along its travel over the cycle [N]: F_ext + M a."""
     load = axis.mechanism.load

@@ -3,7 +3,8 @@
 
 An axis needs one when its profile holds a dwell on the brake (``holding: brake``) or when its load
 applies a torque at standstill (gravity on an incline or a vertical axis, an unbalanced hoist, a
-spring): then every catalog candidate is taken as its brake variant (the with-brake rotor inertia in
+spring), unless its transmission has a ``brake`` element of its own (that brake holds; ``brake_check``
+judges it): then every catalog candidate is taken as its brake variant (the with-brake rotor inertia in
 its duty cycle, ``braked_motors``) and checked on ``motor_brake`` (kernel.py): the brake's holding
 torque against the static torque at the motor shaft, through the candidate's gearbox, x
 ``motor.margins.brake``.
@@ -54,6 +55,8 @@ def holding_need(axis: Axis, duty: DutyCycle) -> HoldingNeed:
     torque = held_torque(load, [(st.ratio, st.back_efficiency) for st in reversed(axis.stages)])
     braked = bool(np.any(duty.braked))
     static = torque > STATIC_TOLERANCE
+    if any(st.kind == "brake" for st in axis.transmission):  # the axis's own brake holds (result.brake_check)
+        return HoldingNeed(needed=False, torque=torque, why="the brake in transmission: holds the load")
     why = " and ".join(filter(None, ["a dwell holds on the brake (holding: brake)" if braked else "",
                                      f"the load holds {torque:.4g} N*m at the motor shaft at standstill"
                                      if static else ""]))

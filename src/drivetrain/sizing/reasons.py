@@ -23,7 +23,9 @@ if TYPE_CHECKING:
 _RATING_NAMES = {"gearbox_peak_torque": "T2B (max acceleration torque)", "gearbox_rated_torque": "T2N (rated torque)",
                  "gearbox_emergency_stop_torque": "T2NOT (emergency-stop torque)",
                  "gearbox_max_input_speed": "n1max (max input speed)",
-                 "gearbox_mean_input_speed": "n1N (nominal input speed)"}
+                 "gearbox_mean_input_speed": "n1N (nominal input speed)",
+                 "gearbox_radial_load": "F2r (max radial output load)",
+                 "gearbox_axial_load": "F2a (max axial output load)"}
 
 
 def _mm(x: float) -> str:
@@ -90,6 +92,9 @@ def _unknown_note(name: str, c: Candidates, fit_gap: str) -> str:
     if name == "gearbox_peak_torque" and math.isnan(float(par[8])):
         return (f"{3600.0 / float(par[0]):.0f} cycles/h exceed the 1000/h that T2B holds for: set "
                 "motor.margins.gearbox_shock_factor from the vendor's chart")
+    if name in ("gearbox_radial_load", "gearbox_axial_load") and math.isnan(float(par[10 if "radial" in name else 11])):
+        return ("the load this axis puts on the gearbox output is not modelled for its mechanism or first stage: "
+                "compare it with the gearbox's " + _RATING_NAMES[name].split(" (")[0] + " by hand")
     if name in _RATING_NAMES:
         return f"the catalog lacks the gearbox's {_RATING_NAMES[name]}"
     if name == "motor_brake":

@@ -45,6 +45,7 @@ from drivetrain.sizing.candidates import (
 from drivetrain.sizing.checks import MAX_ADAPTERS, adapter_arrays, running_torque, shock_factor
 from drivetrain.sizing.demand import Demand
 from drivetrain.sizing.envelope import continuous_torque, intermittent_torque, motor_envelopes
+from drivetrain.sizing.mechanism_checks import output_loads
 from drivetrain.sizing.motor_brake import braked_motors, holding_need
 from drivetrain.sizing.motor_fit import demand
 from drivetrain.sizing.reasons import advice, candidate_dict, explain
@@ -192,23 +193,26 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
                    gb.emergency_stop_torque] + [column(gb, c) for c in ("input_bore_max", "input_bore_min",
                                                                           "input_flange", "input_pilot")]
         gb_adapters = adapter_arrays(gb.input_adapters).reshape(len(gb), -1)
+        gb_loads = [gb.max_radial_load, gb.max_axial_load]
     else:
         gb_j = np.zeros(1)
         gb_cols = [np.zeros(1)] * 9
         gb_adapters = np.full((1, 3 * MAX_ADAPTERS), np.nan)
+        gb_loads = [np.zeros(1)] * 2
     out_peak = float(np.max(np.abs(duty.torque))) if duty.torque.size else 0.0
     shock = shock_factor(duty.period, margins.gearbox_shock_factor)
     need = holding_need(axis, duty)
     hold = need.torque * margins.brake if need.needed else math.nan
+    load_r, load_a = output_loads(axis, duty) if gb is not None and len(gb) else (0.0, 0.0)
     par = np.array([duty.period, margins.torque, margins.rms_torque or margins.torque, margins.speed, limit,
-                    out_cubic, run_t, out_peak, shock, hold])
+                    out_cubic, run_t, out_peak, shock, hold, load_r, load_a])
     f64 = np.ascontiguousarray
     model = (f64(motors.rotor_inertia, dtype=float), f64(peak, dtype=float), f64(w_max, dtype=float),
              *(f64(column(motors, c), dtype=float) for c in ("shaft_diameter", "flange", "pilot_diameter",
                                                               "bolt_circle", "brake_holding_torque")),
              cont_mean, full_row, f64(env_full, dtype=float), ratio, eff_g, hull_speed, hull_t, hull_a, all_t,
              all_a, sums, g_speed, g_j_load, f64(gb_j, dtype=float), *(f64(c, dtype=float) for c in gb_cols),
-             f64(gb_adapters, dtype=float), par)
+             f64(gb_adapters, dtype=float), *(f64(c, dtype=float) for c in gb_loads), par)
     n = n_m * len(rows)
     motor_idx, slot = np.empty(n, dtype=np.int32), np.empty(n, dtype=np.int32)
     worst, failed, unknown = np.empty(n), np.empty(n, dtype=np.uint16), np.empty(n, dtype=np.uint16)
