@@ -413,7 +413,12 @@ def next_smaller(c: Candidates, motors: MotorTable, gb: GearboxTable | None, bes
     if fast[smaller].any():
         smaller = smaller[fast[smaller]]
     k = closest(c, c.of_motors(smaller[size[smaller] == np.max(size[smaller])]))
-    return candidate_dict(c, k, motors, gb, None)
+    out = candidate_dict(c, k, motors, gb, None)
+    if out["ok"]:  # it passes, and ranks after the selected one: a fit or brake the catalog cannot judge
+        gaps = [n for n in ("motor_brake", "mechanical_fit") if n in out["unknown"]]
+        why = f"ranked after the selected motor: {' and '.join(gaps) or 'its checks'} cannot be judged"
+        out.update({"failed": why, "failures": [why]})
+    return out
 
 
 def candidate_cycle(axis: Axis, duty: DutyCycle, ranking: Ranking,
