@@ -25,7 +25,7 @@ CHECK_NAMES: dict[str, str] = {
     "gearbox_emergency_stop_torque": "Gearbox T2NOT (emergency stop)",
     "gearbox_max_input_speed": "Gearbox n1max (max input speed)",
     "gearbox_mean_input_speed": "Gearbox n1N (mean input speed)",
-    "motor_brake": "Motor brake holding torque",
+    "motor_brake": "Motor brake",
     "gearbox_radial_load": "Gearbox F2r (radial output load)",
     "gearbox_axial_load": "Gearbox F2a (axial output load)",
     "slip_limit": "Load slip on its carrier",
