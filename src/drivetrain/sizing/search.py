@@ -26,11 +26,12 @@ What it saves, without changing the candidate found or any of its figures:
 
 The smallest-first search. ``selection.ranked`` orders the passing candidates by the objective
 (motor size x 1e6 + the gearbox's rated torque, which is never negative), ties in candidate order,
-and a pair not known to assemble after every pair known to. So a candidate known to assemble
+and a pair not known to assemble (or, on an axis that needs a brake, whose brake's holding torque is
+not known) after every one known to. So a candidate known to assemble (and to hold)
 with objective ``s`` ranks before every candidate of a motor of size key ``>= s / 1e6``. Motors
 are taken by size key, a chunk at a time (motors of equal size in the same chunk), and the search
 stops when the best of the chunks with a passing candidate (evaluated together, ranked by
-``ranked``) is known to assemble and its objective is below the next motor's size key x 1e6.
+``ranked``) is known to assemble (and to hold) and its objective is below the next motor's size key x 1e6.
 Motors that fail the max-speed or the inertia-ratio check behind every ratio are not tried. A
 chunk's gearbox rows keep their catalog order, so its candidates keep their relative order and
 ``ranked`` breaks ties as over the whole catalog.
