@@ -29,6 +29,12 @@ from drivetrain.report.display import display_units, fmt_number, pretty_unit
 from drivetrain.report.formulas import FORMULAS, docstring_of
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def _verdict(check: dict[str, Any]) -> str:
+    """The result cell of a check: its status (a check the catalog cannot judge reads UNKNOWN)."""
+    status = check.get("status") or ("pass" if check["ok"] else "fail")
+    return {"pass": "PASS", "fail": "FAIL"}.get(status, status.upper())
 CHROMIUM = "/usr/bin/chromium"
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
                  "--disable-sync", "--no-first-run"]
@@ -132,7 +138,7 @@ def test_html_report_in_chromium_shows_numbers_checks_and_plots(ball: Any, brows
         rows = _check_rows(page)
         assert len(rows) == len(selected["checks"])
         for check in selected["checks"]:
-            assert rows[CHECK_NAMES[check["name"]]] == ("PASS" if check["ok"] else "FAIL")
+            assert rows[CHECK_NAMES[check["name"]]] == _verdict(check)
         # Every plot drew: plotly's SVG with non-empty line paths, and the phase bands where there are phases.
         plots = page.eval_on_selector_all(".dt-plot", """divs => divs.map(d => ({
             key: d.dataset.plot,
@@ -161,7 +167,7 @@ def test_html_report_escapes_user_strings_in_the_browser(weak: Any, browser: Any
         assert "FAIL" in page.inner_text("#dt-verdict")
         rows = _check_rows(page)
         for check in weak.motor["checks"]:
-            assert rows[CHECK_NAMES[check["name"]]] == ("PASS" if check["ok"] else "FAIL")
+            assert rows[CHECK_NAMES[check["name"]]] == _verdict(check)
         assert {"PASS", "FAIL"} <= set(rows.values())
         assert page.locator("#dt-axis-name b, .dt-report b:text('motor')").count() == 0
     finally:
@@ -213,7 +219,7 @@ def test_pdf_report_pages_are_drawn_and_carry_the_numbers(ball: Any, tmp_path: P
     lines = text.splitlines()
     for check in selected["checks"]:
         name = CHECK_NAMES[check["name"]].split(" J_L")[0]
-        verdict = "PASS" if check["ok"] else "FAIL"
+        verdict = _verdict(check)
         assert any(name in line and verdict in line for line in lines), name
     assert f"page {len(pages)} of {len(pages)}" in text
 
@@ -427,7 +433,12 @@ def test_no_mechanism_section_without_mechanism_data() -> None:
     raw.pop("guide")
     raw["motor"] = {"name": "given", "inertia": "2 kg*cm^2", "rated_torque": "1.3 N*m", "peak_torque": "3.8 N*m",
                     "max_speed": "5000 rpm"}
-    assert 'id="dt-mechanism"' not in render_html(drivetrain.size(raw))
+    # a screw without its block is still bounded from its nominal diameter (the section says what decides it)
+    html = render_html(drivetrain.size(raw))
+    assert 'id="dt-mechanism"' in html and "mechanism.screw.root_diameter" in html
+    rotary = yaml.safe_load((EXAMPLES / "rotary.yaml").read_text(encoding="utf-8"))
+    rotary["motor"] = raw["motor"]
+    assert 'id="dt-mechanism"' not in render_html(drivetrain.size(rotary))
 
 
 @needs_poppler

@@ -25,14 +25,17 @@ from drivetrain.axis.model import Margins, load_axis
 from drivetrain.duty.cycle import duty_cycle
 from drivetrain.sizing import selection
 from drivetrain.sizing.kernel import (
+    BRAKE,
     D_INERTIA,
     D_PEAK,
     D_RMS,
     FIT,
     FIT_TOLERANCE,
+    GB_AXIAL,
     GB_ESTOP,
     GB_MEAN_SPEED,
     GB_PEAK,
+    GB_RADIAL,
     GB_RATED,
     GB_SPEED,
     INERTIA,
@@ -51,16 +54,34 @@ _RPM = 60.0 / (2.0 * np.pi)
 _MM = 1e3
 
 
+def _eq(motor: float, adapter: float) -> float:
+    """A motor dimension against the adapter's: +inf within FIT_TOLERANCE, NaN where either is unknown."""
+    if math.isnan(motor) or math.isnan(adapter):
+        return math.nan
+    return math.inf if abs(motor - adapter) <= FIT_TOLERANCE else -abs(motor / adapter - 1.0)
+
+
+def _comb(*xs: float) -> float:
+    """The smallest known shortfall, else NaN where any is unknown, else the smallest."""
+    lo, gap = math.inf, False
+    for x in xs:
+        if math.isnan(x):
+            gap = True
+        elif x < lo:
+            lo = x
+    return lo if (lo < 0.0 or not gap) else math.nan
+
+
 def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np.int64],
           pick: NDArray[np.int64], motor: NDArray[np.int32], slot: NDArray[np.int32],
           worst: NDArray[np.float64], failed: NDArray[np.uint16], unknown: NDArray[np.uint16],
           detail: NDArray[np.float64]) -> None:
     """The selection checks as first written: one candidate at a time, in plain Python floats."""
-    (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, cont_mean, full_row, env_full, g_ratio, g_eff,
-     hull_speed, hull_t, hull_a, all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_nmax, gb_nmean, gb_t2n, gb_t2b,
-     gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, par) = model
+    (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, m_bolt, m_brake, cont_mean, full_row, env_full, g_ratio,
+     g_eff, hull_speed, hull_t, hull_a, all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_nmax, gb_nmean, gb_t2n, gb_t2b,
+     gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, gb_adapters, gb_f2r, gb_f2a, par) = model
     period, tm, rm, sm, limit, out_cubic, run_t = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
-    out_peak, fs = par[7], par[8]
+    out_peak, fs, hold, load_r, load_a = par[7], par[8], par[9], par[10], par[11]
     n_motors, n_bins, n_v, n_all = j_rotor.shape[0], hull_speed.shape[1], hull_t.shape[2], all_t.shape[1]
     top = n_bins - 1
     listed = pick.shape[1] > 0
@@ -71,6 +92,7 @@ def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArr
     r_j, r_speed, r_mean, r_t2n, r_t2b, r_t2not = (np.empty(width), np.empty(width), np.empty(width),
                                                    np.empty(width), np.empty(width), np.empty(width))
     r_bmax, r_bmin, r_fl, r_pi = np.empty(width), np.empty(width), np.empty(width), np.empty(width)
+    r_row = np.empty(width, dtype=np.int64)
     # the margins that depend on the row alone
     r_mar_speed, r_mar_mean, r_mar_t2n, r_mar_t2b = np.empty(width), np.empty(width), np.empty(width), np.empty(width)
     j, peak_all, s = np.empty(width), np.empty(width), np.empty(width)
@@ -92,6 +114,7 @@ def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArr
         if listed or g != g_loaded:
             for q in range(n):
                 r = rows[q0 + q]
+                r_row[q] = r
                 d = r < 0
                 r_direct[q] = d
                 r_j[q] = 0.0 if d else gb_j[r]
@@ -163,7 +186,7 @@ def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArr
         # the other checks, each a closed form in J
         s_tt, s_ta, s_aa = sums[g, 0], sums[g, 1], sums[g, 2]
         cont, w_m, j_l, t_pk = cont_mean[m, g], w_max[m], g_j_load[g], t_peak[m]
-        sh, fl_m, pi_m = m_shaft[m], m_flange[m], m_pilot[m]
+        sh, fl_m, pi_m, bc_m = m_shaft[m], m_flange[m], m_pilot[m], m_bolt[m]
         mar_motor_speed = w_m / req_s - 1.0 if req_s > 0.0 else math.inf
         t_l = run_t / i
         for q in range(n):
@@ -183,21 +206,22 @@ def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArr
                 m2 = sh / r_bmin[q] - 1.0 if not math.isnan(r_bmin[q]) else math.inf
                 if math.isnan(sh):
                     m2 = math.nan
-                m3 = math.inf
-                if not math.isnan(r_fl[q]):
-                    m3 = math.nan if math.isnan(fl_m) else (
-                        math.inf if abs(fl_m - r_fl[q]) <= FIT_TOLERANCE else -abs(fl_m / r_fl[q] - 1.0))
-                m4 = math.inf
-                if not math.isnan(r_pi[q]):
-                    m4 = math.nan if math.isnan(pi_m) else (
-                        math.inf if abs(pi_m - r_pi[q]) <= FIT_TOLERANCE else -abs(pi_m / r_pi[q] - 1.0))
-                lo, gap = math.inf, False
-                for x in (m1, m2, m3, m4):
-                    if math.isnan(x):
-                        gap = True
-                    elif x < lo:
-                        lo = x
-                mar_f = lo if (lo < 0.0 or not gap) else math.nan
+                # the flange onto one of the drawn adapters, else onto the named adapter (unknown: not named)
+                ad = gb_adapters[r_row[q]].reshape(-1, 3)
+                drawn = [a for a in range(len(ad)) if not math.isnan(ad[a, 1])]
+                if drawn:
+                    each = [_comb(ad[a, 0] / sh - 1.0 if not math.isnan(ad[a, 0]) else math.nan, _eq(pi_m, ad[a, 1]),
+                                  _eq(bc_m, ad[a, 2])) for a in drawn]
+                    known = [e for e in each if not math.isnan(e)]
+                    best = max(known) if known else -math.inf
+                    m3 = best if best >= 0.0 else (math.nan if len(known) < len(each) else best)
+                else:
+                    pilot_m = math.inf if math.isnan(r_pi[q]) else _eq(pi_m, r_pi[q])
+                    if math.isnan(r_fl[q]):
+                        m3 = pilot_m if pilot_m < 0.0 else math.nan
+                    else:
+                        m3 = _comb(_eq(fl_m, r_fl[q]), pilot_m)
+                mar_f = _comb(m1, m2, m3)
             # gearbox: what passes at the motor's peak against the emergency-stop torque
             req_ge = 0.0 if direct else ((1.0 - jq / (jq + j_l)) * (t_pk - t_l) + t_l) * i * g_eff[g]
             mar_ge = math.inf if direct else (r_t2not[q] / req_ge - 1.0 if req_ge > 0.0 else math.inf)
@@ -206,11 +230,27 @@ def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArr
             mar[PEAK], mar[RMS], mar[SPEED], mar[INERTIA], mar[FIT] = mar_p[q], mar_r, mar_motor_speed, mar_i, mar_f
             mar[GB_PEAK], mar[GB_RATED], mar[GB_ESTOP] = r_mar_t2b[q], r_mar_t2n[q], mar_ge
             mar[GB_SPEED], mar[GB_MEAN_SPEED] = r_mar_speed[q], r_mar_mean[q]
+            # motor brake: only where the axis needs one (hold not NaN)
+            req_b, av_b, mar_b = 0.0, math.inf, math.inf
+            if not math.isnan(hold):
+                req_b, av_b = hold / i * g_eff[g], m_brake[m]
+                mar_b = math.nan if math.isnan(av_b) else (av_b / req_b - 1.0 if req_b > 0.0 else math.inf)
+            mar[BRAKE] = mar_b
+            # output loads against F2r / F2a (the row's)
+            f2r = math.inf if direct else gb_f2r[r_row[q]]
+            f2a = math.inf if direct else gb_f2a[r_row[q]]
+            mar[GB_RADIAL] = math.inf if direct or load_r == 0.0 else (
+                math.nan if math.isnan(f2r) else f2r / load_r - 1.0)
+            mar[GB_AXIAL] = math.inf if direct or load_a == 0.0 else (
+                math.nan if math.isnan(f2a) else f2a / load_a - 1.0)
             if listed:
                 detail[PEAK, k], detail[RMS, k], detail[SPEED, k] = req_p[q], req_r, req_s * _RPM
                 detail[INERTIA, k], detail[FIT, k] = ir, (0.0 if direct else sh * _MM)
                 detail[GB_PEAK, k], detail[GB_RATED, k], detail[GB_ESTOP, k] = req_t2b, req_t2n, req_ge
                 detail[GB_SPEED, k], detail[GB_MEAN_SPEED, k] = req_s * _RPM, req_mean * _RPM
+                detail[BRAKE, k], detail[N_CHECKS + BRAKE, k] = req_b, av_b
+                detail[GB_RADIAL, k], detail[N_CHECKS + GB_RADIAL, k] = (0.0 if direct else load_r), f2r
+                detail[GB_AXIAL, k], detail[N_CHECKS + GB_AXIAL, k] = (0.0 if direct else load_a), f2a
                 a = N_CHECKS
                 detail[a + PEAK, k], detail[a + RMS, k], detail[a + SPEED, k] = av_p[q], cont, w_m * _RPM
                 detail[a + INERTIA, k], detail[a + FIT, k] = limit, r_bmax[q] * _MM
@@ -242,14 +282,14 @@ def loop_check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArr
 
 def _sub_model(model: tuple[Any, ...], motors: NDArray[np.intp]) -> tuple[Any, ...]:
     """The model of the selection restricted to some motors (every group, gearbox row and envelope row)."""
-    out = [a[motors] for a in model[:6]]
-    return (*out, model[6][motors], model[7][:, motors], *model[8:])
+    out = [a[motors] for a in model[:8]]
+    return (*out, model[8][motors], model[9][:, motors], *model[10:])
 
 
 def _motors_to_check(model: tuple[Any, ...], rng: np.random.Generator) -> NDArray[np.intp]:
     """Motors of every kind the checks tell apart: fast enough for the top bin of some group (with and
     without an unknown envelope there), too slow for every group, and a random few."""
-    full_row, env_full = model[7], model[8]
+    full_row, env_full = model[9], model[10]
     reach = np.flatnonzero((full_row >= 0).any(axis=0))
     gap_rows = np.flatnonzero(np.isnan(env_full).any(axis=1))
     with_gap = np.unique(np.nonzero(np.isin(full_row, gap_rows))[1])

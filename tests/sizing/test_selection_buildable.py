@@ -87,11 +87,12 @@ def test_no_passing_pair_is_known_not_to_assemble(sized: dict[str, SizingResult]
     fit_bit = 1 << 4
     assert np.all((c.unknown[geared][~known] & fit_bit) != 0)
     # Every known misfit is counted: shaft above the bore, below the bushing range, or a flange/pilot mismatch.
-    from drivetrain.sizing.checks import mechanical_fit
+    from drivetrain.sizing.checks import adapter_arrays, mechanical_fit
 
     m, r = c.motor[geared], rows[geared]
     margin = mechanical_fit(shaft, motors.flange[m], motors.pilot_diameter[m], bore, gb.input_bore_min[r],
-                            gb.input_flange[r], gb.input_pilot[r])
+                            gb.input_flange[r], gb.input_pilot[r], bolt_circle=motors.bolt_circle[m],
+                            adapters=adapter_arrays(gb.input_adapters)[r])
     assert np.count_nonzero(margin < 0) >= np.count_nonzero(known & (shaft > bore))
     assert sel["failures_by_check"]["mechanical_fit"] == int(np.count_nonzero(margin < 0))
 

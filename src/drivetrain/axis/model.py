@@ -45,6 +45,7 @@ from drivetrain.fields import (
     Voltage,
     input_error_from_pydantic,
 )
+from drivetrain.physics.brake import BRAKE_SAFETY_FACTOR
 from drivetrain.physics.efficiency import EfficiencyModel
 from drivetrain.physics.loads import G_STANDARD
 from drivetrain.physics.mechanisms import Mechanism, MechanismSpec
@@ -66,7 +67,8 @@ class Margins(Spec):
     Defaults as servo sizing guides use them (docs/checks.md, "Default margins"): torque and RMS
     torque x 1.2, speed x 1.1, inertia ratio 5 (lecture: below 5:1). ``gearbox_shock_factor`` is
     the vendor's fs on T2B above 1000 cycles/h, read from the vendor's chart; unset, T2B is then
-    unknown.
+    unknown. ``brake`` is the factor on the static load torque a motor holding brake must hold
+    (physics/brake.py ``BRAKE_SAFETY_FACTOR``, docs/checks.md "Motor holding brake").
     """
 
     torque: float = Field(default=1.2, ge=1.0, le=10.0)
@@ -74,6 +76,7 @@ class Margins(Spec):
     speed: float = Field(default=1.1, ge=1.0, le=10.0)
     inertia_ratio: float = Field(default=5.0, gt=0.0, le=1000.0)
     gearbox_shock_factor: float | None = Field(default=None, ge=1.0, le=10.0)
+    brake: float = Field(default=BRAKE_SAFETY_FACTOR, ge=1.0, le=10.0)
 
 
 class SelectSpec(Spec):

@@ -128,7 +128,9 @@ class MotorTable(_Table):
     rated_speed: FloatArray  # [rad/s]
     max_speed: FloatArray  # [rad/s]
     rotor_inertia: FloatArray  # [kg m^2]
-    rotor_inertia_brake: FloatArray  # [kg m^2]
+    rotor_inertia_brake: FloatArray  # [kg m^2] the brake variant's (with-brake total; NaN: not in the catalog)
+    brake_holding_torque: FloatArray  # [N m] the brake variant's holding torque (NaN: not in the catalog)
+    brake_code: StrArray  # the brake variant's order code ("" where not in the catalog)
     mass: FloatArray  # [kg]
     flange: FloatArray  # [m]
     shaft_diameter: FloatArray  # [m] output shaft (NaN where unknown)
@@ -187,6 +189,7 @@ class GearboxTable(_Table):
     input_bore_min: FloatArray  # [m] smallest motor shaft (with the vendor's bushing); NaN: not printed
     input_flange: FloatArray  # [m] motor flange (square) the input adapter is made for; NaN: not printed
     input_pilot: FloatArray  # [m] motor pilot (centring) diameter of the input; NaN: not printed
+    input_adapters: StrArray  # the drawn input adapters, "bore/pilot/bolt circle/screw" [mm] each ("": none)
     verified: BoolArray  # True: every number of the row traced to a vendor document
 
 

@@ -19,12 +19,17 @@ Array = NDArray[np.float64]
 CHECK_UNITS = {"peak_torque": "N*m", "rms_torque": "N*m", "max_speed": "rpm", "inertia_ratio": "-",
                "mechanical_fit": "mm", "gearbox_peak_torque": "N*m", "gearbox_rated_torque": "N*m",
                "gearbox_emergency_stop_torque": "N*m", "gearbox_max_input_speed": "rpm",
-               "gearbox_mean_input_speed": "rpm"}
+               "gearbox_mean_input_speed": "rpm", "motor_brake": "N*m", "gearbox_radial_load": "N",
+               "gearbox_axial_load": "N"}
 """Every check of a candidate with its unit, in the order of the compiled pass's arrays (kernel.py)."""
 
 FIT_BIT = 1 << list(CHECK_UNITS).index("mechanical_fit")
+BRAKE_BIT = 1 << list(CHECK_UNITS).index("motor_brake")
+KNOWN_FIRST = FIT_BIT | BRAKE_BIT
+"""The unknown checks that rank a passing candidate after the known ones: a pair not known to assemble,
+a motor whose brake variant's holding torque the catalog lacks."""
 
-MOTOR_CHECKS = ("peak_torque", "rms_torque", "max_speed", "inertia_ratio")
+MOTOR_CHECKS = ("peak_torque", "rms_torque", "max_speed", "inertia_ratio", "motor_brake")
 """The checks a direct-drive candidate has; the others belong to a gearbox."""
 
 
@@ -87,13 +92,24 @@ class Candidates:
         hit[motors] = True
         return np.flatnonzero(hit[self.motor])
 
+    @property
+    def brake_needed(self) -> bool:
+        """The axis needs a motor holding brake: the ``motor_brake`` check applies (kernel.py, par[9])."""
+        return not bool(np.isnan(self.model[-1][9]))
+
+    def check_names(self) -> list[str]:
+        """The checks that apply to these candidates: ``motor_brake`` only where the axis needs a brake."""
+        return [n for n in CHECK_UNITS if n != "motor_brake" or self.brake_needed]
+
     def failures(self) -> dict[str, int]:
         """How many candidates fail each check."""
-        return {n: int(np.count_nonzero(self.failed & (1 << c))) for c, n in enumerate(CHECK_UNITS)}
+        return {n: int(np.count_nonzero(self.failed & (1 << c))) for c, n in enumerate(CHECK_UNITS)
+                if n != "motor_brake" or self.brake_needed}
 
     def unknowns(self) -> dict[str, int]:
         """How many candidates cannot be judged on each check (a rating or dimension unknown)."""
-        return {n: int(np.count_nonzero(self.unknown & (1 << c))) for c, n in enumerate(CHECK_UNITS)}
+        return {n: int(np.count_nonzero(self.unknown & (1 << c))) for c, n in enumerate(CHECK_UNITS)
+                if n != "motor_brake" or self.brake_needed}
 
     def details(self, ks: NDArray[np.intp] | list[int]) -> Details:
         """Required, available and margin of every check of the candidates ``ks``."""
@@ -128,7 +144,8 @@ def closest(c: Candidates, pool: NDArray[np.intp]) -> int:
     return int(pool[np.argmax(np.where(np.isnan(w), -np.inf, w))])
 
 
-__all__ = ["CHECK_UNITS", "FIT_BIT", "MOTOR_CHECKS", "Candidates", "Details", "closest", "column"]
+__all__ = ["BRAKE_BIT", "CHECK_UNITS", "FIT_BIT", "KNOWN_FIRST", "MOTOR_CHECKS", "Candidates", "Details", "closest",
+           "column"]
 
 
 @dataclass

@@ -54,39 +54,106 @@ def combine_margins(*margins: Array) -> Array:
     return np.asarray(np.where((low < 0.0) | ~gap, low, np.nan), dtype=float)
 
 
+MAX_ADAPTERS = 4
+"""Drawn motor adapters kept per gearbox row (the shipped G+ rows draw at most 4)."""
+
+
+def adapter_arrays(adapters: Any) -> Array:
+    """The drawn input adapters of gearbox rows (catalog ``input_adapters``: ``bore/pilot/bolt circle/screw``
+    in mm, separated by spaces; ``sq`` before the third number: a square hole pattern of that side)
+    as an array (rows, MAX_ADAPTERS, 3): bore, pilot and bolt-circle diameter [m], NaN where a row
+    draws fewer (or none). The four holes of a square pattern of side s lie on a circle of diameter
+    s sqrt(2), so a square pattern compares with a motor's bolt circle as that circle (NEMA 23:
+    47.14 mm square, 66.67 mm circle). Source of the format: catalog/data/SOURCES.md, "G+ drawing
+    sheets".
+
+    >>> adapter_arrays(["14/50/70/M4 8/38.1/sq47.14/M4"])[0, :2].round(5).tolist()
+    [[0.014, 0.05, 0.07], [0.008, 0.0381, 0.06667]]
+    """
+    texts = [str(t) for t in adapters]
+    out = np.full((len(texts), MAX_ADAPTERS, 3), np.nan)
+    for r, text in enumerate(texts):
+        for a, item in enumerate(text.split()[:MAX_ADAPTERS]):
+            parts = item.split("/")
+            if len(parts) < 3:
+                continue
+            third = parts[2]
+            circle = float(third[2:]) * math.sqrt(2.0) if third.startswith("sq") else float(third)
+            out[r, a] = (float(parts[0]) * 1e-3, float(parts[1]) * 1e-3, circle * 1e-3)
+    return out
+
+
+def _equal(motor: Array, adapter: Array, tolerance: float) -> Array:
+    """A motor dimension against the adapter's: +inf within ``tolerance``, else -|motor / adapter - 1|;
+    NaN where either is unknown."""
+    mismatch = np.where(np.abs(motor - adapter) <= tolerance, np.inf, -np.abs(motor / adapter - 1.0))
+    return np.asarray(np.where(np.isnan(adapter) | np.isnan(motor), np.nan, mismatch), dtype=float)
+
+
+def adapter_margin(shaft: Array | float, pilot: Array | float, bolt_circle: Array | float, adapters: Array,
+                   tolerance: float = 0.5e-3) -> Array:
+    """Margin of a motor onto the best of a gearbox's drawn adapters [-] (``adapters`` (..., A, 3): bore,
+    pilot, bolt circle [m], NaN-padded): for each adapter the shaft into its bore (bore / shaft - 1),
+    the pilot and the bolt circle equal within ``tolerance``; the motor fits when one adapter fits.
+    The largest known margin where one passes; else NaN where an adapter cannot be judged (it might
+    fit); else the largest (least negative) shortfall; NaN where no adapter is drawn."""
+    sh, pi, bc = (np.asarray(x, dtype=float)[..., None] for x in (shaft, pilot, bolt_circle))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        each = combine_margins(np.where(np.isnan(adapters[..., 0]), np.nan, adapters[..., 0] / sh - 1.0),
+                               _equal(pi, adapters[..., 1], tolerance), _equal(bc, adapters[..., 2], tolerance))
+    drawn = ~np.isnan(adapters[..., 1])
+    each = np.where(drawn, each, -np.inf)  # an adapter not drawn fits nothing
+    best = np.max(np.where(np.isnan(each), -np.inf, each), axis=-1)
+    gap = np.any(drawn & np.isnan(each), axis=-1)
+    return np.asarray(np.where(best >= 0.0, best, np.where(gap | ~np.any(drawn, axis=-1), np.nan, best)),
+                      dtype=float)
+
+
 def mechanical_fit(shaft: Array, flange: Array, pilot: Array, bore_max: Array, bore_min: Array,
-                   input_flange: Array, input_pilot: Array, tolerance: float = 0.5e-3) -> Array:
+                   input_flange: Array, input_pilot: Array, tolerance: float = 0.5e-3,
+                   bolt_circle: Array | float = np.nan, adapters: Array | None = None) -> Array:
     """Margin of a motor's assembly onto a gearbox input [-] (NaN: cannot be judged), arrays of lengths [m].
 
     The motor shaft must go into the input's clamping hub: ``shaft <= bore_max`` (margin
     bore_max / shaft - 1) and, where the catalog gives the smallest bore the vendor's bushings
-    reach, ``shaft >= bore_min`` (shaft / bore_min - 1). Where the catalog names the motor flange
-    and pilot the input adapter is made for, the motor's must equal them within ``tolerance``
-    (mismatch margin -|motor / adapter - 1|). A known shortfall fails the pair; otherwise a
-    missing dimension (the shaft, the bore, or the motor's flange or pilot where the adapter's is
-    given) leaves the fit unknown (NaN), never silently accepted. Sources: WITTENSTEIN
-    engineering glossary, "Clamping hub" and "Bushing" (a bushing adapts a motor shaft smaller than
-    the clamping hub; http://wittenstein-us.com/tech-support/engineering-glossary/); Beckhoff
-    AG2400 (WITTENSTEIN TP+) data pages, "depending on the clamping hub diameter and selected
-    adapter plate" (https://infosys.beckhoff.com/content/1033/ag2400_ba/8995369483.html).
+    reach, ``shaft >= bore_min`` (shaft / bore_min - 1). The motor's flange must match the input
+    adapter: where the catalog draws the adapters (``adapters``, :func:`adapter_arrays`), one of
+    them must take the motor's shaft, pilot and bolt circle (:func:`adapter_margin`); otherwise the
+    adapter's pilot (``input_pilot``) and square flange (``input_flange``) must equal the motor's
+    within ``tolerance`` (mismatch margin -|motor / adapter - 1|), and with neither given the
+    adapter is not known: the fit is unknown, never taken as the motor's own. A known shortfall
+    fails the pair; otherwise a missing dimension (the shaft, the bore, a motor dimension the
+    adapter names, the adapter's bolt pattern) leaves the fit unknown (NaN), never silently
+    accepted. Sources: WITTENSTEIN engineering glossary, "Clamping hub" and "Bushing" (a bushing
+    adapts a motor shaft smaller than the clamping hub;
+    http://wittenstein-us.com/tech-support/engineering-glossary/); Beckhoff AG2400 (WITTENSTEIN
+    TP+) data pages, "depending on the clamping hub diameter and selected adapter plate"
+    (https://infosys.beckhoff.com/content/1033/ag2400_ba/8995369483.html); the drawn adapters of
+    the G+ sheets (catalog/data/SOURCES.md).
 
     >>> round(float(mechanical_fit(0.022, 0.13, 0.11, 0.014, np.nan, np.nan, np.nan)), 6)  # 22 mm into 14 mm
     -0.363636
     >>> bool(np.isnan(mechanical_fit(0.014, np.nan, np.nan, np.nan, np.nan, np.nan, np.nan)))  # bore unknown
     True
+    >>> bool(np.isnan(mechanical_fit(0.014, 0.06, 0.05, 0.014, np.nan, np.nan, np.nan)))  # adapter unknown
+    True
     """
-    shaft, flange, pilot = (np.asarray(x, dtype=float) for x in (shaft, flange, pilot))
+    shaft, flange, pilot, bc = (np.asarray(x, dtype=float) for x in (shaft, flange, pilot, bolt_circle))
     bore_max, bore_min, input_flange, input_pilot = (np.asarray(x, dtype=float)
                                                      for x in (bore_max, bore_min, input_flange, input_pilot))
+    if adapters is None:
+        adapters = np.full((*np.broadcast_shapes(bore_max.shape, input_pilot.shape), MAX_ADAPTERS, 3), np.nan)
     with np.errstate(divide="ignore", invalid="ignore"):
         m1 = bore_max / shaft - 1.0
         m2 = np.where(np.isnan(shaft), np.nan, np.where(np.isnan(bore_min), np.inf, shaft / bore_min - 1.0))
-
-        def equal(motor: Array, adapter: Array) -> Array:
-            mismatch = np.where(np.abs(motor - adapter) <= tolerance, np.inf, -np.abs(motor / adapter - 1.0))
-            return np.where(np.isnan(adapter), np.inf, np.where(np.isnan(motor), np.nan, mismatch))
-
-        return combine_margins(m1, m2, equal(flange, input_flange), equal(pilot, input_pilot))
+        drawn = np.any(~np.isnan(adapters[..., 1]), axis=-1)
+        # no drawn adapter: the adapter's square flange (it names the adapter plate) and pilot where named;
+        # the pilot alone does not give the bolt pattern: it can fail the pair, not pass it
+        pilot_m = np.where(np.isnan(input_pilot), np.inf, _equal(pilot, input_pilot, tolerance))
+        own = np.where(np.isnan(input_flange), np.where(pilot_m < 0.0, pilot_m, np.nan),
+                       combine_margins(_equal(flange, input_flange, tolerance), pilot_m))
+        m3 = np.where(drawn, adapter_margin(shaft, pilot, bc, adapters, tolerance), own)
+        return combine_margins(m1, m2, m3)
 
 
 CYCLIC_LIMIT_PER_HOUR = 1000.0

@@ -465,20 +465,27 @@ def _reselect(axis: Axis, duty: DutyCycle, chosen: Selection, best: int, passed:
     """Make candidate ``best`` the selection: its row, the next smaller motor (the last one passed
     over for its drive, which is smaller) and its optimal ratio."""
     from drivetrain.sizing.reasons import candidate_dict
-    from drivetrain.sizing.selection import best_per_motor, optimal_ratio
+    from drivetrain.sizing.selection import best_per_motor, next_smaller, optimal_ratio, size_key
 
     sel, ranking = chosen.summary, chosen.ranking
     c, motors, gb = ranking.candidates, ranking.motors, ranking.gearboxes
     order = [int(k) for k in best_per_motor(c, ranking.ranked)]
     ranking.best = best
     sel["selected"] = candidate_dict(c, best, motors, gb, order.index(best) + 1)
-    last = order[order.index(best) - 1]
-    nxt = candidate_dict(c, last, motors, gb, None)
-    last_why = passed[-1]
-    why = last_why["reason"] if last_why["drive_status"] == "dynamics" or last_why["reason"].startswith(
-        "voltage_class:") else f"drive: {last_why['reason']}"
-    nxt.update({"failed": why, "failures": [why]})
-    sel["next_smaller"] = nxt
+    # the last one passed over that is smaller: a candidate known to assemble or to hold with its brake ranks
+    # before a smaller one not known to (selection.ranked), so the one just before may be larger
+    size = size_key(motors)
+    before = order[:order.index(best)]  # each passed over, in the order of ``passed`` (_walk)
+    smaller = [i for i, k in enumerate(before) if size[c.motor[k]] < size[c.motor[best]]]
+    if smaller:
+        last, last_why = before[smaller[-1]], passed[smaller[-1]]
+        nxt = candidate_dict(c, last, motors, gb, None)
+        why = last_why["reason"] if last_why["drive_status"] == "dynamics" or last_why["reason"].startswith(
+            "voltage_class:") else f"drive: {last_why['reason']}"
+        nxt.update({"failed": why, "failures": [why]})
+        sel["next_smaller"] = nxt
+    else:
+        sel["next_smaller"] = next_smaller(c, motors, gb, best)
     sel["optimal_ratio"] = optimal_ratio(axis, duty, motors, int(c.motor[best]), gb)
 
 

@@ -25,7 +25,15 @@ Per candidate k (motor m, group g of ratio i and efficiency eta, gearbox row r o
   factor above 1000 cycles/h), T2N against the cubic-mean output torque, T2NOT against the
   torque that passes at the motor's peak, ((1 - k)(T_M - T_L/i) + T_L/i) i eta with
   k = J / (J + J_L/i^2) (lecture, Dynamic Loading and Gearbox Sizing), n1max against the peak
-  input speed x speed margin, n1N against the mean input speed.
+  input speed x speed margin, n1N against the mean input speed;
+* motor brake (only where the axis needs a holding brake, ``motor_brake.holding_need``): the brake
+  variant's holding torque against the static load torque at the axis's motor shaft / i x eta
+  (the load drives back through the gearbox: ``physics.brake.held_torque``) x the brake factor;
+  unknown where the catalog lacks the holding torque. The rotor inertia is then the brake
+  variant's (``motor_brake.braked_motors``, before the model is built);
+* output loads: the radial and axial load the axis puts on the gearbox output
+  (``mechanism_checks.output_loads``: a belt pulley's shaft load, a pinion's forces) against F2r and
+  F2a as the catalog gives them; unknown where either is not known.
 
 A margin is NaN where a rating or dimension it needs is unknown; the candidate's ``unknown``
 bits say which. Envelopes are not computed here: the caller passes them, computed by
@@ -44,9 +52,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from drivetrain.sizing.checks import mechanical_fit
+
 # rows of the check arrays, in the order of selection.CHECK_UNITS
-(PEAK, RMS, SPEED, INERTIA, FIT, GB_PEAK, GB_RATED, GB_ESTOP, GB_SPEED, GB_MEAN_SPEED) = range(10)
-N_CHECKS = 10
+(PEAK, RMS, SPEED, INERTIA, FIT, GB_PEAK, GB_RATED, GB_ESTOP, GB_SPEED, GB_MEAN_SPEED, BRAKE, GB_RADIAL,
+ GB_AXIAL) = range(13)
+N_CHECKS = 13
 
 _RPM = 60.0 / (2.0 * np.pi)
 _MM = 1e3
@@ -84,10 +95,10 @@ def check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np
     and margin of every check, its RMS and peak torque and inertia ratio.
 
     ``model`` (see ``selection.evaluate``). Motors (M): rotor inertia [kg m^2], peak torque [N m],
-    max speed [rad/s], shaft, flange and pilot diameter [m]. Envelopes [N m]: ``cont_mean`` (M, G)
-    continuous at each group's mean speed, ``env_full[full_row[g, m]]`` (B,) intermittent at every
-    bin of group g where the motor reaches the top bin (row -1 where it does not). Groups (G):
-    ratio, efficiency, the demand behind the ratio: ``hull_speed`` (G, B) bin upper edges [rad/s],
+    max speed [rad/s], shaft, flange and pilot diameter [m], brake holding torque [N m]. Envelopes
+    [N m]: ``cont_mean`` (M, G) continuous at each group's mean speed, ``env_full[full_row[g, m]]``
+    (B,) intermittent at every bin of group g where the motor reaches the top bin (row -1 where it does not).
+    Groups (G): ratio, efficiency, the demand behind the ratio: ``hull_speed`` (G, B) bin upper edges [rad/s],
     ``hull_t``/``hull_a`` (G, B, V) hull vertices per bin [N m, rad/s^2], ``all_t``/``all_a`` (G,
     V2) hull of the whole cycle, ``sums`` (G, 3) S_TT, S_Ta, S_aa, ``g_speed`` (G, 2) max and mean
     |omega| [rad/s], reflected load inertia [kg m^2]. ``rows[row_start[g]:row_start[g + 1]]`` are
@@ -95,7 +106,10 @@ def check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np
     m^2] (0 where unknown), n1max and n1N [rad/s], T2N, T2B and T2NOT [N m], input bore max and min,
     flange and pilot [m]. ``par``: period [s], torque, RMS and speed margins, inertia-ratio limit,
     cubic-mean output torque [N m], running load torque [N m], peak output torque [N m], shock
-    factor (NaN where the cycle rate needs one that is not given).
+    factor (NaN where the cycle rate needs one that is not given), static torque the brake must hold
+    at the axis's motor shaft x the brake factor [N m] (NaN: the axis needs no brake), radial and
+    axial load on the gearbox output [N] (NaN: not modelled). Gearbox rows also: drawn adapters
+    (R, 3 A) [m], F2r and F2a [N].
     """
     listed = pick.shape[1] > 0
     with np.errstate(all="ignore"):  # inf and NaN are values here (an unknown rating, a zero demand)
@@ -230,11 +244,11 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     """Candidates (motor m, group g, slot q; listed: 1-D, grid: motors as a column, slots as a row):
     listed, their margins (N_CHECKS, n) and detail vectors (N_DETAIL, n); grid, each check's margins
     (broadcast over motors and slots) and whether each motor is too slow for the cycle's top bin."""
-    (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, cont_mean, full_row, env_full, g_ratio, g_eff,
-     hull_speed, hull_t, hull_a, all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_nmax, gb_nmean, gb_t2n, gb_t2b,
-     gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, par) = model
+    (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, m_bolt, m_brake, cont_mean, full_row, env_full, g_ratio,
+     g_eff, hull_speed, hull_t, hull_a, all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_nmax, gb_nmean, gb_t2n, gb_t2b,
+     gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, gb_adapters, gb_f2r, gb_f2a, par) = model
     period, tm, rm, sm, limit, out_cubic, run_t = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
-    out_peak, fs = par[7], par[8]
+    out_peak, fs, hold, load_r, load_a = par[7], par[8], par[9], par[10], par[11]
     top = hull_speed.shape[1] - 1
     shape = np.broadcast_shapes(m.shape, q.shape)
     req_t2b = out_peak * tm * (1.0 if np.isnan(fs) else fs)
@@ -250,6 +264,11 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     r_t2n, r_t2b, r_t2not = row(gb_t2n, _INF), row(gb_t2b, _INF), row(gb_t2not, _INF)
     r_bmax, r_bmin, r_fl, r_pi = row(gb_bore_max, _INF), row(gb_bore_min, _NAN), row(gb_flange, _NAN), \
         row(gb_pilot, _NAN)
+    r_ad = np.concatenate([np.full((1, gb_adapters.shape[1]), _NAN), gb_adapters])[r]  # drawn adapters, flat
+    r_f2r, r_f2a = row(gb_f2r, _INF), row(gb_f2a, _INF)
+    # the output loads against F2r / F2a: nothing needed passes; an unknown load or rating is unknown
+    r_mar_f2r = np.where(direct | (load_r == 0.0), _INF, np.where(np.isnan(r_f2r), _NAN, r_f2r / load_r - 1.0))
+    r_mar_f2a = np.where(direct | (load_a == 0.0), _INF, np.where(np.isnan(r_f2a), _NAN, r_f2a / load_a - 1.0))
     req_s = g_speed[g, 0] * sm
     req_mean = g_speed[g, 1]
     # margins of the row alone; an unknown rating leaves its check unknown, whatever is required
@@ -281,7 +300,7 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     s_tt, s_ta, s_aa = sums[g, 0], sums[g, 1], sums[g, 2]
     cont = cont_mean[m, g] if listed else cont_mean[m[:, 0]][:, g[0]]  # (rows, then columns: the faster way)
     w_m, j_l, t_pk = w_max[m], g_j_load[g], t_peak[m]
-    sh, fl_m, pi_m = m_shaft[m], m_flange[m], m_pilot[m]
+    sh, fl_m, pi_m, bc_m = m_shaft[m], m_flange[m], m_pilot[m], m_bolt[m]
     mar_motor_speed = _over(w_m, req_s)
     t_l = run_t / i
     # RMS torque against the continuous torque at the mean speed
@@ -291,16 +310,27 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     # inertia ratio, the gearbox's input inertia on the load side
     ir = (j_l + r_j) / j_m
     mar_i = np.where(ir > 0.0, limit / ir - 1.0, _INF)
-    # mechanical fit: once per distinct motor (shaft, flange, pilot) and gearbox input (bores, flange,
-    # pilot), then looked up: it depends on nothing else
-    motor_dims, at_motor = _distinct(np.stack([x.ravel() for x in (sh, fl_m, pi_m)], axis=1))
-    row_dims, at_row = _distinct(np.stack([x.ravel() for x in (r_bmax, r_bmin, r_fl, r_pi, direct)], axis=1))
-    fits = _fit(*(c[:, None] for c in motor_dims.T), *(c[None, :] for c in row_dims.T))
+    # mechanical fit: once per distinct motor (shaft, flange, pilot, bolt circle) and gearbox input (bores,
+    # flange, pilot, drawn adapters), then looked up: it depends on nothing else
+    motor_dims, at_motor = _distinct(np.stack([x.ravel() for x in (sh, fl_m, pi_m, bc_m)], axis=1))
+    flat = [x.ravel() for x in (r_bmax, r_bmin, r_fl, r_pi, direct)]
+    row_dims, at_row = _distinct(np.concatenate([np.stack(flat, axis=1), r_ad.reshape(len(flat[0]), -1)], axis=1))
+    md, rd = motor_dims.T[:, :, None], row_dims.T[:5, None, :]
+    fits = _fit(md[0], md[1], md[2], md[3], rd[0], rd[1], rd[2], rd[3], rd[4],
+                row_dims[None, :, 5:].reshape(1, len(row_dims), -1, 3))
     mar_f = fits[at_motor.reshape(sh.shape), at_row.reshape(r_bmax.shape)]
     # gearbox: what passes at the motor's peak against the emergency-stop torque
     req_ge = np.where(direct, 0.0, ((1.0 - j / (j + j_l)) * (t_pk - t_l) + t_l) * i * g_eff[g])
     mar_ge = np.where(np.isnan(r_t2not), _NAN, np.where(direct, _INF, _over(r_t2not, req_ge)))
-    margins = [mar_p, mar_r, mar_motor_speed, mar_i, mar_f, r_mar_t2b, r_mar_t2n, mar_ge, r_mar_speed, r_mar_mean]
+    # motor brake: holding torque against the static torque through the gearbox (holding direction)
+    if np.isnan(hold):
+        req_b, av_b, mar_b = np.zeros(1), np.full(1, _INF), np.full(1, _INF)  # no brake needed: never limits
+    else:
+        req_b = hold / i * g_eff[g]
+        av_b = m_brake[m]
+        mar_b = np.where(np.isnan(av_b), _NAN, _over(av_b, req_b))
+    margins = [mar_p, mar_r, mar_motor_speed, mar_i, mar_f, r_mar_t2b, r_mar_t2n, mar_ge, r_mar_speed, r_mar_mean,
+               mar_b, r_mar_f2r, r_mar_f2a]
     if not listed:
         return margins, slow
     mar = np.empty((N_CHECKS, *shape))
@@ -308,9 +338,10 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
         mar[c] = x
     out = np.empty((N_DETAIL, *shape))
     for c, x in enumerate((req_p, req_r, req_s * _RPM, ir, np.where(direct, 0.0, sh * _MM), req_t2b, req_t2n,
-                           req_ge, req_s * _RPM, req_mean * _RPM,
+                           req_ge, req_s * _RPM, req_mean * _RPM, req_b, np.where(direct, 0.0, load_r),
+                           np.where(direct, 0.0, load_a),
                            av_p, cont, w_m * _RPM, limit, r_bmax * _MM, r_t2b, r_t2n, r_t2not, r_speed * _RPM,
-                           r_mean * _RPM)):
+                           r_mean * _RPM, av_b, r_f2r, r_f2a)):
         out[c] = x
     out[2 * N_CHECKS:3 * N_CHECKS] = mar
     out[D_RMS], out[D_PEAK], out[D_INERTIA] = rms, peak_all, ir
@@ -331,30 +362,15 @@ def _distinct(a: Array) -> tuple[Array, NDArray[np.intp]]:
     return np.where(found == _SENTINEL, _NAN, found), np.asarray(at).ravel()
 
 
-def _fit(sh: Array, fl_m: Array, pi_m: Array, r_bmax: Array, r_bmin: Array, r_fl: Array, r_pi: Array,
-         direct: Array) -> Array:
-    """Margin of the mechanical fit (``checks.mechanical_fit``): the motor shaft [m] into the gearbox's
-    input bore range, flange and pilot [m] equal to its adapter's where given; a known shortfall first,
-    NaN where one is unknown and none falls short, infinite for direct drive."""
-    m1 = r_bmax / sh - 1.0
-    m2 = np.where(np.isnan(sh), _NAN, np.where(np.isnan(r_bmin), _INF, sh / r_bmin - 1.0))
-    m3 = _same_size(fl_m, r_fl)
-    m4 = _same_size(pi_m, r_pi)
-    lo = np.full(np.broadcast_shapes(m1.shape, m2.shape, m3.shape, m4.shape), _INF)
-    gap = np.zeros(lo.shape, dtype=bool)
-    for x in (m1, m2, m3, m4):
-        nan = np.isnan(x)
-        gap |= nan
-        lo = np.where(~nan & (x < lo), x, lo)
-    return np.where(direct > 0.0, _INF, np.where((lo < 0.0) | ~gap, lo, _NAN))
-
-
-def _same_size(motor: Array, gearbox: Array) -> Array:
-    """Margin of a motor flange or pilot against the gearbox adapter's: infinite where the gearbox gives
-    none or they are equal within FIT_TOLERANCE, NaN where only the motor's is unknown, else the
-    relative difference, negative."""
-    differ = np.where(np.abs(motor - gearbox) <= FIT_TOLERANCE, _INF, -np.abs(motor / gearbox - 1.0))
-    return np.where(np.isnan(gearbox), _INF, np.where(np.isnan(motor), _NAN, differ))
+def _fit(sh: Array, fl_m: Array, pi_m: Array, bc_m: Array, r_bmax: Array, r_bmin: Array, r_fl: Array, r_pi: Array,
+         direct: Array, r_ad: Array) -> Array:
+    """Margin of the mechanical fit (``checks.mechanical_fit``, whose arithmetic this is): the motor shaft
+    [m] into the gearbox's input bore range, and its flange onto the input adapter: one of the drawn
+    adapters ``r_ad`` (..., A, 3: bore, pilot, bolt circle [m]) where the catalog draws them, else the
+    adapter's square flange and pilot where named (unknown where not); a known shortfall first, NaN where
+    one is unknown and none falls short, infinite for direct drive."""
+    return np.where(direct > 0.0, _INF, mechanical_fit(sh, fl_m, pi_m, r_bmax, r_bmin, r_fl, r_pi, FIT_TOLERANCE,
+                                                       bc_m, r_ad))
 
 
 def closest_failing(worst: NDArray[np.float64], failed: NDArray[Any], n: int) -> NDArray[np.int64]:
@@ -371,6 +387,6 @@ def closest_failing(worst: NDArray[np.float64], failed: NDArray[Any], n: int) ->
     return failing[np.argsort(-key, kind="stable")[:n]].astype(np.int64)
 
 
-__all__ = ["BLOCK", "D_INERTIA", "D_PEAK", "D_RMS", "FIT", "FIT_TOLERANCE", "GB_ESTOP", "GB_MEAN_SPEED", "GB_PEAK",
-           "GB_RATED", "GB_SPEED", "INERTIA", "N_CHECKS", "N_DETAIL", "PEAK", "RMS", "SPEED", "check",
-           "closest_failing"]
+__all__ = ["BLOCK", "BRAKE", "D_INERTIA", "D_PEAK", "D_RMS", "FIT", "FIT_TOLERANCE", "GB_AXIAL", "GB_ESTOP",
+           "GB_MEAN_SPEED", "GB_PEAK", "GB_RADIAL", "GB_RATED", "GB_SPEED", "INERTIA", "N_CHECKS", "N_DETAIL", "PEAK",
+           "RMS", "SPEED", "check", "closest_failing"]

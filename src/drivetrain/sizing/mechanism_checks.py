@@ -41,6 +41,130 @@ def _check(name: str, required: float, available: float, unit: str, source: str,
             "ok": bool(margin >= 0.0), "unit": unit, "source": source, "approximate": False, "note": note}
 
 
+def _unjudged(name: str, required: float, bound: float | None, unit: str, source: str, note: str) -> dict[str, Any]:
+    """A check that cannot be judged from what is given: ``bound`` [unit] is an upper bound on what is
+    available (None: none). Required above the bound fails with it; otherwise it is unknown (margin None)."""
+    if bound is not None and required > bound:
+        c = _check(name, required, bound, unit, source, note)
+        c["status"] = "fail"
+        return c
+    return {"name": name, "required": float(required), "available": None, "margin": None, "ok": True,
+            "status": "unknown", "unit": unit, "source": source, "approximate": False, "note": note}
+
+
+def screw_bounds(span: float | None, diameter: float | None, stroke: float, mounting: str = "fixed_supported",
+                 ) -> tuple[float | None, float | None, float | None, str]:
+    """Upper bounds on a screw's permissible compressive load [N], tensile/compressive load [N] and
+    critical speed [rad/s] without ``mechanism.screw``: the root (thread minor) diameter d_1 is at most
+    the nominal ``diameter`` [m], and each limit grows with d_1 (buckling with d_1^4, the load at the
+    permissible stress with d_1^2, the critical speed with d_1: physics/screw_limits.py, THK A15-30 and
+    A15-32), so the nominal diameter bounds them all from above. Lengths [m]: the critical speed over the
+    ``span`` (the screw's length, THK's l_b); the buckling length is at least what the nut's travel over
+    the ``stroke`` forces (``buckling_length``): the stroke (fixed-free, fixed-supported), (span +
+    stroke) / 2 (fixed-fixed), the span (supported-supported). None where a length or the diameter is
+    missing; the last item says what is missing ("" when nothing)."""
+    missing = [f for f, v in (("mechanism.diameter", diameter), ("mechanism.length", span)) if v is None]
+    if diameter is None:
+        return None, None, None, " and ".join(missing)
+    tensile = screw_limits.permissible_tensile_compressive_load(diameter)
+    if span is None:
+        return None, tensile, None, " and ".join(missing)
+    crit = float(screw_limits.critical_speed(diameter, span, mounting))
+    shortest = {"fixed_free": stroke, "fixed_supported": stroke, "fixed_fixed": (span + stroke) / 2.0,
+                "supported_supported": span}[mounting]
+    buck = float(screw_limits.buckling_load(diameter, min(shortest, span), mounting)) if shortest > 0.0 else None
+    return buck, tensile, crit, ""
+
+
+def _screw_bound_rows(spec: Any, duty: DutyCycle, f_peak: Array, w_peak: Array,
+                      out: list[list[dict[str, Any]]]) -> None:
+    """The screw checks of axes without ``mechanism.screw``, bounded from the nominal diameter (screw_bounds)."""
+    lo, hi = _stroke(duty)
+    mounting = "fixed_supported"  # ScrewLimitsSpec's default: no block, no stated mounting
+    buck, tensile, crit, missing = screw_bounds(getattr(spec, "length", None), getattr(spec, "diameter", None),
+                                                hi - lo, mounting)
+    d = getattr(spec, "diameter", None)
+    basis = (f"upper bound: root diameter taken as the nominal {d * 1e3:g} mm, {mounting} (the default)"
+             if d is not None else "")
+    give = "give mechanism.screw.root_diameter (and its mounting) to judge it"
+    if missing:
+        give = f"give {missing} and mechanism.screw.root_diameter to judge it"
+    for k, row in enumerate(out):
+        for name, req, bound, unit, src in (
+                ("screw_buckling", float(f_peak[k]), buck, "N", SRC_THK_AXIAL),
+                ("screw_tensile_compressive", float(f_peak[k]), tensile, "N", SRC_THK_AXIAL),
+                ("screw_critical_speed", float(w_peak[k]) * RPM, None if crit is None else crit * RPM, "rpm",
+                 SRC_THK_SPEED)):
+            fails = bound is not None and req > bound
+            note = (f"{basis}: {bound:.4g} {unit}, below what is required whatever the root diameter"
+                    if fails and bound is not None else
+                    f"{basis + f': at most {bound:.4g} {unit}; ' if bound is not None else ''}{give}")
+            row.append(_unjudged(name, req, bound, unit, src, note))
+
+
+def belt_stiffness_note(axis: Axis) -> dict[str, Any] | None:
+    """For a belt axis whose belt stiffness is not given: an unknown ``belt_stiffness`` entry saying that
+    the modes treat the belt as rigid and what to give (dynamics/axis_stiffness.py needs
+    ``mechanism.belt.specific_stiffness``, or ``permissible_tension``, and ``centre_distance``)."""
+    spec = axis.spec.mechanism
+    if getattr(spec, "type", None) not in ("belt", "timing_belt", "conveyor"):
+        return None
+    belt = getattr(spec, "belt", None)
+    gaps = []
+    if belt is None or (belt.specific_stiffness is None and belt.permissible_tension is None):
+        gaps.append("mechanism.belt.specific_stiffness (or permissible_tension)")
+    if belt is None or belt.centre_distance is None:
+        gaps.append("mechanism.belt.centre_distance")
+    if not gaps:
+        return None
+    return {"name": "belt_stiffness", "required": None, "available": None, "margin": None, "ok": True,
+            "status": "unknown", "unit": "N", "source": SRC_BELT, "approximate": False,
+            "note": f"the modes treat the belt as rigid: give {' and '.join(gaps)} to include its stiffness"}
+
+
+def output_loads(axis: Axis, duty: DutyCycle) -> tuple[float, float]:
+    """The largest radial and axial load the axis puts on the shaft that drives its mechanism [N]: what a
+    catalog gearbox's output carries when it drives the mechanism directly (its F2r / F2a checks,
+    kernel.py). NaN where it is not modelled.
+
+    * belt, timing belt, conveyor: the drive pulley's shaft load, sqrt(T_t^2 + T_s^2 - 2 T_t T_s cos(wrap))
+      over the cycle (``belt_rack.pulley_shaft_load``), with the tensions of ``_belt_checks`` (the stated
+      pretension, default the largest pull; all pull on one span where the belt's geometry is not given);
+      no axial load;
+    * rack and pinion: the pinion's sqrt(F_t^2 + F_r^2) radial and F_t tan(beta) axial
+      (``belt_rack.pinion_shaft_load``, Shigley ch. 13);
+    * ball and lead screw: none on the drive shaft (the screw's thrust is carried by its fixed bearing);
+    * a first transmission stage that is a coupling: none (a flexible coupling carries no shaft load);
+      any other first stage, and the other mechanisms (rotary, roll, hoist, chain, custom): NaN.
+    """
+    kind = getattr(axis.spec.mechanism, "type", "")
+    first = axis.transmission[0].kind if axis.transmission else None
+    if first == "coupling" or (kind in ("ball_screw", "lead_screw") and first is None):
+        return 0.0, 0.0
+    if first is not None or kind not in ("belt", "timing_belt", "conveyor", "rack_pinion"):
+        return math.nan, math.nan
+    force = axial_force(axis, duty)
+    if kind == "rack_pinion":
+        rack = getattr(axis.spec.mechanism, "rack", None)
+        alpha, beta = (rack.pressure_angle, rack.helix_angle) if rack is not None else (math.radians(20.0), 0.0)
+        radial, axial = belt_rack.pinion_shaft_load(np.abs(force), alpha, beta)
+        return float(np.max(radial)), float(np.max(np.abs(axial)))
+    belt = getattr(axis.spec.mechanism, "belt", None)
+    pull = np.abs(force)
+    lp, lo = np.zeros_like(pull), np.ones_like(pull)  # all pull on one span: the largest shaft load
+    if belt is not None and belt.centre_distance is not None:
+        try:
+            lp, lo = belt_rack.linear_belt_spans(belt_positions(axis, duty), belt.centre_distance, belt.layout,
+                                                 belt.clamp_offset)
+            lp, lo = np.where(force >= 0.0, lo, lp), np.where(force >= 0.0, lp, lo)
+        except InputError:
+            return math.nan, math.nan
+    pre = belt.pretension if belt is not None and belt.pretension is not None else float(pull.max())
+    tight, slack = belt_rack.linear_belt_tensions(pull, pre, lp, lo)
+    wrap = belt.wrap_angle if belt is not None else math.pi
+    return float(np.max(belt_rack.pulley_shaft_load(tight, slack, wrap))), 0.0
+
+
 def axial_force(axis: Axis, duty: DutyCycle) -> Array:
     """Force the mechanism transmits to the load along its travel over the cycle [N]: F_ext + M a."""
     load = axis.mechanism.load
@@ -138,8 +262,9 @@ def mechanism_checks(axis: Axis, duty: DutyCycle) -> list[dict[str, Any]]:
     if axis.mechanism.motion != "linear":
         return []
     force = axial_force(axis, duty)
+    belt = belt_stiffness_note(axis)
     return [*_checks_of_group([(axis, duty, force)])[0], *_belt_checks(axis, duty, force),
-            *_rack_checks(axis, duty, force)]
+            *_rack_checks(axis, duty, force), *([belt] if belt is not None else [])]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -189,8 +314,9 @@ def prepare_many(pairs: Sequence[tuple[Axis, DutyCycle]]) -> list[list[dict[str,
                 lists = _checks_of_group([(a, d, f) for _, a, d, f in members])
             except InputError:
                 continue
-            for (index, _, _, _), checks in zip(members, lists, strict=True):
-                out[index] = checks
+            for (index, axis, _, _), checks in zip(members, lists, strict=True):
+                belt = belt_stiffness_note(axis)
+                out[index] = checks if belt is None else [*checks, belt]
     return out
 
 
@@ -231,6 +357,8 @@ def _checks_of_group(members: list[tuple[Axis, DutyCycle, Array]]) -> list[list[
             if dn is not None:
                 row.append(_check("screw_dn_speed", w_peak[k] * RPM, dn[0], "rpm", SRC_THK_SPEED,
                                   f"DN {limits.dn_limit:g} mm/min at D = {dn[1] * 1e3:g} mm"))
+    elif getattr(spec, "type", None) in ("ball_screw", "lead_screw"):
+        _screw_bound_rows(spec, first_duty, f_peak, w_peak, out)
     if nut is not None:
         _nut_checks(members, nut, force, omega, weights, out)
     if first.spec.guide is not None and first.spec.guide.dynamic_rating is not None:

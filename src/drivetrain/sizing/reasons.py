@@ -12,6 +12,8 @@ from numpy.typing import NDArray
 
 from drivetrain.errors import InputError
 from drivetrain.sizing.candidates import CHECK_UNITS, MOTOR_CHECKS, Candidates, closest, column
+from drivetrain.sizing.checks import adapter_arrays, adapter_margin
+from drivetrain.sizing.motor_brake import brake_variant
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Margins, SelectSpec
@@ -22,7 +24,9 @@ if TYPE_CHECKING:
 _RATING_NAMES = {"gearbox_peak_torque": "T2B (max acceleration torque)", "gearbox_rated_torque": "T2N (rated torque)",
                  "gearbox_emergency_stop_torque": "T2NOT (emergency-stop torque)",
                  "gearbox_max_input_speed": "n1max (max input speed)",
-                 "gearbox_mean_input_speed": "n1N (nominal input speed)"}
+                 "gearbox_mean_input_speed": "n1N (nominal input speed)",
+                 "gearbox_radial_load": "F2r (max radial output load)",
+                 "gearbox_axial_load": "F2a (max axial output load)"}
 
 
 def _mm(x: float) -> str:
@@ -49,13 +53,31 @@ def _fit_reason(motors: MotorTable, m: int, gb: GearboxTable, g: int) -> tuple[s
         bad.append(f"motor shaft {_mm(shaft)} > gearbox input bore {_mm(bmax)}")
     if not math.isnan(shaft) and not math.isnan(bmin) and shaft < bmin:
         bad.append(f"motor shaft {_mm(shaft)} < smallest bore with bushing {_mm(bmin)}")
-    for what, mine, theirs in (("flange", flange, gfl), ("pilot", pilot, gpi)):
-        if math.isnan(theirs):
-            continue
-        if math.isnan(mine):
-            gaps.append(f"the motor's {what} (the adapter takes {_mm(theirs)})")
-        elif abs(mine - theirs) > FIT_TOLERANCE:
-            bad.append(f"motor {what} {_mm(mine)} ≠ gearbox adapter {what} {_mm(theirs)}")
+    adapters = adapter_arrays([str(gb.input_adapters[g])])[0]
+    drawn = adapters[~np.isnan(adapters[:, 1])]
+    if len(drawn):
+        bolt = float(column(motors, "bolt_circle")[m])
+        names = ", ".join(f"{_mm(a[0])} bore / {_mm(a[1])} pilot / {_mm(a[2])} bolt circle" for a in drawn)
+        fits = float(adapter_margin(shaft, pilot, bolt, drawn))
+        if math.isnan(fits):
+            lacking = [w for w, v in (("shaft diameter", shaft), ("pilot", pilot), ("bolt circle", bolt))
+                       if math.isnan(v)]
+            gaps.append(f"the motor's {' and '.join(lacking)} to match a drawn adapter ({names})")
+        elif fits < 0.0:
+            bad.append(f"no drawn adapter takes the motor (shaft {_mm(shaft)}, pilot {_mm(pilot)}, bolt circle "
+                       f"{_mm(bolt)}); drawn: {names}")
+    else:
+        for what, mine, theirs in (("flange", flange, gfl), ("pilot", pilot, gpi)):
+            if math.isnan(theirs):
+                continue
+            if math.isnan(mine):
+                gaps.append(f"the motor's {what} (the adapter takes {_mm(theirs)})")
+            elif abs(mine - theirs) > FIT_TOLERANCE:
+                bad.append(f"motor {what} {_mm(mine)} ≠ gearbox adapter {what} {_mm(theirs)}")
+        if math.isnan(gfl) and not bad:
+            gaps.append("the gearbox's motor adapter (catalog input_adapters: bore/pilot/bolt circle, or input_flange "
+                        "with input_pilot): ask the vendor for the adapter of this motor's flange"
+                        + (f" ({_mm(flange)} flange, {_mm(pilot)} pilot)" if not math.isnan(flange) else ""))
     return "; ".join(bad), ("the catalog lacks " + " and ".join(gaps) if gaps else "")
 
 
@@ -71,8 +93,14 @@ def _unknown_note(name: str, c: Candidates, fit_gap: str) -> str:
     if name == "gearbox_peak_torque" and math.isnan(float(par[8])):
         return (f"{3600.0 / float(par[0]):.0f} cycles/h exceed the 1000/h that T2B holds for: set "
                 "motor.margins.gearbox_shock_factor from the vendor's chart")
+    if name in ("gearbox_radial_load", "gearbox_axial_load") and math.isnan(float(par[10 if "radial" in name else 11])):
+        return ("the load this axis puts on the gearbox output is not modelled for its mechanism or first stage: "
+                "compare it with the gearbox's " + _RATING_NAMES[name].split(" (")[0] + " by hand")
     if name in _RATING_NAMES:
         return f"the catalog lacks the gearbox's {_RATING_NAMES[name]}"
+    if name == "motor_brake":
+        return ("the catalog lacks the holding torque of this motor's brake variant (motor_brakes.csv "
+                "brake_holding_torque_Nm): the vendor's brake table decides it")
     return "the catalog lacks a rating it needs"
 
 
@@ -123,7 +151,7 @@ def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable |
     geared = g >= 0 and gb is not None
     fit_bad, fit_gap = _fit_reason(motors, m, gb, g) if geared and gb is not None else ("", "")
     checks: dict[str, dict[str, Any]] = {}
-    for n in CHECK_UNITS:
+    for n in c.check_names():
         if n not in MOTOR_CHECKS and not geared:
             continue
         req, avail, mar = float(d.required[n][0]), float(d.available[n][0]), float(d.margin[n][0])
@@ -161,6 +189,7 @@ def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable |
         "failed": failures[0] if failures else "", "failures": failures,
         "approximate_envelope": bool(~motors.has_curve[m]), "rated_torque_derived": bool(motors.approx_rated[m]),
         **_derived(motors, m), **_trace(motors, m, gb if geared else None, g), "checks": list(checks.values()),
+        **({"brake": brake_variant(motors, m)} if c.brake_needed else {}),
     }
 
 

@@ -26,11 +26,12 @@ What it saves, without changing the candidate found or any of its figures:
 
 The smallest-first search. ``selection.ranked`` orders the passing candidates by the objective
 (motor size x 1e6 + the gearbox's rated torque, which is never negative), ties in candidate order,
-and a pair not known to assemble after every pair known to. So a candidate known to assemble
+and a pair not known to assemble (or, on an axis that needs a brake, whose brake's holding torque is
+not known) after every one known to. So a candidate known to assemble (and to hold)
 with objective ``s`` ranks before every candidate of a motor of size key ``>= s / 1e6``. Motors
 are taken by size key, a chunk at a time (motors of equal size in the same chunk), and the search
 stops when the best of the chunks with a passing candidate (evaluated together, ranked by
-``ranked``) is known to assemble and its objective is below the next motor's size key x 1e6.
+``ranked``) is known to assemble (and to hold) and its objective is below the next motor's size key x 1e6.
 Motors that fail the max-speed or the inertia-ratio check behind every ratio are not tried. A
 chunk's gearbox rows keep their catalog order, so its candidates keep their relative order and
 ``ranked`` breaks ties as over the whole catalog.
@@ -51,9 +52,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from drivetrain.physics.averages import cubic_mean
-from drivetrain.sizing.candidates import FIT_BIT, Ranking, Selection
+from drivetrain.sizing.candidates import KNOWN_FIRST, Ranking, Selection
 from drivetrain.sizing.checks import shock_factor
 from drivetrain.sizing.hull import fast_demands
+from drivetrain.sizing.motor_brake import holding_need
 from drivetrain.sizing.selection import (
     catalog_tables,
     closest_failing,
@@ -132,9 +134,10 @@ class Tables:
         return hit
 
 
-def load_tables(axis: Axis, spec: SelectSpec) -> Tables:
-    """The tables of a ``motor.select`` spec, as ``selection.select`` reads them."""
-    motors, gb, allow_direct = catalog_tables(axis, spec)
+def load_tables(axis: Axis, spec: SelectSpec, brake: bool = False) -> Tables:
+    """The tables of a ``motor.select`` spec, as ``selection.select`` reads them (``brake``: the brake
+    variants, ``selection.catalog_tables``)."""
+    motors, gb, allow_direct = catalog_tables(axis, spec, brake)
     ratio, eff, rows, row_start = gearbox_options(gb, allow_direct)
     row_group = np.zeros(0 if gb is None else len(gb), dtype=np.intp)
     of_slot = np.repeat(np.arange(len(ratio)), np.diff(row_start))
@@ -234,12 +237,13 @@ class Prepared:
     demands: dict[float, Demand] = field(default_factory=dict)
 
 
-def selection_tables(known: dict[str, Tables], axis: Axis, spec: SelectSpec) -> Tables:
+def selection_tables(known: dict[str, Tables], axis: Axis, spec: SelectSpec, duty: DutyCycle) -> Tables:
     """The catalog tables of this axis's selection from ``known`` (loaded on first use, then kept there)."""
     own = any(st.kind == "gearbox" for st in axis.transmission)
-    key = repr((spec, own))  # every field, floats to the last digit
+    brake = holding_need(axis, duty).needed
+    key = repr((spec, own, brake))  # every field, floats to the last digit
     if key not in known:
-        known[key] = load_tables(axis, spec)
+        known[key] = load_tables(axis, spec, brake)
     return known[key]
 
 
@@ -256,7 +260,7 @@ def prepare_hulls(known: dict[str, Tables], pairs: list[tuple[Axis, DutyCycle]])
         m = axis.spec.motor
         if axis.motor is not None or m is None or m.select is None or m.select.objective != "smallest":
             continue
-        tb = selection_tables(known, axis, m.select)
+        tb = selection_tables(known, axis, m.select, duty)
         bounds = search_bounds(tb, duty, m.margins, m.select)
         out[index] = Prepared(bounds)
         order = _search_order(tb, bounds)
@@ -293,7 +297,7 @@ def select_first(known: dict[str, Tables], axis: Axis, duty: DutyCycle, spec: Se
     """``selection.select``'s answer for its first candidate: the same selected (or closest)
     candidate, found by the search of the module docstring (``prepared``: what :func:`prepare_hulls`
     computed for this axis with this spec and margins)."""
-    tb = selection_tables(known, axis, spec)
+    tb = selection_tables(known, axis, spec, duty)
     demands: dict[float, Demand] = {} if prepared is None else dict(prepared.demands)
 
     def ev(motors: MotorTable, gb: GearboxTable | None, allow_direct: bool, effs: list[float]) -> Candidates:
@@ -432,7 +436,7 @@ def _beats_the_rest(best: Found, tb: Tables, duty: DutyCycle, next_size: float) 
     c, sub, gb, order = best
     k = order[:1]
     obj = float(objective_scores(c, k, sub, gb, "smallest", duty)[0])
-    known_fit = not (int(c.unknown[k[0]]) & FIT_BIT)
+    known_fit = not (int(c.unknown[k[0]]) & KNOWN_FIRST)
     return known_fit and math.isfinite(obj) and (math.isnan(next_size) or obj < next_size * 1e6)
 
 

@@ -31,6 +31,7 @@ from drivetrain.errors import InputError
 from drivetrain.physics.averages import cubic_mean
 from drivetrain.physics.stage import Stage
 from drivetrain.sizing.candidates import (
+    BRAKE_BIT,
     CHECK_UNITS,
     FIT_BIT,
     MOTOR_CHECKS,
@@ -41,9 +42,11 @@ from drivetrain.sizing.candidates import (
     closest,
     column,
 )
-from drivetrain.sizing.checks import running_torque, shock_factor
+from drivetrain.sizing.checks import MAX_ADAPTERS, adapter_arrays, running_torque, shock_factor
 from drivetrain.sizing.demand import Demand
 from drivetrain.sizing.envelope import continuous_torque, intermittent_torque, motor_envelopes
+from drivetrain.sizing.mechanism_checks import output_loads
+from drivetrain.sizing.motor_brake import braked_motors, holding_need
 from drivetrain.sizing.motor_fit import demand
 from drivetrain.sizing.reasons import advice, candidate_dict, explain
 from drivetrain.units import to_rpm
@@ -189,18 +192,27 @@ def evaluate(axis: Axis, duty: DutyCycle, motors: MotorTable, gb: GearboxTable |
         gb_cols = [gb.max_input_speed, gb.rated_input_speed, gb.rated_output_torque, gb.max_output_torque,
                    gb.emergency_stop_torque] + [column(gb, c) for c in ("input_bore_max", "input_bore_min",
                                                                           "input_flange", "input_pilot")]
+        gb_adapters = adapter_arrays(gb.input_adapters).reshape(len(gb), -1)
+        gb_loads = [gb.max_radial_load, gb.max_axial_load]
     else:
         gb_j = np.zeros(1)
         gb_cols = [np.zeros(1)] * 9
+        gb_adapters = np.full((1, 3 * MAX_ADAPTERS), np.nan)
+        gb_loads = [np.zeros(1)] * 2
     out_peak = float(np.max(np.abs(duty.torque))) if duty.torque.size else 0.0
     shock = shock_factor(duty.period, margins.gearbox_shock_factor)
+    need = holding_need(axis, duty)
+    hold = need.torque * margins.brake if need.needed else math.nan
+    load_r, load_a = output_loads(axis, duty) if gb is not None and len(gb) else (0.0, 0.0)
     par = np.array([duty.period, margins.torque, margins.rms_torque or margins.torque, margins.speed, limit,
-                    out_cubic, run_t, out_peak, shock])
+                    out_cubic, run_t, out_peak, shock, hold, load_r, load_a])
     f64 = np.ascontiguousarray
     model = (f64(motors.rotor_inertia, dtype=float), f64(peak, dtype=float), f64(w_max, dtype=float),
-             *(f64(column(motors, c), dtype=float) for c in ("shaft_diameter", "flange", "pilot_diameter")),
+             *(f64(column(motors, c), dtype=float) for c in ("shaft_diameter", "flange", "pilot_diameter",
+                                                              "bolt_circle", "brake_holding_torque")),
              cont_mean, full_row, f64(env_full, dtype=float), ratio, eff_g, hull_speed, hull_t, hull_a, all_t,
-             all_a, sums, g_speed, g_j_load, f64(gb_j, dtype=float), *(f64(c, dtype=float) for c in gb_cols), par)
+             all_a, sums, g_speed, g_j_load, f64(gb_j, dtype=float), *(f64(c, dtype=float) for c in gb_cols),
+             f64(gb_adapters, dtype=float), *(f64(c, dtype=float) for c in gb_loads), par)
     n = n_m * len(rows)
     motor_idx, slot = np.empty(n, dtype=np.int32), np.empty(n, dtype=np.int32)
     worst, failed, unknown = np.empty(n), np.empty(n, dtype=np.uint16), np.empty(n, dtype=np.uint16)
@@ -296,8 +308,9 @@ def best_per_motor(c: Candidates, ranked: NDArray[np.intp]) -> NDArray[np.intp]:
     return ranked[np.sort(first)]
 
 
-def catalog_tables(axis: Axis, spec: SelectSpec) -> tuple[MotorTable, GearboxTable | None, bool]:
-    """The catalog motors and gearboxes a selection searches, and whether direct drive is a candidate."""
+def catalog_tables(axis: Axis, spec: SelectSpec, brake: bool = False) -> tuple[MotorTable, GearboxTable | None, bool]:
+    """The catalog motors and gearboxes a selection searches, and whether direct drive is a candidate.
+    ``brake``: the axis needs a holding brake, so every motor is its brake variant (``braked_motors``)."""
     from drivetrain import catalog
 
     kind = None if spec.kind == "any" else spec.kind
@@ -308,6 +321,8 @@ def catalog_tables(axis: Axis, spec: SelectSpec) -> tuple[MotorTable, GearboxTab
     if len(motors) == 0:
         raise InputError("motor.select", "no motor matches these filters: relax voltage or flange "
                          f"(voltage={spec.voltage}, flange={spec.flange}, vendor={spec.vendor})", has_value=False)
+    if brake:
+        motors = braked_motors(motors)
     gb = None
     own_gearbox = any(st.kind == "gearbox" for st in axis.transmission)
     if spec.gearbox == "only" or (spec.gearbox == "auto" and not own_gearbox):
@@ -322,10 +337,14 @@ def catalog_tables(axis: Axis, spec: SelectSpec) -> tuple[MotorTable, GearboxTab
 def ranked(c: Candidates, motors: MotorTable, gb: GearboxTable | None, objective: str,
            duty: DutyCycle) -> NDArray[np.intp]:
     """The passing candidates, best first: by the objective (ties in candidate order), a pair not
-    known to assemble (a dimension missing) after every pair known to."""
+    known to assemble (a dimension missing), or whose brake's holding torque the catalog lacks, after
+    every one known to (``candidates.KNOWN_FIRST``; an unknown fit after an unknown brake)."""
     passing = np.flatnonzero(c.ok)
     passing = passing[np.argsort(objective_scores(c, passing, motors, gb, objective, duty), kind="stable")]
-    return passing[np.argsort((c.unknown[passing] & FIT_BIT) != 0, kind="stable")]
+    gaps = c.unknown[passing]
+    # a pair not known to assemble last, then, before it, one whose brake is not known
+    key = ((gaps & FIT_BIT) != 0).astype(np.int8) * 2 + ((gaps & BRAKE_BIT) != 0)
+    return passing[np.argsort(key, kind="stable")]
 
 
 def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
@@ -335,7 +354,7 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
     The ranked list holds the best configuration of each motor (its best gearbox), so the top
     ``spec.top`` are that many different motors; ``all_pairs`` lists every passing pair instead.
     """
-    motors, gb, allow_direct = catalog_tables(axis, spec)
+    motors, gb, allow_direct = catalog_tables(axis, spec, holding_need(axis, duty).needed)
     c = evaluate(axis, duty, motors, gb, margins, allow_direct=allow_direct, max_inertia_ratio=spec.max_inertia_ratio,
                  strict=spec.unknown == "fail")
     passing = ranked(c, motors, gb, spec.objective, duty)
@@ -366,7 +385,7 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
     if len(passing):
         best = int(passing[0])
         summary["selected"] = row(best, 1)
-        summary["next_smaller"] = _next_smaller(c, motors, gb, best)
+        summary["next_smaller"] = next_smaller(c, motors, gb, best)
         summary["optimal_ratio"] = optimal_ratio(axis, duty, motors, int(c.motor[best]), gb)
         top = passing[:2000]
         front = pareto_front(size_key(motors)[c.motor[top]], c.worst_margin[top], c.details(top).inertia_ratio)
@@ -389,7 +408,7 @@ def _label(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None) -
 _MAX_SPEED_BIT = list(CHECK_UNITS).index("max_speed")
 
 
-def _next_smaller(c: Candidates, motors: MotorTable, gb: GearboxTable | None, best: int) -> dict[str, Any] | None:
+def next_smaller(c: Candidates, motors: MotorTable, gb: GearboxTable | None, best: int) -> dict[str, Any] | None:
     """The next smaller motor than the selected one, in its best configuration, and why it fails."""
     size = size_key(motors)
     smaller = np.flatnonzero(size < size[c.motor[best]])  # every motor has candidates
@@ -402,7 +421,12 @@ def _next_smaller(c: Candidates, motors: MotorTable, gb: GearboxTable | None, be
     if fast[smaller].any():
         smaller = smaller[fast[smaller]]
     k = closest(c, c.of_motors(smaller[size[smaller] == np.max(size[smaller])]))
-    return candidate_dict(c, k, motors, gb, None)
+    out = candidate_dict(c, k, motors, gb, None)
+    if out["ok"]:  # it passes, and ranks after the selected one: a fit or brake the catalog cannot judge
+        gaps = [n for n in ("motor_brake", "mechanical_fit") if n in out["unknown"]]
+        why = f"ranked after the selected motor: {' and '.join(gaps) or 'its checks'} cannot be judged"
+        out.update({"failed": why, "failures": [why]})
+    return out
 
 
 def candidate_cycle(axis: Axis, duty: DutyCycle, ranking: Ranking,
@@ -462,4 +486,5 @@ def optimal_ratio(axis: Axis, duty: DutyCycle, motors: MotorTable, m: int,
 
 __all__ = ["CHECK_UNITS", "MOTOR_CHECKS", "Candidates", "Details", "Ranking", "Selection", "best_per_motor",
            "candidate_cycle", "catalog_tables", "closest_failing", "evaluate", "explain", "gearbox_options",
-           "lossy_torque", "objective_scores", "optimal_ratio", "ranked", "select", "size_key", "to_rpm"]
+           "lossy_torque", "next_smaller", "objective_scores", "optimal_ratio", "ranked", "select", "size_key",
+           "to_rpm"]
