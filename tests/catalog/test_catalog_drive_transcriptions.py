@@ -171,10 +171,12 @@ def _size_json(path: Path, capsys: pytest.CaptureFixture[str]) -> dict[str, Any]
     return out
 
 
-def test_hoist_example_gets_its_sgd7s_with_current_ratings(capsys: pytest.CaptureFixture[str]) -> None:
-    """`size examples/hoist.yaml`: the Yaskawa pick SGM7G-09A runs on SGD7S-7R6A (its pairing row), whose
-    transcribed 7.6 A / 17 A are checked against the motor's current over the cycle."""
-    sel = _size_json(EXAMPLES / "hoist.yaml", capsys)["selection"]["selected"]
+def test_a_yaskawa_pick_gets_its_sgd7s_with_current_ratings(capsys: pytest.CaptureFixture[str]) -> None:
+    """`size examples/belt_gantry.yaml`: the Yaskawa pick SGM7G-09A runs on SGD7S-7R6A (its pairing row), whose
+    transcribed 7.6 A / 17 A are checked against the motor's current over the cycle. (The hoist example picked
+    it too until its brake had to be known: it now answers a motor whose brake's holding torque the catalog
+    has, and SGM7G-09A's is not in it.)"""
+    sel = _size_json(EXAMPLES / "belt_gantry.yaml", capsys)["selection"]["selected"]
     assert sel["motor"] == "SGM7G-09A"
     d = sel["drive"]
     assert d["id"] == "SGD7S-7R6A" and d["basis"] == "vendor pairing table" and d["status"] == "ok"
@@ -183,6 +185,19 @@ def test_hoist_example_gets_its_sgd7s_with_current_ratings(capsys: pytest.Captur
     assert checks["drive_rms_current"]["available"] == 7.6 and checks["drive_peak_current"]["available"] == 17.0
     assert 0 < d["motor_rms_current_A"] <= 7.6 and d["motor_peak_current_A"] <= 17.0
     assert d["unverified"] is True and COMMIT in d["unverified_reason"]
+
+
+def test_mr_j4_is_offered_only_to_the_mr_j4_motor_series(capsys: pytest.CaptureFixture[str]) -> None:
+    """The MR-J4 amplifiers run the HG-MR/KR/SR/JR/RR/UR motors (Servo Motor Instruction Manual Vol. 3, SH(NA)030113,
+    cover): a CNC (MELDAS) HC motor gets no MR-J4, and says why (before: HC52 was answered with MR-J4-20B)."""
+    from drivetrain import catalog
+
+    assert catalog.get("MR-J4-20B")["motor_series"] == "HG-MR HG-KR HG-SR HG-JR HG-RR HG-UR"
+    out = _size_json(EXAMPLES / "rotary.yaml", capsys)
+    sel = out["selection"]["selected"]
+    assert sel["motor"].startswith("HC") and sel["drive"]["status"] == "none"
+    assert "HG-MR HG-KR HG-SR HG-JR HG-RR HG-UR" in sel["drive"]["reason"]
+    assert any(u["part"] == "drive" for u in out["verdict"]["unknowns"])
 
 
 def test_ball_screw_example_gets_an_mr_j4_with_its_rated_current_checked(capsys: pytest.CaptureFixture[str]) -> None:
@@ -200,7 +215,7 @@ def test_ball_screw_example_gets_an_mr_j4_with_its_rated_current_checked(capsys:
 
 
 def test_the_cli_table_flags_the_transcribed_drive(capsys: pytest.CaptureFixture[str]) -> None:
-    assert cli.main(["size", str(EXAMPLES / "hoist.yaml")]) == 0
+    assert cli.main(["size", str(EXAMPLES / "belt_gantry.yaml")]) == 0
     text = " ".join(capsys.readouterr().out.split())  # the table wraps long lines
     assert "drive SGD7S-7R6A: OK" in text and "drive SGD7S-7R6A †: output currents and motor pairings from a " \
         "third-party transcription" in text

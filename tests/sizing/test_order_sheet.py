@@ -128,8 +128,8 @@ def test_a_motor_without_drive_currents_gets_a_drive_specification_in_torque_ter
 
 
 def test_a_drive_with_currents_is_a_catalog_row() -> None:
-    """examples/hoist.yaml: SGM7G-09A with SGD7S-7R6A (currents from a third-party transcription: unverified)."""
-    drive = next(r for r in order_sheet(sized("hoist.yaml")).rows if r.part == "drive")
+    """examples/belt_gantry.yaml: SGM7G-09A with SGD7S-7R6A (currents from a third-party transcription: unverified)."""
+    drive = next(r for r in order_sheet(sized("belt_gantry.yaml")).rows if r.part == "drive")
     assert (drive.kind, drive.order_code, drive.vendor) == ("catalog", "SGD7S-7R6A", "Yaskawa")
     assert drive.unverified is True and drive.unverified_reason
 
