@@ -147,3 +147,22 @@ def test_the_cli_says_the_same(path: Path, capsys: pytest.CaptureFixture[str]) -
     assert code == expected
     assert out[-1] == result.verdict_line()
     assert "order sheet (" in "\n".join(out)
+
+
+def test_a_passing_candidate_with_an_unknown_drive_says_so(capsys: pytest.CaptureFixture[str]) -> None:
+    """The candidate table's result column agrees with the verdict: the belt axis's best motor passes with its
+    drive unknown (no torque constant in the catalog), so its row reads ``yes, unknown: drive``."""
+    path = ROOT / "examples" / "belt.yaml"
+    result = sized(path)
+    best = result.candidates[0]
+    assert best["ok"] and best["drive"]["status"] == "unknown"
+    assert any(u.part == "drive" for u in result.unknowns)
+    cli.main(["size", str(path)])
+    lines = capsys.readouterr().out.splitlines()
+    row = next(ln for ln in lines if f" {best['motor']} " in ln and ln.lstrip("│┃ ").startswith("1 "))
+    assert "yes, unknown: drive" in row
+    judged = [c for c in result.candidates if c["ok"] and not c.get("unknown")
+              and (c.get("drive") or {}).get("status") not in ("unknown", "none")]
+    for c in judged:  # a row judged in full still says a plain yes
+        line = next(ln for ln in lines if f" {c['motor']} " in ln)
+        assert "unknown" not in line.split("│")[-3], line
