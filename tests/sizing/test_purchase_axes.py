@@ -166,3 +166,24 @@ def test_a_passing_candidate_with_an_unknown_drive_says_so(capsys: pytest.Captur
     for c in judged:  # a row judged in full still says a plain yes
         line = next(ln for ln in lines if f" {c['motor']} " in ln)
         assert "unknown" not in line.split("│")[-3], line
+
+
+def test_the_cli_order_sheet_honours_units(capsys: pytest.CaptureFixture[str]) -> None:
+    """``--units imperial`` prints the sheet's torques and lengths as the other tables do (lbf*in, in); SI is
+    the report's text unchanged."""
+    from drivetrain.cli.order import spec_text_in
+    from drivetrain.cli.quantities import TableUnits
+    from drivetrain.report.order import spec_text
+
+    path = ROOT / "examples" / "ball_screw.yaml"
+    motor = next(r for r in answer(path)["order"]["rows"] if r["part"] == "motor")
+    assert spec_text_in(motor["spec"], TableUnits("si")) == spec_text(motor["spec"])
+    cli.main(["size", str(path), "--units", "imperial"])
+    line = next(ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("  motor: "))
+    rated = motor["spec"]["rated_torque_Nm"] / 0.112984829  # N*m per lbf*in (NIST SP 811, B.9)
+    flange = motor["spec"]["flange_mm"] / 25.4
+    assert f"rated torque {rated:.4g} lbf*in" in line and f"flange {flange:.4g} in" in line
+    assert "N*m" not in line and " mm" not in line
+    cli.main(["size", str(path)])
+    line = next(ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("  motor: "))
+    assert line == f"  motor: {spec_text(motor['spec'])}"

@@ -53,7 +53,7 @@ def print_sizing(result: Any, units: TableUnits | None = None) -> None:
         _print_checks(console, "gearbox ratings (transmission)", gear, u)
     if result.candidates:
         _print_candidates(console, result, u)
-    print_result_order(console, result)
+    print_result_order(console, result, u)
 
 
 def _motor_shaft_rows(result: Any, u: TableUnits) -> list[tuple[str, str]]:
