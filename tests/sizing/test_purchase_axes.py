@@ -187,3 +187,45 @@ def test_the_cli_order_sheet_honours_units(capsys: pytest.CaptureFixture[str]) -
     cli.main(["size", str(path)])
     line = next(ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("  motor: "))
     assert line == f"  motor: {spec_text(motor['spec'])}"
+
+
+@cache
+def machine() -> Any:
+    return drivetrain.size_machine(ROOT / "examples" / "machine" / "pick_and_place.yaml")
+
+
+def test_the_web_machine_table_shows_the_order_sheet_rows() -> None:
+    """Each motor's motor, drive and gearbox cells are its order-sheet rows as the machine BOM lists them:
+    the order code, else the row's name, status and open points (never an old per-axis BOM item)."""
+    from drivetrain.machine.result import axis_bom_rows
+    from drivetrain.web.routes_machine import axis_rows
+
+    result = machine()
+    rows = axis_rows(result)
+    k = 0
+    for ma in result.machine.axes:
+        for res in result.axes[ma.name].results:
+            sheet = {r["part"]: r for r in res.to_dict()["order"]["rows"]}
+            bom = axis_bom_rows(ma.name, [res])
+            for part in ("motor", "drive"):
+                r = sheet[part]
+                cell = rows[k][part]
+                assert cell == (r["order_code"] or next(b["note"] for b in bom if b["kind"] == part)), (cell, r)
+                if r["order_code"] is None:
+                    assert r["name"] in cell and r["status"] in cell
+            k += 1
+    assert k == len(rows)
+
+
+def test_the_machine_bus_table_prints_the_resistor_window(capsys: pytest.CaptureFixture[str]) -> None:
+    """The bus needs a resistor and its drives state no switch-on voltage: the window's maximum is the sheet's
+    U_bus^2 / P_peak (a safe bound), and the missing minimum is said, never ``- .. - ohm``."""
+    from drivetrain.cli.analyses import bus_window
+
+    bus = machine().to_dict()["buses"][0]
+    assert bus["resistor_needed"] and bus["resistor_max_ohm"] is None
+    r_max = bus["dc_bus_voltage_V"] ** 2 / bus["resistor_peak_power_W"]  # physics.regen: R_max = U^2 / P_peak
+    assert bus_window(bus) == f"no drive minimum given .. {r_max:.4g} ohm (max at U_bus)"
+    assert cli.main(["machine", "size", str(ROOT / "examples" / "machine" / "pick_and_place.yaml")]) in (0, 1)
+    out = capsys.readouterr().out
+    assert "- .. -" not in out and f"{r_max:.4g} ohm" in out
