@@ -184,7 +184,8 @@ def order_unknowns(result: Any, known: list[Unknown]) -> list[Unknown]:
         if not own and row.part not in covered:
             own = list(row.open_points)
         if own:
-            out.append(Unknown("order_code", row.part, f"{row.catalog_id or row.name}: " + "; ".join(own)))
+            text, who = "; ".join(own), str(row.catalog_id or row.name)
+            out.append(Unknown("order_code", row.part, text if who in text else f"{who}: {text}"))
     return out
 
 
