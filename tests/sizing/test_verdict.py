@@ -75,9 +75,25 @@ def test_an_unknown_gearbox_rating_fails_only_under_unknown_fail() -> None:
     assert strict.verdict_line().startswith("FAIL")
 
 
+def level_ball_screw() -> dict[str, Any]:
+    """examples/ball_screw.yaml laid level with no brake dwell: every check judged and passed, and its motor
+    (no brake needed) and drive orderable as written: a plain pass."""
+    d = yaml.safe_load((EXAMPLES / "ball_screw.yaml").read_text(encoding="utf-8"))
+    d["mechanism"]["incline"] = "0 deg"
+    d["profile"][3] = {"dwell": "0.3 s"}
+    d["guide"]["orientation"] = "horizontal"
+    return d
+
+
 def test_the_cli_prints_the_verdict_last_and_exits_by_it(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    assert cli.main(["size", str(EXAMPLES / "ball_screw.yaml")]) == 0
+    level = tmp_path / "level_screw.yaml"
+    level.write_text(yaml.safe_dump(level_ball_screw()), encoding="utf-8")
+    assert cli.main(["size", str(level)]) == 0
     assert capsys.readouterr().out.splitlines()[-1] == "PASS"
+    # every check of ball_screw passes, but its motor's brake variant has no order code: not a plain pass
+    assert cli.main(["size", str(EXAMPLES / "ball_screw.yaml")]) == 0
+    last = capsys.readouterr().out.splitlines()[-1]
+    assert last.startswith("PASS WITH UNKNOWNS: ") and "order_code (holding-brake variant of HG-KR23" in last
     assert cli.main(["size", str(EXAMPLES / "belt.yaml")]) == 0
     assert capsys.readouterr().out.splitlines()[-1].startswith("PASS WITH UNKNOWNS: drive (")
     assert cli.main(["size", str(EXAMPLES / "conveyor.yaml")]) == 1
@@ -111,10 +127,12 @@ def test_the_report_of_an_unknown_drive_says_pass_with_unknowns_and_lists_it(tmp
 def test_a_passing_report_keeps_its_pass_banner(tmp_path: Path) -> None:
     from drivetrain.report import write_report
 
-    write_report(size(EXAMPLES / "ball_screw.yaml"), tmp_path / "z.html")
-    html = (tmp_path / "z.html").read_text(encoding="utf-8")
+    write_report(size(level_ball_screw()), tmp_path / "y.html")
+    html = (tmp_path / "y.html").read_text(encoding="utf-8")
     banner = html[html.index('id="dt-verdict"'):]
     assert 'class="dt-verdict dt-pass"' in html and "PASS WITH UNKNOWNS" not in banner[:banner.index("</section>")]
+    write_report(size(EXAMPLES / "belt.yaml"), tmp_path / "b.html")
+    html = (tmp_path / "b.html").read_text(encoding="utf-8")
     assert "PASS WITH UNKNOWNS: drive" in html  # a listed candidate whose drive cannot be checked says so
 
 

@@ -11,6 +11,25 @@ from drivetrain.cli.quantities import TableUnits
 from drivetrain.terminal import Col, print_table, table_console
 
 
+def bus_window(b: dict[str, Any]) -> str:
+    """A DC bus's braking-resistor window in one cell, from the formula of the order sheet
+    (``sizing.order_spec.resistor_spec``: the drives' largest minimum resistance, and U_on^2 / P_peak at the
+    lowest switch-on voltage, else at the nominal DC bus, a safe lower bound); where a bound is not known the
+    cell says why."""
+    from drivetrain.sizing.order_spec import resistor_spec
+
+    if not b.get("resistor_needed"):
+        return "none needed"
+    spec, _ = resistor_spec(b["resistor_peak_power_W"], b["resistor_average_power_W"],
+                            b["resistor_energy_per_cycle_J"], None, b.get("resistor_min_ohm"),
+                            b.get("resistor_max_ohm"), None, b.get("dc_bus_voltage_V"))
+    lo, hi = spec["resistance_min_ohm"], spec["resistance_max_ohm"]
+    low = "no drive minimum given" if lo is None else f"{lo:.4g}"
+    high = "no bus voltage" if hi is None else f"{hi:.4g}"
+    at_bus = " (max at U_bus)" if hi is not None and b.get("resistor_max_ohm") is None else ""
+    return f"{low} .. {high} ohm{at_bus}"
+
+
 def print_machine(out: dict[str, Any]) -> None:
     """The machine: its axes, DC buses, phasing and bill of materials."""
     console = table_console()
@@ -26,8 +45,7 @@ def print_machine(out: dict[str, Any]) -> None:
                                   Col("peak power", number=True), Col("regen", number=True), Col("ok")), rows)
     rows = []  # the DC buses
     for b in out["buses"]:
-        lo, hi = b.get("resistor_min_ohm"), b.get("resistor_max_ohm")
-        window = f"{f'{lo:.4g}' if lo is not None else '-'} .. {f'{hi:.4g}' if hi is not None else '-'} ohm"
+        window = bus_window(b)
         rows.append((b["name"], ", ".join(b["axes"]), f"{b['bus_peak_power_W']:.4g} W",
                      f"{b['bus_rms_power_W']:.4g} W", f"{b['regen_shared_J']:.4g} J",
                      f"{b['resistor_energy_per_cycle_J']:.4g} J",

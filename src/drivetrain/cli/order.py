@@ -1,14 +1,17 @@
 """The order sheet after the answer (``drivetrain size``): one table row per part, then each row's
-specification and open points (``drivetrain.sizing.order``; the values are SI, as in ``--json``)."""
+specification and open points (``drivetrain.sizing.order``). The values are SI, as in ``--json``, or in the
+system of ``--units`` (torques, inertias, lengths and forces, as the other tables: ``cli.quantities``)."""
 
 from __future__ import annotations
 
 from typing import Any
 
-from drivetrain.report.order import order_cells, spec_text, state_text
+from drivetrain.cli.quantities import TableUnits
+from drivetrain.report.order import UNIT_SUFFIXES, _value, order_cells, spec_text, state_text
 from drivetrain.terminal import Col, print_table
 
-__all__ = ["ORDER_COLUMNS", "bom_text", "order_cells", "print_order", "print_result_order", "spec_text", "write_bom"]
+__all__ = ["ORDER_COLUMNS", "bom_text", "order_cells", "print_order", "print_result_order", "spec_text",
+           "spec_text_in", "write_bom"]
 
 ORDER_COLUMNS = (Col("part"), Col("status"), Col("qty", right=True, number=True), Col("vendor", abbreviate=True),
                  Col("order code"), Col("what"))
@@ -16,11 +19,39 @@ ORDER_COLUMNS = (Col("part"), Col("status"), Col("qty", right=True, number=True)
 (``drivetrain.report.order.order_cells``)."""
 
 
-def print_order(console: Any, order: dict[str, Any]) -> None:
-    """The section "order sheet": the table, then each row's specification and open points."""
+_QUANTITY = {"N*m": ("torque", 1.0), "kg*m^2": ("inertia", 1.0), "mm": ("length", 1e-3), "N": ("force", 1.0)}
+"""A spec unit (``report.order.UNIT_SUFFIXES``) that ``--units`` converts: its quantity and the SI value of
+one unit; the others (rpm, V, A, ohm, J, W, s, h, arcmin, stiffnesses, k_T) print the same in every system."""
+
+
+def spec_text_in(spec: dict[str, Any], units: TableUnits | None = None) -> str:
+    """A row's specification in one line (``report.order.spec_text``) with its torques, inertias, lengths and
+    forces in the system of ``units`` (``--units``); in SI the report's text exactly."""
+    if units is None or units.system == "si":
+        return spec_text(spec)
+    parts = []
+    for key, value in spec.items():
+        if value is None:
+            continue
+        name, unit = key, ""
+        for suffix, shown in UNIT_SUFFIXES:
+            if key.endswith(suffix):
+                name, unit = key[: -len(suffix)], shown
+                break
+        label = name.replace("_", " ")
+        if unit in _QUANTITY and isinstance(value, (int, float)) and not isinstance(value, bool):
+            quantity, si = _QUANTITY[unit]
+            parts.append(f"{label} {units.q(float(value) * si, quantity, unit, 1.0 / si)}")
+        else:
+            parts.append(f"{label} {_value(value)}{' ' + unit if unit else ''}")
+    return "; ".join(parts)
+
+
+def print_order(console: Any, order: dict[str, Any], units: TableUnits | None = None) -> None:
+    """The section "order sheet": the table, then each row's specification (in ``units``) and open points."""
     print_table(console, f"order sheet ({state_text(order)})", ORDER_COLUMNS, order_cells(order))
     for r in order["rows"]:
-        text = spec_text(r["spec"])
+        text = spec_text_in(r["spec"], units)
         if text:
             console.print(f"  {r['part']}: {text}", markup=False, highlight=False)
         for p in r["open_points"]:
@@ -29,11 +60,11 @@ def print_order(console: Any, order: dict[str, Any]) -> None:
         console.print("† unverified catalog data: see unverified_reason in --json", markup=False, highlight=False)
 
 
-def print_result_order(console: Any, result: Any) -> None:
-    """The order sheet of a ``SizingResult`` (the same rows as its JSON ``order`` block)."""
+def print_result_order(console: Any, result: Any, units: TableUnits | None = None) -> None:
+    """The order sheet of a ``SizingResult`` (the same rows as its JSON ``order`` block), in ``units``."""
     from drivetrain.sizing.order import order_sheet
 
-    print_order(console, order_sheet(result).to_dict())
+    print_order(console, order_sheet(result).to_dict(), units)
 
 
 def bom_text(result: Any) -> str:

@@ -53,7 +53,7 @@ def print_sizing(result: Any, units: TableUnits | None = None) -> None:
         _print_checks(console, "gearbox ratings (transmission)", gear, u)
     if result.candidates:
         _print_candidates(console, result, u)
-    print_result_order(console, result)
+    print_result_order(console, result, u)
 
 
 def _motor_shaft_rows(result: Any, u: TableUnits) -> list[tuple[str, str]]:
@@ -210,6 +210,12 @@ CANDIDATE_COLUMNS = (
 vendor, J_L/J_M and drive are left out in that order (docs/architecture.md, "Terminal output")."""
 
 
+def _drive_unknown(drive: Any) -> bool:
+    """Whether a candidate's drive could not be judged (status ``unknown`` or ``none``): an unknown of the
+    verdict (``sizing.verdict``), so a passing row says ``yes, unknown: drive``."""
+    return isinstance(drive, dict) and drive.get("status") in ("unknown", "none")
+
+
 def _print_candidates(console: Any, result: Any, u: TableUnits) -> None:
     sel = result.selection or {}
     per = "every passing pair" if sel.get("listing") == "all_pairs" else "best configuration of each motor"
@@ -220,7 +226,8 @@ def _print_candidates(console: Any, result: Any, u: TableUnits) -> None:
     for c in result.candidates:
         checks = {ch["name"]: ch for ch in c["checks"]}
         if c["ok"]:
-            why = "yes" if not c.get("unknown") else "yes, unknown: " + ", ".join(c["unknown"])
+            unknown = [*c.get("unknown", []), *(["drive"] if _drive_unknown(c.get("drive")) else [])]
+            why = "yes" if not unknown else "yes, unknown: " + ", ".join(unknown)
         else:
             bad = sorted((ch for ch in c["checks"] if ch.get("status", "fail" if not ch["ok"] else "pass") == "fail"),
                          key=lambda ch: (ch["name"] != "max_speed", ch["margin"] or 0.0))

@@ -131,7 +131,7 @@ def collect_unknowns(result: Answer) -> list[Unknown]:
         pick = result.selection["selected"]
         for c in _check_list(pick):
             if _not_judged(c):
-                part = ("motor" if c["name"] in _MOTOR_CHECKS else
+                part = ("motor" if c["name"] in _MOTOR_CHECKS else "brake" if c["name"] == "motor_brake" else
                         "motor-gearbox fit" if c["name"] == "mechanical_fit" else "gearbox")
                 out.append(Unknown(c["name"], part, _decide(c, "the catalog lacks a rating it needs")))
         vc = pick.get("voltage_class")
@@ -146,6 +146,46 @@ def collect_unknowns(result: Answer) -> list[Unknown]:
         chosen = dyn.get("chosen") if isinstance(dyn, dict) else None
         out += [Unknown(c["name"], "dynamics", _decide(c, "the simulation could not judge it"))
                 for c in _check_list(chosen) if _not_judged(c)]
+    if hasattr(result, "duty"):  # a SizingResult: its order sheet (a bare Answer has none)
+        out += order_unknowns(result, out)
+    return out
+
+
+SHEET_PARTS: dict[str, tuple[str, ...]] = {
+    "motor": ("motor",), "electrical": ("motor", "drive"), "drive": ("drive",), "regen": ("drive", "braking_resistor"),
+    "gearbox": ("gearbox",), "motor-gearbox fit": ("gearbox",), "brake": ("motor", "brake"), "mechanism": ("screw",),
+    "guide": ("guide",)}
+"""The order-sheet parts (``sizing.order_spec.PARTS``) a verdict part concerns: a part unknown in the verdict
+leaves one of these rows incomplete (``gearbox stage (NAME)`` counts as ``gearbox``)."""
+
+
+def sheet_parts(part: str) -> tuple[str, ...]:
+    """The order-sheet parts of a verdict part (``SHEET_PARTS``); none for ``dynamics``."""
+    return SHEET_PARTS.get("gearbox" if part.startswith("gearbox stage") else part, ())
+
+
+def order_unknowns(result: Any, known: list[Unknown]) -> list[Unknown]:
+    """What keeps a catalog part of the order sheet (``sizing.order.order_sheet``) from being ordered as
+    written, as unknowns with check ``order_code`` and the sheet's part (docs/order-sheet.md, "The sheet and
+    the verdict"): code positions still to choose, a holding-brake variant the catalog has no order code for,
+    and any other incomplete catalog row whose part no unknown of ``known`` concerns. They are no check:
+    ``motor.select.unknown: fail`` selects on checks and does not fail on them; an answer with one is
+    ``pass with unknowns``, never ``pass``."""
+    import importlib  # the sheet reads the result, which imports this module: looked up by name
+
+    sheet = importlib.import_module("drivetrain.sizing.order").order_sheet(result)
+    covered = {p for u in known for p in sheet_parts(u.part)}
+    out: list[Unknown] = []
+    for row in sheet.rows:
+        if row.kind != "catalog" or row.complete:
+            continue
+        own = [p for p in row.open_points if p.startswith(("code position", "holding-brake variant", "brake variant",
+                                                           "confirm that"))]
+        if not own and row.part not in covered:
+            own = list(row.open_points)
+        if own:
+            text, who = "; ".join(own), str(row.catalog_id or row.name)
+            out.append(Unknown("order_code", row.part, text if who in text else f"{who}: {text}"))
     return out
 
 
@@ -173,4 +213,5 @@ def failures(result: Answer) -> list[str]:
     return out
 
 
-__all__ = ["Answer", "Status", "Unknown", "collect_unknowns", "failures", "unknown_fails"]
+__all__ = ["SHEET_PARTS", "Answer", "Status", "Unknown", "collect_unknowns", "failures", "order_unknowns",
+           "sheet_parts", "unknown_fails"]

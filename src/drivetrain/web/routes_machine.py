@@ -11,7 +11,6 @@ name files on the server). No sizing of its own: ``drivetrain.machine`` computes
 from __future__ import annotations
 
 import json
-import re
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any, Literal
 
@@ -111,28 +110,24 @@ def resolve_projects(data: dict[str, Any], store: Store) -> tuple[dict[str, Any]
 
 
 def axis_rows(result: MachineResult) -> list[dict[str, Any]]:
-    """The machine table: one row per motor (a gantry has several) with its motor, drive, gearbox, smallest
-    margin (and its check), pass and its ``status`` (pass, pass with unknowns, fail), and the axis page's
-    ``electrical`` block (drive, currents, regen)."""
-    from drivetrain.machine.axes import bom_items
+    """The machine table: one row per motor (a gantry has several) with its motor, drive, gearbox (from the
+    order-sheet rows, as the machine's bill of materials: ``machine.result.axis_bom_rows``; a row without an
+    order code by its name, status and open points), smallest margin (and its check), pass and its ``status``
+    (pass, pass with unknowns, fail), and the axis page's ``electrical`` block (drive, currents, regen)."""
+    from drivetrain.machine.result import axis_bom_rows
 
     rows: list[dict[str, Any]] = []
     for ma in result.machine.axes:
         ap = result.axes[ma.name]
-        groups: list[list[dict[str, Any]]] = []
-        for item in bom_items(ma, ap):
-            if item["kind"] == "motor" or not groups:
-                groups.append([])
-            groups[-1].append(item)
-        for k, (res, parts) in enumerate(zip(ap.results, groups, strict=False)):
+        for k, res in enumerate(ap.results):
+            parts = axis_bom_rows(ma.name, [res])  # the order-sheet rows, as the machine BOM lists them
             d = res.to_dict()
             checks = [c for block in (d.get("motor"), d.get("drive"), (d.get("selection") or {}).get("selected"))
                       if isinstance(block, dict) for c in block.get("checks", []) if c.get("margin") is not None]
             worst = min(checks, key=lambda c: c["margin"]) if checks else None
 
             def part(kind: str, items: list[dict[str, Any]] = parts) -> str | None:
-                names = [str(i["order_code"] or re.sub(r" \(transmission\[\d+\], ", " (", i.get("note") or ""))
-                         for i in items if i["kind"] == kind]
+                names = [str(i["order_code"] or i.get("note") or "") for i in items if i["kind"] == kind]
                 return "; ".join(n for n in names if n) or None
 
             failed = (d.get("motor") or {}).get("failed") or ""
