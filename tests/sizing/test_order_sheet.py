@@ -135,14 +135,15 @@ def test_a_drive_with_currents_is_a_catalog_row() -> None:
 
 
 def test_a_held_load_asks_for_the_brake_variant_with_its_holding_torque() -> None:
-    """The hoist holds its load (holding torque 3.511 N m at the motor): the motor row asks for the brake
-    variant holding 1.5 x that (Machine Design 2007); where the catalog has no brake order code (SGM7G-09A
-    today) the row is incomplete, without an order code, and says the holding torque to order."""
+    """The hoist holds its load: the motor row asks for the brake variant holding what the selection's
+    `motor_brake` check requires (the static torque at the motor through the gearbox in the holding direction
+    x 1.5, Machine Design 2007); where the catalog has no brake order code the row is incomplete, without an
+    order code, and says the holding torque to order; where it has one, that code is the one to order."""
     result = sized("hoist.yaml")
     motor = next(r for r in order_sheet(result).rows if r.part == "motor")
-    hold = result.metrics["holding_torque_Nm"]
+    need = next(c for c in result.selection["selected"]["checks"] if c["name"] == "motor_brake")["required"]
     assert motor.spec["holding_brake"] == "required"
-    assert motor.spec["brake_holding_torque_min_Nm"] == pytest.approx(1.5 * hold, rel=1e-12)
+    assert motor.spec["brake_holding_torque_min_Nm"] == pytest.approx(need, rel=1e-12)
     from drivetrain import catalog
 
     assert motor.catalog_id == result.selection["selected"]["motor"]
@@ -316,20 +317,23 @@ def test_the_report_holds_the_order_sheet() -> None:
             assert point.replace("'", "&#x27;")[:60] in html
 
 
-def test_a_brake_whose_static_torque_the_answer_lacks_stays_open() -> None:
-    """Every dwell of the vertical Z axis held on the brake: the motor never holds at rest, so the answer has no
-    static torque; the holding torque is an open point, never 0 N m."""
+def test_a_brake_whose_dwells_are_all_braked_still_gets_its_holding_torque() -> None:
+    """Every dwell of the vertical Z axis held on the brake: the motor never holds at rest (the answer's holding
+    torque is 0 N m), yet the selection's `motor_brake` check works out the static torque over the stroke, and the
+    motor row asks for that, never for 0 N m."""
     import yaml
 
     from drivetrain.sizing.pipeline import size
 
     data = yaml.safe_load((ROOT / "examples" / "z_axis.yaml").read_text(encoding="utf-8"))
+    data.pop("transmission")  # the example's own brake on the screw: here the motor's must hold
+    data["motor"]["select"]["unknown"] = "flag"  # no 400 V motor's brake holding torque is in the catalog
     for step in data["profile"]:
         if "dwell" in step:
             step["holding"] = "brake"
     result = size(data)
     assert result.metrics["holding_torque_Nm"] == 0.0
     motor = next(r for r in order_sheet(result).rows if r.part == "motor")
-    assert motor.spec["holding_brake"] == "required" and "brake_holding_torque_min_Nm" not in motor.spec
-    assert any("static load torque" in p and "not in the answer" in p for p in motor.open_points)
-    assert motor.status == "incomplete"
+    need = next(c for c in result.selection["selected"]["checks"] if c["name"] == "motor_brake")["required"]
+    assert motor.spec["holding_brake"] == "required" and need > 0.0
+    assert motor.spec["brake_holding_torque_min_Nm"] == pytest.approx(need, rel=1e-12)
