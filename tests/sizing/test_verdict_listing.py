@@ -42,10 +42,13 @@ def test_no_passing_motor_is_listed_as_rejected(name: str) -> None:
 
 def test_the_gantry_lists_rejected_motors_only_when_every_configuration_fails() -> None:
     """The 3 m gantry used to list SGM7A-15A as rejected (inertia_ratio -0.053 %) while 3 of its 811
-    configurations pass."""
+    configurations passed (2 since the gearbox output loads are checked)."""
     res = size(EXAMPLES / "belt_gantry.yaml")
     assert "SGM7A-15A" not in {row["motor"] for row in res.candidates if not row["ok"]}
-    assert res.explain("SGM7A-15A").startswith("SGM7A-15A: 3 of 811 configurations pass")
+    import re
+
+    passing = re.match(r"SGM7A-15A: (\d+) of 811 configurations pass", res.explain("SGM7A-15A"))
+    assert passing is not None and int(passing.group(1)) >= 1
     assert [row for row in res.candidates if not row["ok"]], "the listing still shows the closest rejected motors"
 
 

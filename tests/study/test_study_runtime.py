@@ -65,7 +65,7 @@ def test_search_bounds_kept_halves_equal_fresh(mass: float, lead: str | None) ->
     from drivetrain.axis.model import parse_axis
 
     axis = parse_axis(data)
-    tb = selection_tables(engine.context.tables, axis, spec.select)
+    tb = selection_tables(engine.context.tables, axis, spec.select, engine.context.duty(axis))
     # the halves kept from another variant of the same motion (the base axis's load)
     search_bounds(tb, engine.context.duty(base), spec.margins, spec.select)
     assert tb._speed
