@@ -107,7 +107,8 @@ def _rule(check: dict[str, Any], factors: dict[str, float]) -> str:
     if check.get("approximate"):
         text += " (approximate envelope)"
     if check.get("status") in ("unknown", "not_judged") and check.get("note"):
-        text += f" — not judged: {check['note']}"
+        # a check without a rule of its own already reads its note
+        text = f"not judged: {check['note']}" if text == check["note"] else text + f" — not judged: {check['note']}"
     return text
 
 

@@ -130,7 +130,7 @@ def render_body(model: ReportModel, plot: Callable[[PlotSpec], str]) -> str:
     sections.append(("formulas", "Formulas and sources",
                      '<p class="dt-note">Each formula this sizing used, with its source and the function that '
                      f'implements it.</p><ol class="dt-formulas">{formulas}</ol>'))
-    toc = "".join(f'<a href="#dt-{key}">{k}&nbsp;{e(title)}</a>' for k, (key, title, _) in enumerate(sections, 1))
+    toc = " ".join(f'<a href="#dt-{key}">{k}&nbsp;{e(title)}</a>' for k, (key, title, _) in enumerate(sections, 1))
     body = "".join(f'<section id="dt-{key}"><h2>{k} {e(title)}</h2>{content}</section>'
                    for k, (key, title, content) in enumerate(sections, 1))
     meta = "".join(f"<dt>{e(k)}</dt><dd>{e(v)}</dd>" for k, v in model.meta)
