@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from drivetrain.cli.order import print_result_order
 from drivetrain.cli.quantities import TableUnits
 from drivetrain.terminal import Col, print_table, table_console
+
+if TYPE_CHECKING:
+    from drivetrain.sizing.electrical import Regen
 
 __all__ = ["CANDIDATE_COLUMNS", "print_sizing", "table_console"]
 
@@ -150,7 +153,7 @@ def _print_selected_electrical(console: Any, pick: dict[str, Any], u: TableUnits
 
 
 def _print_electrical_blocks(console: Any, m: dict[str, Any], drive: dict[str, Any] | None,
-                             rg: dict[str, Any] | None, u: TableUnits) -> None:
+                             rg: Regen | None, u: TableUnits) -> None:
     if m.get("rms_current_A") is None:
         if rg is not None:
             _print_regen(console, rg)
@@ -181,16 +184,15 @@ def _print_drive(console: Any, drive: dict[str, Any], u: TableUnits) -> None:
         console.print(f"drive {drive['id']} †: {drive.get('unverified_reason')}")
 
 
-def _print_regen(console: Any, rg: dict[str, Any]) -> None:
-    if rg is not None:
-        window = (f", resistance {rg['resistor_min_ohm'] or 0:.4g} to {rg['resistor_max_ohm']:.4g} ohm"
-                  if rg.get("resistor_max_ohm") is not None else "")
-        builtin = {True: "; built-in resistor suffices", False: "; built-in resistor does NOT suffice",
-                   None: ""}[rg["builtin_resistor_sufficient"]]
-        console.print(f"regeneration into the bus {rg['energy_per_cycle_J']:.4g} J per cycle, capacitors "
-                      f"{rg['capacitor_absorbed_J']:.4g} J; braking resistor {rg['resistor_energy_per_cycle_J']:.4g} J "
-                      f"per cycle, peak {rg['resistor_peak_power_W']:.4g} W, average "
-                      f"{rg['resistor_average_power_W']:.4g} W{window}{builtin}")
+def _print_regen(console: Any, rg: Regen) -> None:
+    window = (f", resistance {rg.resistor_min_ohm or 0:.4g} to {rg.resistor_max_ohm:.4g} ohm"
+              if rg.resistor_max_ohm is not None else "")
+    builtin = {True: "; built-in resistor suffices", False: "; built-in resistor does NOT suffice",
+               None: ""}[rg.builtin_resistor_sufficient]
+    console.print(f"regeneration into the bus {rg.energy_per_cycle_J:.4g} J per cycle, capacitors "
+                  f"{rg.capacitor_absorbed_J:.4g} J; braking resistor {rg.resistor_energy_per_cycle_J:.4g} J "
+                  f"per cycle, peak {rg.resistor_peak_power_W:.4g} W, average "
+                  f"{rg.resistor_average_power_W:.4g} W{window}{builtin}")
 
 
 def _mounting(c: dict[str, Any], sel: dict[str, Any]) -> str:

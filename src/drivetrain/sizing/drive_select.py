@@ -48,7 +48,7 @@ import numpy as np
 from drivetrain.axis.electrical import DriveData, MotorElectrical, drive_from_catalog_row, electrical_from_catalog_row
 from drivetrain.errors import InputError
 from drivetrain.physics import drive_overload, motor_electrical
-from drivetrain.sizing.electrical import _check, _drive_block, _regen_block, dc_bus, electrical_answer
+from drivetrain.sizing.electrical import Regen, _check, _drive_block, _regen_block, dc_bus, electrical_answer
 from drivetrain.sizing.voltage_class import stated_supply, voltage_class_check
 
 if TYPE_CHECKING:
@@ -482,7 +482,8 @@ def _reselect(axis: Axis, duty: DutyCycle, chosen: Selection, best: int, passed:
 
 def selected_electrical(axis: Axis, cycle: DutyCycle, motors: MotorTable, m: int, drive: DriveData | None,
                         margins: Margins | None) -> dict[str, Any]:
-    """``electrical`` and ``regen`` of the selected motor with its drive (empty keys when not known)."""
+    """``electrical`` (a dict joining the selected candidate) and ``regen`` (a :class:`Regen`) of the selected
+    motor with its drive (empty keys when not known)."""
     from drivetrain import catalog
     from drivetrain.axis.model import motor_from_catalog_row
 
@@ -526,7 +527,7 @@ def selected_electrical(axis: Axis, cycle: DutyCycle, motors: MotorTable, m: int
 
 
 def _mechanical_regen(cycle: DutyCycle, motor: MotorData, drive: DriveData | None,
-                      elec: MotorElectrical) -> dict[str, Any]:
+                      elec: MotorElectrical) -> Regen:
     """The regen block from the motor torque and speed (copper loss where R and K_t are known)."""
     t_m = cycle.motor_torque(motor.inertia)
     current = np.zeros_like(t_m)

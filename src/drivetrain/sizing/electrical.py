@@ -10,7 +10,7 @@ what is missing is reported as missing (None), never guessed.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -27,6 +27,99 @@ if TYPE_CHECKING:
 Array = np.ndarray
 
 
+@dataclass(frozen=True)
+class RegenEvent:
+    """One regeneration event of the cycle: an interval in which the motor sends power into the DC bus.
+
+    Attributes
+    ----------
+    t0_s : float
+        Start of the event [s] from the start of the cycle.
+    t1_s : float
+        End of the event [s].
+    energy_J : float
+        Energy the event sends into the DC bus [J], after the copper loss.
+    resistor_J : float
+        Of it, the energy the braking resistor must take [J] (what the bus capacitors cannot absorb).
+    """
+
+    t0_s: float
+    t1_s: float
+    energy_J: float
+    resistor_J: float
+
+    def to_dict(self) -> dict[str, float]:
+        """The event in the JSON of docs/axis-file.md (``regen.events[]``), keys in field order."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+@dataclass(frozen=True)
+class Regen:
+    """The regeneration block of the motor with its drive: the energy the cycle sends into the DC bus, what
+    the bus capacitors absorb and what is left for a braking resistor (``physics.regen.regen_cycle``).
+
+    The given motor's sits in ``SizingResult.extras["regen"]``, the selected candidate's in
+    ``SizingResult.selection["selected"]["regen"]``; :meth:`to_dict` is the ``regen`` object of the JSON
+    (docs/axis-file.md), its keys the fields in this order.
+
+    Attributes
+    ----------
+    shaft_energy_per_cycle_J : float
+        Mechanical energy the motor shaft returns per cycle [J] (the integral of the negative T * omega).
+    copper_loss_in_events_J : float
+        Copper loss in the motor's windings during the regeneration events [J] (0 where R or K_t is not known).
+    energy_per_cycle_J : float
+        Energy into the DC bus per cycle [J]: the shaft's minus the copper loss, over the events.
+    capacitor_energy_per_event_J : float
+        Energy the drive's bus capacitors can absorb in one event [J] (0 without the drive's data).
+    capacitor_basis : str
+        Where that energy comes from: ``"published"`` (the drive's absorbable energy), ``"capacitance"``
+        (1/2 C (U_max^2 - U_bus^2)) or ``"none"``.
+    capacitor_absorbed_J : float
+        Energy the bus capacitors absorb per cycle [J].
+    resistor_energy_per_cycle_J : float
+        Energy the braking resistor must take per cycle [J].
+    resistor_peak_power_W : float
+        Peak power into the braking resistor [W].
+    resistor_average_power_W : float
+        Average power into the braking resistor over the cycle [W].
+    resistor_min_ohm : float or None
+        The drive's minimum braking resistance [ohm]; None where the drive does not state it.
+    resistor_max_ohm : float or None
+        The largest resistance that still takes the peak power at the drive's regeneration-on voltage
+        [ohm] (U_on^2 / P_peak); None where that voltage is not known or no power goes to a resistor.
+    resistor_needed : bool
+        Whether the cycle sends energy to a braking resistor at all.
+    builtin_resistor_sufficient : bool or None
+        Whether the drive's built-in resistor takes the peak and average power; None where not known.
+    events : tuple of RegenEvent
+        The regeneration events of the cycle, in time order.
+    """
+
+    shaft_energy_per_cycle_J: float
+    copper_loss_in_events_J: float
+    energy_per_cycle_J: float
+    capacitor_energy_per_event_J: float
+    capacitor_basis: str
+    capacitor_absorbed_J: float
+    resistor_energy_per_cycle_J: float
+    resistor_peak_power_W: float
+    resistor_average_power_W: float
+    resistor_min_ohm: float | None
+    resistor_max_ohm: float | None
+    resistor_needed: bool
+    builtin_resistor_sufficient: bool | None
+    events: tuple[RegenEvent, ...] = ()
+
+    def to_dict(self, events: bool = True) -> dict[str, Any]:
+        """The ``regen`` object of the JSON (docs/axis-file.md): the fields in order, ``events`` as a list
+        of their dicts; without ``events`` where ``events`` is False (the web page's panel)."""
+        out: dict[str, Any] = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "events"}
+        if events:
+            out["events"] = [e.to_dict() for e in self.events]
+        return out
+
+
 @dataclass
 class ElectricalAnswer:
     """What the electrical half adds to a given motor's result."""
@@ -36,7 +129,7 @@ class ElectricalAnswer:
     checks: list[Check] = field(default_factory=list)
     """checks joining the motor's checks"""
     drive: dict[str, Any] | None = None
-    regen: dict[str, Any] | None = None
+    regen: Regen | None = None
     curve: dict[str, Any] | None = None
     """the T-n curve at the supply voltage (speeds, continuous and peak torque), for reports"""
 
@@ -208,7 +301,8 @@ def _drive_block(drive: DriveData, duty: DutyCycle, current: Array, i_rms: float
 
 
 def _regen_block(duty: DutyCycle, t_m: Array, current: Array, elec: MotorElectrical, drive: DriveData | None,
-                 bus: float | None) -> dict[str, Any]:
+                 bus: float | None) -> Regen:
+    """The regeneration block of the motor's cycle with its drive (``physics.regen.regen_cycle``)."""
     p_cu = regen.copper_loss(current, elec.resistance) if elec.resistance is not None else np.zeros_like(current)
     e_c, basis = 0.0, "none"
     if drive is not None and drive.absorbable_energy is not None:
@@ -228,21 +322,21 @@ def _regen_block(duty: DutyCycle, t_m: Array, current: Array, elec: MotorElectri
                                                          drive.builtin_average_power, drive.builtin_resistance,
                                                          drive.regen_on_voltage,
                                                          math.nan if r_min is None else r_min))
-    return {
-        "shaft_energy_per_cycle_J": r.shaft_energy,
-        "copper_loss_in_events_J": float(r.events.copper_energy.sum()),
-        "energy_per_cycle_J": r.energy,
-        "capacitor_energy_per_event_J": e_c,
-        "capacitor_basis": basis,
-        "capacitor_absorbed_J": r.capacitor_absorbed,
-        "resistor_energy_per_cycle_J": r.resistor_energy,
-        "resistor_peak_power_W": r.resistor_peak_power,
-        "resistor_average_power_W": r.resistor_average_power,
-        "resistor_min_ohm": r_min,
-        "resistor_max_ohm": None if r_max is None or math.isinf(r_max) else r_max,
-        "resistor_needed": r.resistor_energy > 0.0,
-        "builtin_resistor_sufficient": builtin,
-        "events": [{"t0_s": float(a), "t1_s": float(b), "energy_J": float(e), "resistor_J": float(q)}
-                   for a, b, e, q in zip(r.events.t_start, r.events.t_stop, r.events.bus_energy,
-                                         r.events.resistor_energy, strict=True)],
-    }
+    return Regen(
+        shaft_energy_per_cycle_J=r.shaft_energy,
+        copper_loss_in_events_J=float(r.events.copper_energy.sum()),
+        energy_per_cycle_J=r.energy,
+        capacitor_energy_per_event_J=e_c,
+        capacitor_basis=basis,
+        capacitor_absorbed_J=r.capacitor_absorbed,
+        resistor_energy_per_cycle_J=r.resistor_energy,
+        resistor_peak_power_W=r.resistor_peak_power,
+        resistor_average_power_W=r.resistor_average_power,
+        resistor_min_ohm=r_min,
+        resistor_max_ohm=None if r_max is None or math.isinf(r_max) else r_max,
+        resistor_needed=r.resistor_energy > 0.0,
+        builtin_resistor_sufficient=builtin,
+        events=tuple(RegenEvent(float(a), float(b), float(e), float(q))
+                     for a, b, e, q in zip(r.events.t_start, r.events.t_stop, r.events.bus_energy,
+                                           r.events.resistor_energy, strict=True)),
+    )

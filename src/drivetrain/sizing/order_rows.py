@@ -22,6 +22,7 @@ from drivetrain.sizing.order_spec import (
 )
 
 if TYPE_CHECKING:
+    from drivetrain.sizing.electrical import Regen
     from drivetrain.sizing.result import SizingResult
 
 
@@ -34,7 +35,7 @@ class _Ctx:
     motor_row: dict[str, Any] | None = None
     motor: dict[str, Any] | None = None
     drive: dict[str, Any] | None = None
-    regen: dict[str, Any] | None = None
+    regen: Regen | None = None
     elec: dict[str, Any] = field(default_factory=dict)
     gearbox_id: str | None = None
     gearbox_checks: list[dict[str, Any]] = field(default_factory=list)
@@ -322,7 +323,7 @@ def _drive_spec(c: _Ctx, d: dict[str, Any]) -> OrderRow:
         open_points.append("supply voltage not given (motor.supply_voltage) and the motor's voltage class unknown")
     elif basis != "the answer's supply":
         spec["voltage_basis"] = basis
-    if c.regen and c.regen.get("resistor_needed"):
+    if c.regen is not None and c.regen.resistor_needed:
         spec["braking_chopper"] = "for an external braking resistor (row braking_resistor)"
     if d.get("candidates"):
         spec["vendor_pairing"] = list(d["candidates"])
@@ -470,18 +471,18 @@ def resistor_row(c: _Ctx) -> OrderRow | None:
     resistor is not known to take it: the resistance window, energy per event, peak and average power and the
     standard values inside the window."""
     rg = c.regen
-    if not rg or not rg.get("resistor_needed") or rg.get("builtin_resistor_sufficient") is True:
+    if rg is None or not rg.resistor_needed or rg.builtin_resistor_sufficient is True:
         return None
     drive = c.catalog((c.drive or {}).get("id")) if (c.drive or {}).get("ok") is not None else None
     given = c.result.axis.drive
-    r_min = rg.get("resistor_min_ohm")
+    r_min = rg.resistor_min_ohm
     if r_min is None:
         r_min = (drive or {}).get("min_resistance_ohm") or (given.min_resistance if given is not None else None)
-    events = [float(e["resistor_J"]) for e in rg.get("events", [])]
+    events = [e.resistor_J for e in rg.events]
     u_on = (drive or {}).get("regen_on_voltage_V") or (given.regen_on_voltage if given is not None else None)
-    spec, open_points = resistor_spec(float(rg["resistor_peak_power_W"]), float(rg["resistor_average_power_W"]),
-                                      float(rg["resistor_energy_per_cycle_J"]), max(events) if events else None,
-                                      r_min, rg.get("resistor_max_ohm"), u_on, _supply(c)[1])
+    spec, open_points = resistor_spec(float(rg.resistor_peak_power_W), float(rg.resistor_average_power_W),
+                                      float(rg.resistor_energy_per_cycle_J), max(events) if events else None,
+                                      r_min, rg.resistor_max_ohm, u_on, _supply(c)[1])
     return OrderRow("braking_resistor", "specification", "specification", "braking resistor", spec=spec,
                     open_points=open_points, element="drive")
 

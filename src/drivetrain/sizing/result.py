@@ -14,6 +14,7 @@ from drivetrain.axis.model import Axis, MotorData
 from drivetrain.duty.cycle import DutyCycle, load_metrics
 from drivetrain.physics.acceleration import acceleration_power, minimum_accel_time, minimum_decel_time, operation_power
 from drivetrain.sizing.checks import Check, running_torque
+from drivetrain.sizing.electrical import Regen
 from drivetrain.sizing.motor_fit import MotorArrays, demand, fit_motors
 from drivetrain.sizing.verdict import Status, Unknown, collect_unknowns, failures, unknown_fails
 from drivetrain.version import __version__
@@ -49,7 +50,8 @@ class SizingResult:
         A catalog selection's summary: counts, the ``selected`` candidate, next smaller motor, advice.
     extras : dict
         The axis's own checks and notes, in the order of the answer: ``warnings``, ``guide``,
-        ``slip_check``, ``mechanism_checks``, ``brake_check``, a given motor's ``drive`` and ``regen``,
+        ``slip_check``, ``mechanism_checks``, ``brake_check``, a given motor's ``drive`` and ``regen``
+        (a ``sizing.electrical.Regen``; the selected candidate's is in ``selection["selected"]``),
         ``gearbox_checks`` (and a gantry share's ``load_share``).
     ranking : Ranking or None
         The evaluated candidates behind ``candidates`` and ``selection`` (not part of the JSON).
@@ -116,11 +118,14 @@ class SizingResult:
         out: dict[str, Any] = {"axis": self.axis.name, "drivetrain_version": __version__,
                                "catalog_version": DATA_VERSION, "efficiency_model": self.axis.efficiency_model}
         out.update(self.metrics)
-        out.update(self.extras)
+        out.update({k: plain_block(v) for k, v in self.extras.items()})
         if self.motor is not None:
             out["motor"] = self.motor
         if self.selection is not None:
             out["selection"] = self.selection
+            pick = self.selection.get("selected")
+            if isinstance(pick, dict) and any(isinstance(v, TYPED_BLOCKS) for v in pick.values()):
+                out["selection"] = {**self.selection, "selected": {k: plain_block(v) for k, v in pick.items()}}
         if self.candidates:
             out["candidates"] = self.candidates
         if self.modes is not None:
@@ -250,6 +255,15 @@ class SizingResult:
         fig.suptitle(self.axis.name)
         fig.tight_layout()
         return fig
+
+
+TYPED_BLOCKS = (Regen,)
+"""The typed blocks of the answer that sit in ``extras`` or in the selected candidate (their JSON: ``to_dict``)."""
+
+
+def plain_block(value: Any) -> Any:
+    """A block of the answer as the JSON holds it: a typed block's ``to_dict()``, any other value as it is."""
+    return value.to_dict() if isinstance(value, TYPED_BLOCKS) else value
 
 
 def ratio_for_inertia_ratio(load_inertia: float, motor_inertia: float, limit: float) -> float:

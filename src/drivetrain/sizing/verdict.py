@@ -29,7 +29,7 @@ Status = Literal["pass", "pass with unknowns", "fail"]
 @dataclass(frozen=True)
 class Unknown:
     """A check of the answer that could not be judged: its name, the part it concerns (``motor``,
-    ``drive``, ``electrical``, ``regen``, ``gearbox`` (a catalog gearbox), ``gearbox stage (NAME)`` (one of
+    ``drive``, ``electrical``, ``gearbox`` (a catalog gearbox), ``gearbox stage (NAME)`` (one of
     ``transmission:``), ``motor-gearbox fit``, ``brake``, ``mechanism``, ``guide``, ``dynamics``) and what
     would decide it."""
 
@@ -93,23 +93,16 @@ def _drive_unknowns(block: dict[str, Any] | None) -> list[Unknown]:
             for c in _check_list(block) if _not_judged(c)]
 
 
-def _regen_unknowns(block: dict[str, Any] | None) -> list[Unknown]:
-    """The braking block's own checks that cannot be judged. Whether the drive's built-in braking resistor
-    suffices is not one: where that is not known, the block's energy, powers and resistance window specify
-    the external resistor to fit, which answers the question either way (docs/checks.md, "The verdict")."""
-    if not isinstance(block, dict):
-        return []
-    return [Unknown(c["name"], "regen", _decide(c, "a rating it needs is not known"))
-            for c in _check_list(block) if _not_judged(c)]
-
-
 def collect_unknowns(result: Answer) -> list[Unknown]:
     """Every check of the answer whose status is unknown (docs/checks.md, "The verdict"), in the order of
     the answer: the axis's own checks (load slip, guide, brake, mechanism), the transmission's gearbox
     ratings (``gearbox_checks``, the T2B shock-factor case included), the given motor (its checks and
-    electrical half, drive, regen) or the selected candidate (its checks, motor-gearbox fit, drive,
-    voltage class, electrical, regen) and the dynamic selection's chosen candidate. The modes'
-    ``servo_bandwidth`` is reported, not judged: it is not part of the verdict."""
+    electrical half, drive) or the selected candidate (its checks, motor-gearbox fit, drive, voltage class,
+    electrical) and the dynamic selection's chosen candidate. The regeneration block (``Regen``) holds no
+    check: whether the drive's built-in braking resistor suffices is not one, since where that is not known
+    the block's energy, powers and resistance window specify the external resistor to fit, which answers
+    the question either way (docs/checks.md, "The verdict"). The modes' ``servo_bandwidth`` is reported,
+    not judged: it is not part of the verdict."""
     out: list[Unknown] = []
     ex = result.extras
     for key, part in (("slip_check", "mechanism"), ("guide", "guide"), ("brake_check", "brake")):
@@ -126,7 +119,6 @@ def collect_unknowns(result: Answer) -> list[Unknown]:
                 for c in _check_list(result.motor) if _not_judged(c)]
         drive = ex.get("drive")
         out += _drive_unknowns(drive)
-        out += _regen_unknowns(ex.get("regen"))
     elif result.selection is not None and result.selection.get("selected"):
         pick = result.selection["selected"]
         for c in _check_list(pick):
@@ -141,7 +133,6 @@ def collect_unknowns(result: Answer) -> list[Unknown]:
         out += _drive_unknowns(drive)
         out += [Unknown(c["name"], "electrical", _decide(c, "an electrical datum is not known"))
                 for c in _check_list(pick.get("electrical")) if _not_judged(c)]
-        out += _regen_unknowns(pick.get("regen"))
         dyn = result.selection.get("dynamics")
         chosen = dyn.get("chosen") if isinstance(dyn, dict) else None
         out += [Unknown(c["name"], "dynamics", _decide(c, "the simulation could not judge it"))
