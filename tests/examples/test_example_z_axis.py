@@ -84,9 +84,9 @@ def test_the_answer_is_a_motor_and_its_drive_with_every_electrical_check(result)
             "winding_temperature_rise"} <= names
     rg = sel["regen"]
     # the load is lowered every cycle: energy flows back, and none of it is created
-    assert 0 < rg["energy_per_cycle_J"] <= rg["shaft_energy_per_cycle_J"]
-    assert rg["resistor_energy_per_cycle_J"] == pytest.approx(rg["energy_per_cycle_J"] - rg["capacitor_absorbed_J"])
-    assert rg["resistor_peak_power_W"] > rg["resistor_average_power_W"] > 0
+    assert 0 < rg.energy_per_cycle_J <= rg.shaft_energy_per_cycle_J
+    assert rg.resistor_energy_per_cycle_J == pytest.approx(rg.energy_per_cycle_J - rg.capacitor_absorbed_J)
+    assert rg.resistor_peak_power_W > rg.resistor_average_power_W > 0
 
 
 def test_the_motors_passed_over_are_named_with_the_reason(result) -> None:  # type: ignore[no-untyped-def]

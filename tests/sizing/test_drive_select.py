@@ -199,9 +199,9 @@ def test_selection_answers_motor_drive_resistor_and_winding_temperature(user_cat
     assert elec["winding_temperature_rise_K"] is not None and 0 < elec["winding_temperature_rise_K"] < 100
     assert elec["rms_current_A"] == pytest.approx(d["motor_rms_current_A"])
     rg = sel["regen"]
-    assert rg["capacitor_basis"] == "published" and rg["resistor_min_ohm"] == 40.0
-    assert rg["energy_per_cycle_J"] <= rg["shaft_energy_per_cycle_J"] + 1e-9
-    assert isinstance(rg["builtin_resistor_sufficient"], bool)
+    assert rg.capacitor_basis == "published" and rg.resistor_min_ohm == 40.0
+    assert rg.energy_per_cycle_J <= rg.shaft_energy_per_cycle_J + 1e-9
+    assert isinstance(rg.builtin_resistor_sufficient, bool)
     # every listed candidate carries a drive block
     assert all("drive" in c for c in r.candidates)
 
@@ -252,7 +252,7 @@ def test_report_shows_the_drive_regen_plot_and_supply_curve(user_catalog: None, 
     assert "to the braking resistor (cumulative)" in names
     # the plot's resistor energy ends at the regen block's figure (same model, same cycle)
     res = next(t for p in m.regen.panels for t in p.traces if t.name.startswith("to the braking resistor"))
-    assert float(res.y[-1]) == pytest.approx(r.selection["selected"]["regen"]["resistor_energy_per_cycle_J"],
+    assert float(res.y[-1]) == pytest.approx(r.selection["selected"]["regen"].resistor_energy_per_cycle_J,
                                              rel=1e-6, abs=1e-9)
     assert any("DC bus" in t.name for p in m.speed_torque.panels for t in p.traces)
     labels = [row[0].text for row in m.electrical.rows]

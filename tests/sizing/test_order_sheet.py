@@ -54,8 +54,8 @@ def _expected_parts(result: Any) -> Counter[str]:
     parts["screw"] = int(axis.spec.mechanism.type in ("ball_screw", "lead_screw"))
     parts["guide"] = int(axis.spec.guide is not None)
     regen = (pick or {}).get("regen") if pick is not None else result.extras.get("regen")
-    parts["braking_resistor"] = int(bool(regen and regen["resistor_needed"]
-                                         and regen.get("builtin_resistor_sufficient") is not True))
+    parts["braking_resistor"] = int(bool(regen is not None and regen.resistor_needed
+                                         and regen.builtin_resistor_sufficient is not True))
     return +parts
 
 
@@ -184,12 +184,12 @@ def test_the_belt_axis_resistor_row_by_hand() -> None:
     result = sized("belt.yaml")
     regen = result.selection["selected"]["regen"]
     row = next(r for r in order_sheet(result).rows if r.part == "braking_resistor")
-    p = regen["resistor_peak_power_W"]
+    p = regen.resistor_peak_power_W
     assert row.spec["resistance_max_ohm"] == pytest.approx(2.0 * 200.0**2 / p, rel=1e-12)
     assert row.spec["resistance_max_ohm"] == pytest.approx(602.5, abs=0.05)
     assert row.spec["standard_values_ohm"] == [560.0]
-    assert row.spec["energy_per_event_J"] == max(e["resistor_J"] for e in regen["events"])
-    assert row.spec["average_power_W"] == regen["resistor_average_power_W"]
+    assert row.spec["energy_per_event_J"] == max(e.resistor_J for e in regen.events)
+    assert row.spec["average_power_W"] == regen.resistor_average_power_W
     assert row.spec["resistance_min_ohm"] is None and any("minimum resistance" in p for p in row.open_points)
 
 
