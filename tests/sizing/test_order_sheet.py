@@ -111,7 +111,7 @@ def test_a_motor_without_drive_currents_gets_a_drive_specification_in_torque_ter
     1.2 m in 1 s) and the supply of the motor's 200 V class; the currents need the motor's k_T."""
     result = sized("belt.yaml")
     pick = result.selection["selected"]
-    assert pick["motor"] == "MQMF022L1" and pick["drive"]["status"] == "unknown"
+    assert pick["motor"] == "MQMF022L1" and pick["drive"].status == "unknown"
     drive = next(r for r in order_sheet(result).rows if r.part == "drive")
     assert drive.kind == "specification" and drive.spec["motor"] == "MQMF022L1"
     cycle, rotor, _ = result.motor_cycle()

@@ -1,6 +1,6 @@
-"""The typed blocks of the answer (``sizing.electrical.Regen``, ``RegenEvent``): every field documented with
-its unit, the JSON they make the one docs/axis-file.md documents, and the ``--json`` of the shipped examples
-unchanged by their being typed."""
+"""The typed blocks of the answer (``sizing.electrical.DriveAnswer``, ``Regen``, ``RegenEvent``): every field
+documented with its unit, the JSON they make the one docs/axis-file.md documents, and the ``--json`` of the
+shipped examples unchanged by their being typed."""
 
 from __future__ import annotations
 
@@ -11,11 +11,11 @@ from pathlib import Path
 import pytest
 
 from drivetrain import cli
-from drivetrain.sizing.electrical import Regen, RegenEvent
+from drivetrain.sizing.electrical import _DRIVE_KEYS, DriveAnswer, Regen, RegenEvent
 
 ROOT = Path(__file__).resolve().parents[2]
 JSON_DATA = ROOT / "tests" / "data" / "json"
-TYPED = (Regen, RegenEvent)
+TYPED = (DriveAnswer, Regen, RegenEvent)
 VOLATILE = re.compile(r'^  "(drivetrain_version|catalog_version)": .*\n', re.MULTILINE)
 
 
@@ -57,6 +57,32 @@ def test_the_regen_keys_are_the_documented_ones() -> None:
     assert list(regen.to_dict()) == keys
     assert list(regen.to_dict()["events"][0]) == ["t0_s", "t1_s", "energy_J", "resistor_J"]
     assert "events" not in regen.to_dict(events=False)
+
+
+def test_every_drive_key_is_a_field_and_documented() -> None:
+    """Each layout's JSON keys are fields of DriveAnswer and named in docs/axis-file.md's drive sections."""
+    text = (ROOT / "docs" / "axis-file.md").read_text(encoding="utf-8")
+    docs = text.split("Top-level `drive` block:", 1)[1].split("Top-level `regen` block:", 1)[0]
+    docs += text.split("### Drives in a selection", 1)[1].split("The selected motor is the best-ranked", 1)[0]
+    documented = set(re.findall(r"`(\w+)`", docs))
+    names = {f.name for f in dataclasses.fields(DriveAnswer)}
+    for layout, keys in _DRIVE_KEYS.items():
+        assert set(keys) <= names, layout
+        missing = set(keys) - documented
+        assert not missing, (layout, missing)
+
+
+def test_a_drive_block_leaves_out_what_is_not_known_and_keeps_its_order() -> None:
+    given = DriveAnswer("given motor", id="D1", vendor=None, continuous_current_A=2.0, peak_current_A=6.0, ok=True,
+                        checks=())
+    assert given.to_dict() == {"id": "D1", "vendor": None, "continuous_current_A": 2.0, "peak_current_A": 6.0,
+                               "ok": True, "checks": []}
+    assert given.outcome == "ok" and given.status is None
+    none = DriveAnswer("not checked", basis="vendor and supply voltage", candidates=(), status="none", reason="no")
+    assert list(none.to_dict()) == ["basis", "candidates", "status", "id", "ok", "reason"]
+    flagged = DriveAnswer("currents", basis="b", candidates=("D1",), id="D1", ok=True, checks=(), status="ok",
+                          unverified=True, unverified_reason="a transcription")
+    assert list(flagged.to_dict())[-2:] == ["unverified", "unverified_reason"]
 
 
 def test_a_regen_block_is_frozen() -> None:

@@ -10,7 +10,7 @@ from drivetrain.cli.quantities import TableUnits
 from drivetrain.terminal import Col, print_table, table_console
 
 if TYPE_CHECKING:
-    from drivetrain.sizing.electrical import Regen
+    from drivetrain.sizing.electrical import DriveAnswer, Regen
 
 __all__ = ["CANDIDATE_COLUMNS", "print_sizing", "table_console"]
 
@@ -129,19 +129,19 @@ def _print_electrical(console: Any, result: Any, u: TableUnits) -> None:
     _print_electrical_blocks(console, result.motor, result.extras.get("drive"), result.extras.get("regen"), u)
 
 
-def _drive_label(drive: dict[str, Any] | None) -> str:
+def _drive_label(drive: DriveAnswer | None) -> str:
     """A candidate's drive in one cell: its id and status (unknown / none / fails)."""
-    if not drive:
+    if drive is None:
         return "-"
-    status = drive.get("status", "ok" if drive.get("ok") else "fails")
-    return f"{drive.get('id') or '-'}" + ("" if status == "ok" else f" ({status})")
+    status = drive.outcome
+    return f"{drive.id or '-'}" + ("" if status == "ok" else f" ({status})")
 
 
 def _print_selected_electrical(console: Any, pick: dict[str, Any], u: TableUnits) -> None:
     """The selected candidate's drive, electrical figures and regen block (drivetrain.sizing.drive_select)."""
     drive = pick.get("drive")
-    if drive and drive.get("status") in ("unknown", "none"):
-        console.print(f"drive: {drive.get('id') or 'none'} ({drive['status']}: {drive.get('reason', '')})")
+    if drive is not None and drive.status in ("unknown", "none"):
+        console.print(f"drive: {drive.id or 'none'} ({drive.status}: {drive.reason or ''})")
         drive = None
     elec = pick.get("electrical") or {}
     if elec.get("note"):
@@ -152,7 +152,7 @@ def _print_selected_electrical(console: Any, pick: dict[str, Any], u: TableUnits
                       {"ok": all(c["ok"] for c in elec["checks"]), "checks": elec["checks"]}, u)
 
 
-def _print_electrical_blocks(console: Any, m: dict[str, Any], drive: dict[str, Any] | None,
+def _print_electrical_blocks(console: Any, m: dict[str, Any], drive: DriveAnswer | None,
                              rg: Regen | None, u: TableUnits) -> None:
     if m.get("rms_current_A") is None:
         if rg is not None:
@@ -177,11 +177,11 @@ def _print_electrical_blocks(console: Any, m: dict[str, Any], drive: dict[str, A
         _print_regen(console, rg)
 
 
-def _print_drive(console: Any, drive: dict[str, Any], u: TableUnits) -> None:
+def _print_drive(console: Any, drive: DriveAnswer, u: TableUnits) -> None:
     """The drive's checks, and why its ratings are not traced where the catalog flags it (data/SOURCES.md)."""
-    _print_checks(console, f"drive {drive['id']}", drive, u)
-    if drive.get("unverified"):
-        console.print(f"drive {drive['id']} †: {drive.get('unverified_reason')}")
+    _print_checks(console, f"drive {drive.id}", {"ok": drive.ok, "checks": list(drive.checks or ())}, u)
+    if drive.unverified:
+        console.print(f"drive {drive.id} †: {drive.unverified_reason}")
 
 
 def _print_regen(console: Any, rg: Regen) -> None:

@@ -20,13 +20,13 @@ if TYPE_CHECKING:
     from drivetrain.axis.electrical import MotorElectrical
     from drivetrain.report.blocks import Table
     from drivetrain.report.focus import Focus
-    from drivetrain.sizing.electrical import Regen
+    from drivetrain.sizing.electrical import DriveAnswer, Regen
     from drivetrain.sizing.result import SizingResult
 
 REGEN_COLORS = {"bus": "#ef6c00", "resistor": "#c62828", "capacitor": "#2e7d32", "supply": "#6a1b9a"}
 
 
-def blocks(result: SizingResult) -> tuple[dict[str, Any], dict[str, Any] | None, Regen | None]:
+def blocks(result: SizingResult) -> tuple[dict[str, Any], DriveAnswer | None, Regen | None]:
     """(electrical figures of the motor, drive block, regen block) of the report's motor; {} / None if absent."""
     if result.motor is not None:
         elec = {k: v for k, v in result.motor.items() if k != "checks"}
@@ -143,14 +143,14 @@ def electrical_table(result: SizingResult, du: DisplayUnits) -> Table | None:
             f"{fmt_number(c['required'])} {unit}", fmt_percent(c.get("margin")), "pass" if c.get("ok") else "fail")
 
     if drive is not None:
-        status = drive.get("status", "ok" if drive.get("ok") else "fails")
-        what = drive.get("id") or "none"
-        if drive.get("basis"):
-            what += f" ({drive['basis']})"
+        status = drive.outcome
+        what = drive.id or "none"
+        if drive.basis:
+            what += f" ({drive.basis})"
         add("Drive", what, "", status, {"ok": "pass", "fails": "fail"}.get(status, "warn"))
-        if drive.get("reason"):
-            add("", drive["reason"], "", "", "warn")
-        for c in drive.get("checks", []):
+        if drive.reason:
+            add("", drive.reason, "", "", "warn")
+        for c in drive.checks or ():
             check(c)
     if elec:
         src = elec.get("envelope_source")

@@ -22,7 +22,7 @@ from drivetrain.sizing.order_spec import (
 )
 
 if TYPE_CHECKING:
-    from drivetrain.sizing.electrical import Regen
+    from drivetrain.sizing.electrical import DriveAnswer, Regen
     from drivetrain.sizing.result import SizingResult
 
 
@@ -34,7 +34,7 @@ class _Ctx:
     motor_id: str | None = None
     motor_row: dict[str, Any] | None = None
     motor: dict[str, Any] | None = None
-    drive: dict[str, Any] | None = None
+    drive: DriveAnswer | None = None
     regen: Regen | None = None
     elec: dict[str, Any] = field(default_factory=dict)
     gearbox_id: str | None = None
@@ -277,21 +277,23 @@ def _supply(c: _Ctx) -> tuple[float | None, float | None, str]:
 
 
 def drive_row(c: _Ctx) -> OrderRow:
-    d = c.drive or {}
+    d = c.drive
     axis = c.result.axis
-    did = d.get("id") or (axis.drive.name if axis.drive is not None else None)
-    checked = did is not None and (d.get("ok") is not None or axis.drive is not None)
+    did = (d.id if d is not None else None) or (axis.drive.name if axis.drive is not None else None)
+    checked = did is not None and ((d is not None and d.ok is not None) or axis.drive is not None)
     if checked:
         row = c.catalog(did)
         code = str(did)
-        spec = {"continuous_current_A": d.get("continuous_current_A"), "peak_current_A": d.get("peak_current_A"),
+        spec = {"continuous_current_A": None if d is None else d.continuous_current_A,
+                "peak_current_A": None if d is None else d.peak_current_A,
                 "voltage_class_V": None if row is None else row.get("voltage_V"), "motor": c.motor_id}
         choose = code_choices(code)
         open_points = _choose_open(choose)
-        open_points += _checks_open(d.get("checks", []))
+        checks = [] if d is None else list(d.checks or ())
+        open_points += _checks_open(checks)
         if row is None and axis.drive is not None:
             return _named_row("drive", f"servo drive {did} (as the axis file gives it)", code, axis.drive.vendor,
-                              spec, _checks_open(d.get("checks", [])))
+                              spec, _checks_open(checks))
         return OrderRow("drive", "catalog", "incomplete" if open_points else "complete",
                         f"servo drive {'' if row is None else (row.get('series') or '')} {did}".replace("  ", " "),
                         order_code=None if choose else code, catalog_id=code, spec=spec, choose=choose,
@@ -299,7 +301,7 @@ def drive_row(c: _Ctx) -> OrderRow:
     return _drive_spec(c, d)
 
 
-def _drive_spec(c: _Ctx, d: dict[str, Any]) -> OrderRow:
+def _drive_spec(c: _Ctx, d: DriveAnswer | None) -> OrderRow:
     """A drive for the motor as a specification: continuous and peak output current with the peak's duration,
     supply and DC bus, the motor; in torque terms where the motor's k_T is not known."""
     spec: dict[str, Any] = {"motor": c.motor_id or (c.result.axis.motor.name if c.result.axis.motor else None)}
@@ -325,12 +327,12 @@ def _drive_spec(c: _Ctx, d: dict[str, Any]) -> OrderRow:
         spec["voltage_basis"] = basis
     if c.regen is not None and c.regen.resistor_needed:
         spec["braking_chopper"] = "for an external braking resistor (row braking_resistor)"
-    if d.get("candidates"):
-        spec["vendor_pairing"] = list(d["candidates"])
-        open_points.append(f"the vendor pairs {', '.join(d['candidates'])} with this motor; the catalog has no "
+    if d is not None and d.candidates:
+        spec["vendor_pairing"] = list(d.candidates)
+        open_points.append(f"the vendor pairs {', '.join(d.candidates)} with this motor; the catalog has no "
                            "currents to check them against this specification")
-    if d.get("reason"):
-        open_points.append(str(d["reason"]))
+    if d is not None and d.reason:
+        open_points.append(str(d.reason))
     return OrderRow("drive", "specification", "specification", f"servo drive for {spec['motor'] or 'the motor'}",
                     spec=spec, open_points=open_points, element="drive")
 
@@ -473,7 +475,7 @@ def resistor_row(c: _Ctx) -> OrderRow | None:
     rg = c.regen
     if rg is None or not rg.resistor_needed or rg.builtin_resistor_sufficient is True:
         return None
-    drive = c.catalog((c.drive or {}).get("id")) if (c.drive or {}).get("ok") is not None else None
+    drive = c.catalog(c.drive.id) if c.drive is not None and c.drive.ok is not None else None
     given = c.result.axis.drive
     r_min = rg.resistor_min_ohm
     if r_min is None:

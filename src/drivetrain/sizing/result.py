@@ -14,7 +14,7 @@ from drivetrain.axis.model import Axis, MotorData
 from drivetrain.duty.cycle import DutyCycle, load_metrics
 from drivetrain.physics.acceleration import acceleration_power, minimum_accel_time, minimum_decel_time, operation_power
 from drivetrain.sizing.checks import Check, running_torque
-from drivetrain.sizing.electrical import Regen
+from drivetrain.sizing.electrical import DriveAnswer, Regen
 from drivetrain.sizing.motor_fit import MotorArrays, demand, fit_motors
 from drivetrain.sizing.verdict import Status, Unknown, collect_unknowns, failures, unknown_fails
 from drivetrain.version import __version__
@@ -51,7 +51,8 @@ class SizingResult:
     extras : dict
         The axis's own checks and notes, in the order of the answer: ``warnings``, ``guide``,
         ``slip_check``, ``mechanism_checks``, ``brake_check``, a given motor's ``drive`` and ``regen``
-        (a ``sizing.electrical.Regen``; the selected candidate's is in ``selection["selected"]``),
+        (a ``sizing.electrical.DriveAnswer`` and a ``Regen``; the selected candidate's are in
+        ``selection["selected"]``, each listed candidate's drive in its ``drive``),
         ``gearbox_checks`` (and a gantry share's ``load_share``).
     ranking : Ranking or None
         The evaluated candidates behind ``candidates`` and ``selection`` (not part of the JSON).
@@ -127,7 +128,7 @@ class SizingResult:
             if isinstance(pick, dict) and any(isinstance(v, TYPED_BLOCKS) for v in pick.values()):
                 out["selection"] = {**self.selection, "selected": {k: plain_block(v) for k, v in pick.items()}}
         if self.candidates:
-            out["candidates"] = self.candidates
+            out["candidates"] = [{k: plain_block(v) for k, v in c.items()} for c in self.candidates]
         if self.modes is not None:
             out["modes"] = self.modes
         import importlib  # the order sheet reads the result: looked up by name, so no circle of files
@@ -257,7 +258,7 @@ class SizingResult:
         return fig
 
 
-TYPED_BLOCKS = (Regen,)
+TYPED_BLOCKS = (DriveAnswer, Regen)
 """The typed blocks of the answer that sit in ``extras`` or in the selected candidate (their JSON: ``to_dict``)."""
 
 
@@ -471,8 +472,11 @@ def _first_move_ramp_times(duty: DutyCycle) -> float:
 def verdict(result: SizingResult) -> bool:
     """True when the axis's own checks (slip, guide, brake, gearbox ratings, mechanism, drive) and the
     given motor or the selected candidate pass (the pipeline's last stage; ``SizingResult.ok``)."""
-    own = [result.extras[k]["ok"] for k in ("slip_check", "guide", "brake_check", "gearbox_checks", "drive")
+    own = [result.extras[k]["ok"] for k in ("slip_check", "guide", "brake_check", "gearbox_checks")
            if k in result.extras]
+    drive = result.extras.get("drive")
+    if drive is not None:
+        own.append(drive.ok)
     own += [c["ok"] for c in result.extras.get("mechanism_checks", [])]
     if not all(own):
         return False

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any, Literal, Protocol
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Axis
+    from drivetrain.sizing.electrical import DriveAnswer
 
 
 class Answer(Protocol):
@@ -81,16 +82,16 @@ def _decide(check: dict[str, Any], default: str) -> str:
     return str(check.get("note") or check.get("reason") or default)
 
 
-def _drive_unknowns(block: dict[str, Any] | None) -> list[Unknown]:
+def _drive_unknowns(block: DriveAnswer | None) -> list[Unknown]:
     """A drive block (``drive_select.pick_drive``, or a given motor's): unknown or none as a whole, or
     its own checks that cannot be judged."""
-    if not isinstance(block, dict):
+    if block is None:
         return []
-    if block.get("status") in ("unknown", "none"):
-        what = "no drive in the catalog fits" if block["status"] == "none" else "cannot be checked"
-        return [Unknown("drive", "drive", str(block.get("reason") or what))]
+    if block.status in ("unknown", "none"):
+        what = "no drive in the catalog fits" if block.status == "none" else "cannot be checked"
+        return [Unknown("drive", "drive", str(block.reason or what))]
     return [Unknown(c["name"], "drive", _decide(c, "the drive's rating is not known"))
-            for c in _check_list(block) if _not_judged(c)]
+            for c in block.checks or () if _not_judged(c)]
 
 
 def collect_unknowns(result: Answer) -> list[Unknown]:
@@ -152,9 +153,9 @@ def failures(result: Answer) -> list[str]:
     if result.motor is not None:
         out += [f"motor: {c['name']}" for c in _check_list(result.motor) if _failed(c)]
         drive = ex.get("drive")
-        if isinstance(drive, dict) and (drive.get("status") == "fails" or drive.get("ok") is False):
-            bad = ", ".join(c["name"] for c in _check_list(drive) if _failed(c))
-            out.append(f"drive: {drive.get('reason') or bad}")
+        if drive is not None and (drive.status == "fails" or drive.ok is False):
+            bad = ", ".join(c["name"] for c in drive.checks or () if _failed(c))
+            out.append(f"drive: {drive.reason or bad}")
     elif result.selection is not None:
         sel = result.selection
         if sel.get("drive_advice"):
