@@ -96,7 +96,8 @@ def test_the_json_of_an_example_is_unchanged(name: str, capsys: pytest.CaptureFi
     """``drivetrain size examples/NAME.yaml --json``, byte for byte, against the output saved before the blocks
     were typed (tests/data/json/NAME.json; the version keys, which change with every release and catalog
     update, left out). A change of a figure or a key here is a change of the documented JSON: say it in the
-    CHANGELOG and save the file anew with ``drivetrain size examples/NAME.yaml --json``, less those two lines."""
+    CHANGELOG and save the files anew with ``python scripts/example_json.py`` (run with the code whose output is
+    the reference)."""
     assert cli.main(["size", str(ROOT / "examples" / f"{name}.yaml"), "--json"]) in (0, 1)
     out = VOLATILE.sub("", capsys.readouterr().out)
     expected = (JSON_DATA / f"{name}.json").read_text(encoding="utf-8")
