@@ -45,7 +45,7 @@ def test_the_shipped_example_answers_a_400_v_chain_on_its_400_v_supply() -> None
     r = size(EXAMPLE)
     assert r.ok
     sel = r.selection["selected"]
-    assert sel["motor"] == "1FT7044-5AK7" and sel["drive"]["status"] == "ok"
+    assert sel["motor"] == "1FT7044-5AK7" and sel["drive"].status == "ok"
     assert sel["voltage_class"]["status"] == "pass" and sel["voltage_class"]["required"] == 400.0
     over = {p["motor"]: p["reason"] for p in r.selection["drive_passed_over"]}
     assert over["SGM7J-04A"].startswith("voltage_class: a 200 V class motor on a 400 V supply")
@@ -70,23 +70,23 @@ def test_the_answer_is_a_motor_and_its_drive_with_every_electrical_check(result)
     sel = result.selection["selected"]
     assert sel["motor"] == "1FT7044-5AK7"
     d = sel["drive"]
-    assert d["status"] == "ok" and d["id"] == "6SL312x-xTE21-0AAx" and d["basis"] == "vendor pairing table"
-    assert d["continuous_current_A"] == 9.0 and d["peak_current_A"] == 18.0
-    assert {c["name"] for c in d["checks"]} == {"drive_rms_current", "drive_peak_current"}
+    assert d.status == "ok" and d.id == "6SL312x-xTE21-0AAx" and d.basis == "vendor pairing table"
+    assert d.continuous_current_A == 9.0 and d.peak_current_A == 18.0
+    assert {c["name"] for c in d.checks} == {"drive_rms_current", "drive_peak_current"}
     e = sel["electrical"]
     assert e["supply_voltage_V"] == 400.0 and e["dc_bus_voltage_V"] == pytest.approx(400.0 * math.sqrt(2))
     assert e["envelope_source"] == "electrical"  # Ke, R, L at the machine's 400 V supply
     assert 0 < e["rms_current_A"] < e["peak_current_A"] < 18.0
-    assert e["rms_current_A"] == pytest.approx(d["motor_rms_current_A"])
+    assert e["rms_current_A"] == pytest.approx(d.motor_rms_current_A)
     assert 0 < e["winding_temperature_rise_K"] < e["winding_allowed_rise_K"]
     names = {c["name"] for c in e["checks"]}
     assert {"motor_rms_current", "motor_peak_current", "peak_torque_at_supply_voltage",
             "winding_temperature_rise"} <= names
     rg = sel["regen"]
     # the load is lowered every cycle: energy flows back, and none of it is created
-    assert 0 < rg["energy_per_cycle_J"] <= rg["shaft_energy_per_cycle_J"]
-    assert rg["resistor_energy_per_cycle_J"] == pytest.approx(rg["energy_per_cycle_J"] - rg["capacitor_absorbed_J"])
-    assert rg["resistor_peak_power_W"] > rg["resistor_average_power_W"] > 0
+    assert 0 < rg.energy_per_cycle_J <= rg.shaft_energy_per_cycle_J
+    assert rg.resistor_energy_per_cycle_J == pytest.approx(rg.energy_per_cycle_J - rg.capacitor_absorbed_J)
+    assert rg.resistor_peak_power_W > rg.resistor_average_power_W > 0
 
 
 def test_the_motors_passed_over_are_named_with_the_reason(result) -> None:  # type: ignore[no-untyped-def]

@@ -43,29 +43,29 @@ def test_a_drive_listing_motor_series_is_offered_only_to_those_series(tmp_path: 
     import_catalog(tmp_path, monkeypatch, MOTORS, DRIVES)
     by_motor = blocks(select_testco())
     own = by_motor["TC-04"]  # series T: "t" matches case-insensitively, as a prefix
-    assert own["basis"] == SERIES_RULE and own["candidates"] == ["TD-M", "TD-L"]
-    assert own["status"] == "ok" and own["id"] == "TD-M"
+    assert own.basis == SERIES_RULE and list(own.candidates) == ["TD-M", "TD-L"]
+    assert own.status == "ok" and own.id == "TD-M"
     other = by_motor["TQ-04"]  # series QZ: the same motor, no drive of its vendor runs its series
-    assert other["basis"] == SERIES_RULE and other["candidates"] == []
-    assert other["status"] == "none" and other["id"] is None and other["ok"] is None
-    assert "series (QZ)" in other["reason"] and "t, TY; T" in other["reason"] and "motor_series" in other["reason"]
-    assert other["motor_rms_current_A"] > 0  # its current is known: only the drive is missing
+    assert other.basis == SERIES_RULE and list(other.candidates) == []
+    assert other.status == "none" and other.id is None and other.ok is None
+    assert "series (QZ)" in other.reason and "t, TY; T" in other.reason and "motor_series" in other.reason
+    assert other.motor_rms_current_A > 0  # its current is known: only the drive is missing
 
 
 def test_a_drive_without_motor_series_keeps_the_vendor_and_voltage_rule(tmp_path: Path,
                                                                         monkeypatch: pytest.MonkeyPatch) -> None:
     import_catalog(tmp_path, monkeypatch, MOTORS, DRIVES + ANY_DRIVE)
     by_motor = blocks(select_testco())
-    assert by_motor["TQ-04"]["candidates"] == ["TD-ANY"] and by_motor["TQ-04"]["status"] == "ok"
-    assert by_motor["TQ-04"]["basis"] == SERIES_RULE
-    assert by_motor["TC-04"]["candidates"] == ["TD-M", "TD-L", "TD-ANY"]
+    assert list(by_motor["TQ-04"].candidates) == ["TD-ANY"] and by_motor["TQ-04"].status == "ok"
+    assert by_motor["TQ-04"].basis == SERIES_RULE
+    assert list(by_motor["TC-04"].candidates) == ["TD-M", "TD-L", "TD-ANY"]
     # no drive of the vendor lists motor_series: the rule and the basis are as before
     plain = DRIVES.replace('"t, TY"', "").replace(",T,test", ",,test")
     (tmp_path / "plain").mkdir()
     import_catalog(tmp_path / "plain", monkeypatch, MOTORS, plain)
     by_motor = blocks(select_testco())
-    assert {d["basis"] for d in by_motor.values()} == {"vendor and supply voltage"}
-    assert by_motor["TQ-04"]["candidates"] == ["TD-M", "TD-L"]
+    assert {d.basis for d in by_motor.values()} == {"vendor and supply voltage"}
+    assert list(by_motor["TQ-04"].candidates) == ["TD-M", "TD-L"]
 
 
 def test_the_pairing_table_comes_before_the_series_rule(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -80,7 +80,7 @@ def test_a_motor_without_series_is_not_offered_a_drive_that_lists_series(tmp_pat
     motors = MOTORS + USER_MOTORS.splitlines()[-1].replace("TC-04,Testco,T,", "TN-04,Testco,,") + "\n"
     import_catalog(tmp_path, monkeypatch, motors, DRIVES)
     _, block, _ = drive_select.prospect("TN-04", "Testco", 200.0)
-    assert block["status"] == "none" and "series (not given)" in block["reason"]
+    assert block.status == "none" and "series (not given)" in block.reason
 
 
 # ---------------------------------------------------------------------------------- shipped data
@@ -98,38 +98,44 @@ def test_shipped_sigma_ii_and_sigma_motors_are_not_offered_the_sigma_7_servopack
     for i in range(len(motors)):
         mid, series = str(motors.ids[i]), str(motors.series[i])
         _, block, _ = drive_select.prospect(mid, "Yaskawa", float(motors.voltage[i]))
-        assert block["basis"] == ("vendor pairing table" if mid in pairs else SERIES_RULE), mid
+        assert block.basis == ("vendor pairing table" if mid in pairs else SERIES_RULE), mid
         if series.startswith("SGM7"):
-            assert block["candidates"] and all(d.startswith("SGD7S-") for d in block["candidates"]), mid
+            assert block.candidates and all(d.startswith("SGD7S-") for d in block.candidates), mid
         else:
-            assert series in SIGMA_OLD and block["candidates"] == [], mid
-            assert block["status"] in ("none", "unknown")  # unknown first where the motor has no torque constant
-            if block["status"] == "none":
-                assert f"series ({series})" in block["reason"] and "SGM7" in block["reason"]
+            assert series in SIGMA_OLD and list(block.candidates) == [], mid
+            assert block.status in ("none", "unknown")  # unknown first where the motor has no torque constant
+            if block.status == "none":
+                assert f"series ({series})" in block.reason and "SGM7" in block.reason
         seen.add(series[:4] if series.startswith("SGM7") else series)
     assert seen >= {"SGM7", *SIGMA_OLD}
 
 
 def test_shipped_100_v_yaskawa_selection_answers_none_naming_the_series_rule() -> None:
     r = size(axis(motor={"select": {"vendor": "yaskawa", "voltage": "100 V", "gearbox": "none"}}))  # SGMAH, SGMP
-    with_kt = [d for d in blocks(r).values() if d.get("motor_rms_current_A")]
+    with_kt = [d for d in blocks(r).values() if d.motor_rms_current_A]
     assert with_kt, "Yaskawa 100 V rows with a torque constant are among the candidates"
     for d in blocks(r).values():
-        assert not any(x.startswith("SGD7S") for x in d["candidates"])
+        assert not any(x.startswith("SGD7S") for x in d.candidates)
     for d in with_kt:
-        assert d["status"] == "none" and "motor_series" in d["reason"]
+        assert d.status == "none" and "motor_series" in d.reason
 
 
 def test_other_shipped_drives_keep_the_vendor_and_voltage_rule() -> None:
-    """Only the SGD7S rows state the motor series: the MR-J4 list read is printed for the MR-J4-_A models (and the
-    transcription's motors are stored as pairings, not as a series); the JSDG2S and S120 documents recorded name no
-    motor series (SOURCES.md, "Drives")."""
-    for vendor in ("mitsubishi electric", "teco", "siemens"):
+    """The SGD7S and MR-J4 rows state the motor series they run (the MR-J4 list from the Servo Motor Instruction
+    Manual Vol. 3's cover; the transcription's motors stay pairings); the JSDG2S and S120 documents recorded name
+    no motor series (SOURCES.md, "Drives")."""
+    for vendor in ("teco", "siemens"):
         assert set(catalog.drives(vendor=vendor).motor_series) == {""}, vendor
-    # HG-JR53 has no pairing row (the MR-J4 transcription pairs HG-KR, HG-MR and HG-SR only)
+    mitsubishi = catalog.drives(vendor="mitsubishi electric")
+    assert {str(s) for s, i in zip(mitsubishi.motor_series, mitsubishi.ids, strict=True)
+            if str(i).startswith("MR-J4-")} == {"HG-MR HG-KR HG-SR HG-JR HG-RR HG-UR"}
+    # HG-JR53 has no pairing row (the MR-J4 transcription pairs HG-KR, HG-MR and HG-SR only): its series decides
     assert "HG-JR53" not in catalog.drive_pairs()
     _, block, _ = drive_select.prospect("HG-JR53", "Mitsubishi Electric", 200.0)
-    assert block["basis"] == "vendor and supply voltage" and "MR-J4-10B" in block["candidates"]
+    assert block.basis == "vendor, voltage and motor series" and "MR-J4-10B" in block.candidates
+    # a CNC (MELDAS) HC motor is not an MR-J4 motor: no drive of its vendor runs it
+    _, block, _ = drive_select.prospect("HC52", "Mitsubishi Electric", 200.0)
+    assert block.status == "none" and "HG-MR HG-KR HG-SR HG-JR HG-RR HG-UR" in str(block.reason)
 
 
 # ---------------------------------------------------------------------------------- import, export, show
@@ -187,7 +193,7 @@ def test_a_given_drive_runs_only_its_series_in_a_selection(tmp_path: Path, monke
     r = size(axis(motor={"select": {"vendor": "testco", "gearbox": "none"}}, drive={"id": "TD-L"}))
     by_motor = blocks(r)
     other = by_motor["TQ-04"]
-    assert other["status"] == "fails" and other["ok"] is False and other["id"] == "TD-L"
-    assert "runs only the motor series T" in other["reason"] and "not QZ" in other["reason"]
-    assert by_motor["TC-04"]["status"] == "ok"
+    assert other.status == "fails" and other.ok is False and other.id == "TD-L"
+    assert "runs only the motor series T" in other.reason and "not QZ" in other.reason
+    assert by_motor["TC-04"].status == "ok"
     assert r.selection["selected"]["motor"] == "TC-04" and r.ok

@@ -54,8 +54,8 @@ def _expected_parts(result: Any) -> Counter[str]:
     parts["screw"] = int(axis.spec.mechanism.type in ("ball_screw", "lead_screw"))
     parts["guide"] = int(axis.spec.guide is not None)
     regen = (pick or {}).get("regen") if pick is not None else result.extras.get("regen")
-    parts["braking_resistor"] = int(bool(regen and regen["resistor_needed"]
-                                         and regen.get("builtin_resistor_sufficient") is not True))
+    parts["braking_resistor"] = int(bool(regen is not None and regen.resistor_needed
+                                         and regen.builtin_resistor_sufficient is not True))
     return +parts
 
 
@@ -111,7 +111,7 @@ def test_a_motor_without_drive_currents_gets_a_drive_specification_in_torque_ter
     1.2 m in 1 s) and the supply of the motor's 200 V class; the currents need the motor's k_T."""
     result = sized("belt.yaml")
     pick = result.selection["selected"]
-    assert pick["motor"] == "MQMF022L1" and pick["drive"]["status"] == "unknown"
+    assert pick["motor"] == "MQMF022L1" and pick["drive"].status == "unknown"
     drive = next(r for r in order_sheet(result).rows if r.part == "drive")
     assert drive.kind == "specification" and drive.spec["motor"] == "MQMF022L1"
     cycle, rotor, _ = result.motor_cycle()
@@ -185,12 +185,12 @@ def test_the_belt_axis_resistor_row_by_hand() -> None:
     result = sized("belt.yaml")
     regen = result.selection["selected"]["regen"]
     row = next(r for r in order_sheet(result).rows if r.part == "braking_resistor")
-    p = regen["resistor_peak_power_W"]
+    p = regen.resistor_peak_power_W
     assert row.spec["resistance_max_ohm"] == pytest.approx(2.0 * 200.0**2 / p, rel=1e-12)
     assert row.spec["resistance_max_ohm"] == pytest.approx(602.5, abs=0.05)
     assert row.spec["standard_values_ohm"] == [560.0]
-    assert row.spec["energy_per_event_J"] == max(e["resistor_J"] for e in regen["events"])
-    assert row.spec["average_power_W"] == regen["resistor_average_power_W"]
+    assert row.spec["energy_per_event_J"] == max(e.resistor_J for e in regen.events)
+    assert row.spec["average_power_W"] == regen.resistor_average_power_W
     assert row.spec["resistance_min_ohm"] is None and any("minimum resistance" in p for p in row.open_points)
 
 

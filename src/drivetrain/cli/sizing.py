@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from drivetrain.cli.order import print_result_order
 from drivetrain.cli.quantities import TableUnits
 from drivetrain.terminal import Col, print_table, table_console
+
+if TYPE_CHECKING:
+    from drivetrain.sizing.electrical import DriveAnswer, Regen
 
 __all__ = ["CANDIDATE_COLUMNS", "print_sizing", "table_console"]
 
@@ -126,19 +129,19 @@ def _print_electrical(console: Any, result: Any, u: TableUnits) -> None:
     _print_electrical_blocks(console, result.motor, result.extras.get("drive"), result.extras.get("regen"), u)
 
 
-def _drive_label(drive: dict[str, Any] | None) -> str:
+def _drive_label(drive: DriveAnswer | None) -> str:
     """A candidate's drive in one cell: its id and status (unknown / none / fails)."""
-    if not drive:
+    if drive is None:
         return "-"
-    status = drive.get("status", "ok" if drive.get("ok") else "fails")
-    return f"{drive.get('id') or '-'}" + ("" if status == "ok" else f" ({status})")
+    status = drive.outcome
+    return f"{drive.id or '-'}" + ("" if status == "ok" else f" ({status})")
 
 
 def _print_selected_electrical(console: Any, pick: dict[str, Any], u: TableUnits) -> None:
     """The selected candidate's drive, electrical figures and regen block (drivetrain.sizing.drive_select)."""
     drive = pick.get("drive")
-    if drive and drive.get("status") in ("unknown", "none"):
-        console.print(f"drive: {drive.get('id') or 'none'} ({drive['status']}: {drive.get('reason', '')})")
+    if drive is not None and drive.status in ("unknown", "none"):
+        console.print(f"drive: {drive.id or 'none'} ({drive.status}: {drive.reason or ''})")
         drive = None
     elec = pick.get("electrical") or {}
     if elec.get("note"):
@@ -149,8 +152,8 @@ def _print_selected_electrical(console: Any, pick: dict[str, Any], u: TableUnits
                       {"ok": all(c["ok"] for c in elec["checks"]), "checks": elec["checks"]}, u)
 
 
-def _print_electrical_blocks(console: Any, m: dict[str, Any], drive: dict[str, Any] | None,
-                             rg: dict[str, Any] | None, u: TableUnits) -> None:
+def _print_electrical_blocks(console: Any, m: dict[str, Any], drive: DriveAnswer | None,
+                             rg: Regen | None, u: TableUnits) -> None:
     if m.get("rms_current_A") is None:
         if rg is not None:
             _print_regen(console, rg)
@@ -174,23 +177,22 @@ def _print_electrical_blocks(console: Any, m: dict[str, Any], drive: dict[str, A
         _print_regen(console, rg)
 
 
-def _print_drive(console: Any, drive: dict[str, Any], u: TableUnits) -> None:
+def _print_drive(console: Any, drive: DriveAnswer, u: TableUnits) -> None:
     """The drive's checks, and why its ratings are not traced where the catalog flags it (data/SOURCES.md)."""
-    _print_checks(console, f"drive {drive['id']}", drive, u)
-    if drive.get("unverified"):
-        console.print(f"drive {drive['id']} †: {drive.get('unverified_reason')}")
+    _print_checks(console, f"drive {drive.id}", {"ok": drive.ok, "checks": list(drive.checks or ())}, u)
+    if drive.unverified:
+        console.print(f"drive {drive.id} †: {drive.unverified_reason}")
 
 
-def _print_regen(console: Any, rg: dict[str, Any]) -> None:
-    if rg is not None:
-        window = (f", resistance {rg['resistor_min_ohm'] or 0:.4g} to {rg['resistor_max_ohm']:.4g} ohm"
-                  if rg.get("resistor_max_ohm") is not None else "")
-        builtin = {True: "; built-in resistor suffices", False: "; built-in resistor does NOT suffice",
-                   None: ""}[rg["builtin_resistor_sufficient"]]
-        console.print(f"regeneration into the bus {rg['energy_per_cycle_J']:.4g} J per cycle, capacitors "
-                      f"{rg['capacitor_absorbed_J']:.4g} J; braking resistor {rg['resistor_energy_per_cycle_J']:.4g} J "
-                      f"per cycle, peak {rg['resistor_peak_power_W']:.4g} W, average "
-                      f"{rg['resistor_average_power_W']:.4g} W{window}{builtin}")
+def _print_regen(console: Any, rg: Regen) -> None:
+    window = (f", resistance {rg.resistor_min_ohm or 0:.4g} to {rg.resistor_max_ohm:.4g} ohm"
+              if rg.resistor_max_ohm is not None else "")
+    builtin = {True: "; built-in resistor suffices", False: "; built-in resistor does NOT suffice",
+               None: ""}[rg.builtin_resistor_sufficient]
+    console.print(f"regeneration into the bus {rg.energy_per_cycle_J:.4g} J per cycle, capacitors "
+                  f"{rg.capacitor_absorbed_J:.4g} J; braking resistor {rg.resistor_energy_per_cycle_J:.4g} J "
+                  f"per cycle, peak {rg.resistor_peak_power_W:.4g} W, average "
+                  f"{rg.resistor_average_power_W:.4g} W{window}{builtin}")
 
 
 def _mounting(c: dict[str, Any], sel: dict[str, Any]) -> str:
@@ -213,7 +215,7 @@ vendor, J_L/J_M and drive are left out in that order (docs/architecture.md, "Ter
 def _drive_unknown(drive: Any) -> bool:
     """Whether a candidate's drive could not be judged (status ``unknown`` or ``none``): an unknown of the
     verdict (``sizing.verdict``), so a passing row says ``yes, unknown: drive``."""
-    return isinstance(drive, dict) and drive.get("status") in ("unknown", "none")
+    return getattr(drive, "status", None) in ("unknown", "none")
 
 
 def _print_candidates(console: Any, result: Any, u: TableUnits) -> None:

@@ -20,12 +20,13 @@ if TYPE_CHECKING:
     from drivetrain.axis.electrical import MotorElectrical
     from drivetrain.report.blocks import Table
     from drivetrain.report.focus import Focus
+    from drivetrain.sizing.electrical import DriveAnswer, Regen
     from drivetrain.sizing.result import SizingResult
 
 REGEN_COLORS = {"bus": "#ef6c00", "resistor": "#c62828", "capacitor": "#2e7d32", "supply": "#6a1b9a"}
 
 
-def blocks(result: SizingResult) -> tuple[dict[str, Any], dict[str, Any] | None, dict[str, Any] | None]:
+def blocks(result: SizingResult) -> tuple[dict[str, Any], DriveAnswer | None, Regen | None]:
     """(electrical figures of the motor, drive block, regen block) of the report's motor; {} / None if absent."""
     if result.motor is not None:
         elec = {k: v for k, v in result.motor.items() if k != "checks"}
@@ -66,7 +67,7 @@ def regen_plot(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> P
     if elec is not None and elec.kt is not None and elec.resistance is not None:
         copper = np.asarray(regen.copper_loss(np.abs(motor_electrical.current_from_torque(focus.torque, elec.kt)),
                                               elec.resistance))
-    e_c = float(rg.get("capacitor_energy_per_event_J") or 0.0)
+    e_c = float(rg.capacitor_energy_per_event_J)
     r = regen.regen_cycle(t, shaft, copper, e_c, weights=duty.weights, period=duty.period)
     bus = np.asarray(r.bus_power, dtype=float)
     step = np.asarray(duty.weights, dtype=float) * bus
@@ -96,11 +97,11 @@ def regen_plot(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> P
         k = int(np.argmax(bus))
         power.notes.append(Note(float(t[k]), float(bus[k]), [f"peak into the bus {fmt_number(float(bus[k]))} W"],
                                 REGEN_COLORS["bus"], dx=45, dy=20))
-    caption = (f"Regeneration over one cycle: {fmt_number(rg['energy_per_cycle_J'])} J into the DC bus, "
-               f"{fmt_number(rg['capacitor_absorbed_J'])} J absorbed by the bus capacitors "
-               f"({rg.get('capacitor_basis', 'none')}), {fmt_number(rg['resistor_energy_per_cycle_J'])} J to the "
-               f"braking resistor (peak {fmt_number(rg['resistor_peak_power_W'])} W, average "
-               f"{fmt_number(rg['resistor_average_power_W'])} W).")
+    caption = (f"Regeneration over one cycle: {fmt_number(rg.energy_per_cycle_J)} J into the DC bus, "
+               f"{fmt_number(rg.capacitor_absorbed_J)} J absorbed by the bus capacitors "
+               f"({rg.capacitor_basis}), {fmt_number(rg.resistor_energy_per_cycle_J)} J to the "
+               f"braking resistor (peak {fmt_number(rg.resistor_peak_power_W)} W, average "
+               f"{fmt_number(rg.resistor_average_power_W)} W).")
     return PlotSpec("regen", "Regeneration: DC-bus power and braking-resistor energy", "time [s]", [power, energy],
                     caption, height=480, phase_legend=True, xrange=(0.0, float(duty.period)))
 
@@ -142,14 +143,14 @@ def electrical_table(result: SizingResult, du: DisplayUnits) -> Table | None:
             f"{fmt_number(c['required'])} {unit}", fmt_percent(c.get("margin")), "pass" if c.get("ok") else "fail")
 
     if drive is not None:
-        status = drive.get("status", "ok" if drive.get("ok") else "fails")
-        what = drive.get("id") or "none"
-        if drive.get("basis"):
-            what += f" ({drive['basis']})"
+        status = drive.outcome
+        what = drive.id or "none"
+        if drive.basis:
+            what += f" ({drive.basis})"
         add("Drive", what, "", status, {"ok": "pass", "fails": "fail"}.get(status, "warn"))
-        if drive.get("reason"):
-            add("", drive["reason"], "", "", "warn")
-        for c in drive.get("checks", []):
+        if drive.reason:
+            add("", drive.reason, "", "", "warn")
+        for c in drive.checks or ():
             check(c)
     if elec:
         src = elec.get("envelope_source")
@@ -167,17 +168,17 @@ def electrical_table(result: SizingResult, du: DisplayUnits) -> Table | None:
         if elec.get("note"):
             add("", str(elec["note"]), "", "", "warn")
     if rg is not None:
-        add("Regen into the DC bus per cycle", f"{fmt_number(rg['energy_per_cycle_J'])} J")
-        add("Absorbed by the bus capacitors", f"{fmt_number(rg['capacitor_absorbed_J'])} J "
-            f"({rg.get('capacitor_basis', 'none')})")
-        add("Braking resistor: energy per cycle", f"{fmt_number(rg['resistor_energy_per_cycle_J'])} J")
-        add("Braking resistor: peak / average power", f"{fmt_number(rg['resistor_peak_power_W'])} / "
-            f"{fmt_number(rg['resistor_average_power_W'])} W")
-        lo, hi = rg.get("resistor_min_ohm"), rg.get("resistor_max_ohm")
+        add("Regen into the DC bus per cycle", f"{fmt_number(rg.energy_per_cycle_J)} J")
+        add("Absorbed by the bus capacitors", f"{fmt_number(rg.capacitor_absorbed_J)} J "
+            f"({rg.capacitor_basis})")
+        add("Braking resistor: energy per cycle", f"{fmt_number(rg.resistor_energy_per_cycle_J)} J")
+        add("Braking resistor: peak / average power", f"{fmt_number(rg.resistor_peak_power_W)} / "
+            f"{fmt_number(rg.resistor_average_power_W)} W")
+        lo, hi = rg.resistor_min_ohm, rg.resistor_max_ohm
         if lo is not None or hi is not None:
             add("Braking resistor: resistance window", f"{fmt_number(lo) if lo is not None else '-'} to "
                 f"{fmt_number(hi) if hi is not None else '-'} ohm")
-        suff = rg.get("builtin_resistor_sufficient")
+        suff = rg.builtin_resistor_sufficient
         add("Built-in resistor sufficient", {True: "yes", False: "no", None: "not known"}[suff],
             cls={True: "pass", False: "fail", None: "muted"}[suff])
     return Table("electrical", "Drive, motor current, winding temperature and regeneration",

@@ -305,7 +305,7 @@ def candidates_table(result: SizingResult, du: DisplayUnits) -> Table | None:
         if c.get("ok"):  # the three outcomes of the answer's verdict (docs/checks.md, "The verdict")
             gaps = [str(n) for n in c.get("unknown") or []]
             drive = c.get("drive")
-            if isinstance(drive, dict) and drive.get("status") in ("unknown", "none"):
+            if drive is not None and drive.status in ("unknown", "none"):
                 gaps.append("drive")
             verdict = Cell(f"PASS WITH UNKNOWNS: {', '.join(gaps)}", "warn") if gaps else Cell("PASS", "pass")
         elif failed:

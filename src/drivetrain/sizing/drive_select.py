@@ -48,7 +48,15 @@ import numpy as np
 from drivetrain.axis.electrical import DriveData, MotorElectrical, drive_from_catalog_row, electrical_from_catalog_row
 from drivetrain.errors import InputError
 from drivetrain.physics import drive_overload, motor_electrical
-from drivetrain.sizing.electrical import _check, _drive_block, _regen_block, dc_bus, electrical_answer
+from drivetrain.sizing.electrical import (
+    DriveAnswer,
+    Regen,
+    _check,
+    _drive_block,
+    _regen_block,
+    dc_bus,
+    electrical_answer,
+)
 from drivetrain.sizing.voltage_class import stated_supply, voltage_class_check
 
 if TYPE_CHECKING:
@@ -85,7 +93,7 @@ class DriveMemo:
 
     drives: dict[DriveTable, tuple[DriveData, ...]] = field(default_factory=dict)
     series: dict[DriveTable, tuple[tuple[str, ...], ...]] = field(default_factory=dict)
-    prospects: dict[tuple[MotorTable, int, DriveData | None], dict[str, Any]] = field(default_factory=dict)
+    prospects: dict[tuple[MotorTable, int, DriveData | None], DriveAnswer] = field(default_factory=dict)
     unverified: dict[str, str] = field(default_factory=dict)
 
     def drive_data(self, table: DriveTable) -> tuple[DriveData, ...]:
@@ -107,7 +115,7 @@ class DriveMemo:
             found = self.series[table] = tuple(_prefixes(text) for text in table.motor_series)
         return found
 
-    def motor_prospect(self, motors: MotorTable, m: int, given: DriveData | None) -> dict[str, Any]:
+    def motor_prospect(self, motors: MotorTable, m: int, given: DriveData | None) -> DriveAnswer:
         """``prospect``'s block for row ``m`` of a motor table, once per table and row."""
         key = (motors, m, given)
         found = self.prospects.get(key)
@@ -169,11 +177,11 @@ def _pool(motor_id: str, vendor: str, voltage: float,
 
 
 def prospect(motor_id: str, vendor: str, voltage: float, given: DriveData | None = None,
-             memo: DriveMemo | None = None) -> tuple[list[DriveData], dict[str, Any], MotorElectrical]:
+             memo: DriveMemo | None = None) -> tuple[list[DriveData], DriveAnswer, MotorElectrical]:
     """What can be said of a motor's drive before its current is known: the drives it may use, the
     block's ``basis`` and ``candidates``, and (``status`` and ``reason`` in the block) why its drive
     cannot be checked: no torque constant (``unknown``), no drive (``none``), no drive with current
-    ratings (``unknown``). A block without ``status`` means the drive can be checked."""
+    ratings (``unknown``). A block whose ``status`` is None means the drive can be checked."""
     from drivetrain import catalog
 
     elec = catalog_electrical(motor_id)
@@ -181,33 +189,33 @@ def prospect(motor_id: str, vendor: str, voltage: float, given: DriveData | None
         pool, basis, why = [given], "given in the axis file", ""
     else:
         pool, basis, why = _pool(motor_id, vendor, voltage, memo)
-    base: dict[str, Any] = {"basis": basis, "candidates": [d.name for d in pool]}
+    base = DriveAnswer("not checked", basis=basis, candidates=tuple(d.name for d in pool))
     first = pool[0].name if len(pool) == 1 else None
     runs = () if given is None else _prefixes(given.motor_series)
     series = str((catalog.motor_row(motor_id) or {}).get("series") or "") if runs else ""
     if runs and not (series and any(series.casefold().startswith(p) for p in runs)):
         # the given drive cannot run this motor at all: it fails, whatever the current
-        base.update({"status": "fails", "id": given.name if given else None, "ok": False, "checks": [],
-                     "reason": f"the given drive runs only the motor series {given.motor_series if given else ''} "
-                               f"(its motor_series), not {series or 'a motor of no stated series'}"})
+        base = replace(base, status="fails", id=given.name if given else None, ok=False, checks=(),
+                       reason=f"the given drive runs only the motor series {given.motor_series if given else ''} "
+                              f"(its motor_series), not {series or 'a motor of no stated series'}")
     elif given is None and basis == PAIRING_BASIS and pool:
         pass  # checkable: by the currents where both are known, else by the pairing (pick_drive)
     elif elec.kt is None and elec.ke is None:
-        base.update({"status": "unknown", "id": first, "ok": None,
-                     "reason": f"the catalog has no torque constant for {motor_id}: its current, and so the drive, "
-                               "cannot be checked"})
+        base = replace(base, status="unknown", id=first, ok=None,
+                       reason=f"the catalog has no torque constant for {motor_id}: its current, and so the drive, "
+                              "cannot be checked")
     elif not pool:
-        base.update({"status": "none", "id": None, "ok": None,
-                     "reason": why or f"the catalog has no {vendor} drive for this motor's supply voltage"})
+        base = replace(base, status="none", id=None, ok=None,
+                       reason=why or f"the catalog has no {vendor} drive for this motor's supply voltage")
     elif not any(math.isfinite(d.continuous_current) and math.isfinite(d.peak_current) for d in pool):
-        base.update({"status": "unknown", "id": first, "ok": None,
-                     "reason": f"no {vendor} drive in the catalog has current ratings (data/SOURCES.md, \"Drives\")"})
+        base = replace(base, status="unknown", id=first, ok=None,
+                       reason=f"no {vendor} drive in the catalog has current ratings (data/SOURCES.md, \"Drives\")")
     return pool, base, elec
 
 
 def pick_drive(cycle: DutyCycle, inertia: float, motor_id: str, vendor: str, voltage: float,
                rated: float, peak: float, given: DriveData | None = None,
-               memo: DriveMemo | None = None) -> tuple[dict[str, Any], DriveData | None]:
+               memo: DriveMemo | None = None) -> tuple[DriveAnswer, DriveData | None]:
     """The drive block of one candidate and the DriveData chosen (None when none can be named).
 
     ``status``: ``ok`` (a drive passes), ``fails`` (the largest drive with ratings fails; or the
@@ -218,37 +226,37 @@ def pick_drive(cycle: DutyCycle, inertia: float, motor_id: str, vendor: str, vol
     pool, base, elec = prospect(motor_id, vendor, voltage, given, memo)
     current = _currents(cycle, inertia, elec, rated, peak)
     if current is not None:
-        i_rms = float(drive_overload.rms_current(current, cycle.weights, cycle.period))
-        base.update({"motor_rms_current_A": i_rms, "motor_peak_current_A": float(current.max()) if current.size
-                     else 0.0})
-    if "status" in base:
-        named = [d for d in pool if d.name == base["id"]]
+        base = replace(base, motor_rms_current_A=float(drive_overload.rms_current(current, cycle.weights,
+                                                                                  cycle.period)),
+                       motor_peak_current_A=float(current.max()) if current.size else 0.0)
+    if base.status is not None:
+        named = [d for d in pool if d.name == base.id]
         return base, (named[0] if named else None)
     checkable = [d for d in pool if math.isfinite(d.continuous_current) and math.isfinite(d.peak_current)]
     if current is None or not checkable:  # a paired motor whose current cannot be checked (prospect)
         return _by_pairing(base, pool, cycle, inertia, motor_id, rated, peak)
-    i_rms, i_peak = base["motor_rms_current_A"], base["motor_peak_current_A"]
+    i_rms, i_peak = base.motor_rms_current_A, base.motor_peak_current_A
+    assert i_rms is not None and i_peak is not None
     rated_drives = sorted((d for d in pool if math.isfinite(d.continuous_current) and math.isfinite(d.peak_current)),
                           key=lambda d: (d.continuous_current, d.peak_current))
-    block: dict[str, Any] = {}
     chosen = rated_drives[-1]
     for d in rated_drives:
         block = _drive_block(d, cycle, current, i_rms, i_peak)
-        if block["ok"]:
+        if block.ok:
             chosen = d
             break
     else:
         block = _drive_block(chosen, cycle, current, i_rms, i_peak)
-    status = "ok" if block["ok"] else "fails"
     # a catalog drive whose ratings are a third-party transcription says so (data/SOURCES.md, "Drives")
-    flag = ({"unverified": True, "unverified_reason": memo.unverified[chosen.name]}
-            if given is None and chosen.name in memo.unverified else {})
-    return {**base, **block, "status": status, "vendor": chosen.vendor, "supply_voltage_V": chosen.supply_voltage,
-            "peak_time_s": chosen.peak_time, **flag}, chosen
+    unverified = given is None and chosen.name in memo.unverified
+    return replace(block, layout="currents", basis=base.basis, candidates=base.candidates, motor_rms_current_A=i_rms,
+                   motor_peak_current_A=i_peak, status="ok" if block.ok else "fails", vendor=chosen.vendor,
+                   supply_voltage_V=chosen.supply_voltage, peak_time_s=chosen.peak_time, unverified=unverified,
+                   unverified_reason=memo.unverified[chosen.name] if unverified else None), chosen
 
 
-def _by_pairing(base: dict[str, Any], pool: list[DriveData], cycle: DutyCycle, inertia: float, motor_id: str,
-                rated: float, peak: float) -> tuple[dict[str, Any], DriveData]:
+def _by_pairing(base: DriveAnswer, pool: list[DriveData], cycle: DutyCycle, inertia: float, motor_id: str,
+                rated: float, peak: float) -> tuple[DriveAnswer, DriveData]:
     """The drive block of a motor judged by its vendor pairing (docs/checks.md, "Drive selection").
 
     The pairing table names the drive(s) the vendor states for the motor; a stated drive delivers the
@@ -278,25 +286,20 @@ def _by_pairing(base: dict[str, Any], pool: list[DriveData], cycle: DutyCycle, i
               _check("drive_peak_by_pairing", t_peak, peak, "N*m",
                      f"{says}: it delivers the motor's peak torque momentarily")]
     ok = all(c.ok for c in checks) and math.isfinite(rated) and math.isfinite(peak)
-    block: dict[str, Any] = {**base, "id": chosen.name, "vendor": chosen.vendor, "judged_by": "vendor pairing",
-                             "pairing_source": pair.get("source"), "checks": [c.to_dict() for c in checks]}
-    for key, value in (("continuous_current_A", chosen.continuous_current), ("peak_current_A", chosen.peak_current)):
-        if math.isfinite(value):
-            block[key] = value
-    why = ("the catalog has no torque constant for " + motor_id if "motor_rms_current_A" not in base
+    why = ("the catalog has no torque constant for " + motor_id if base.motor_rms_current_A is None
            else "no paired drive has both current ratings")
-    if ok:
-        block.update({"status": "ok", "ok": True,
-                      "reason": f"by vendor pairing ({why}): the cycle stays within the motor's rated and peak "
-                                "torque, which the paired drive delivers"})
-    else:
-        block.update({"status": "unknown", "ok": None,
-                      "reason": f"{why}, and the cycle needs more than the motor's rated or peak torque, beyond "
-                                "what the pairing states: the drive cannot be judged by its pairing"})
-    block.update({"supply_voltage_V": chosen.supply_voltage, "peak_time_s": chosen.peak_time})
-    if third_party:
-        block.update({"unverified": True, "unverified_reason": f"motor-drive pairing from {pair.get('source')}"})
-    return block, chosen
+    reason = (f"by vendor pairing ({why}): the cycle stays within the motor's rated and peak torque, which the "
+              "paired drive delivers" if ok else
+              f"{why}, and the cycle needs more than the motor's rated or peak torque, beyond what the pairing "
+              "states: the drive cannot be judged by its pairing")
+    cont, top = chosen.continuous_current, chosen.peak_current
+    return replace(base, layout="pairing", id=chosen.name, vendor=chosen.vendor, judged_by="vendor pairing",
+                   pairing_source=pair.get("source"), checks=tuple(c.to_dict() for c in checks),
+                   continuous_current_A=cont if math.isfinite(cont) else None,
+                   peak_current_A=top if math.isfinite(top) else None, status="ok" if ok else "unknown",
+                   ok=True if ok else None, reason=reason, supply_voltage_V=chosen.supply_voltage,
+                   peak_time_s=chosen.peak_time, unverified=third_party,
+                   unverified_reason=f"motor-drive pairing from {pair.get('source')}" if third_party else None), chosen
 
 
 def _motor_voltage(motors: MotorTable, m: int) -> float:
@@ -308,7 +311,7 @@ _WALK = 200
 
 
 def _candidate_drive(axis: Axis, duty: DutyCycle, ranking: Ranking, k: int,
-                     memo: DriveMemo) -> tuple[dict[str, Any], DriveData | None]:
+                     memo: DriveMemo) -> tuple[DriveAnswer, DriveData | None]:
     """The drive block of candidate ``k`` (its own cycle behind its own gearbox) and the drive chosen."""
     from drivetrain.sizing.selection import candidate_cycle
 
@@ -319,14 +322,14 @@ def _candidate_drive(axis: Axis, duty: DutyCycle, ranking: Ranking, k: int,
                       float(motors.rated_torque[m]), float(motors.peak_torque[m]), axis.drive, memo)
 
 
-def _drive_reason(block: dict[str, Any]) -> str:
+def _drive_reason(block: DriveAnswer) -> str:
     """Why a candidate's drive is not an answer, in one sentence."""
-    if block["status"] == "fails" and block.get("reason"):  # a given drive that cannot run the motor
-        return f"its drive fails: {block['reason']}"
-    if block["status"] == "fails":
-        bad = [ch["name"] for ch in block.get("checks", []) if not ch.get("ok", True)]
-        return f"its drive fails: the largest it may use, {block.get('id')}, fails {', '.join(bad)}"
-    return f"its drive is {block['status']}: {block.get('reason', '')}"
+    if block.status == "fails" and block.reason:  # a given drive that cannot run the motor
+        return f"its drive fails: {block.reason}"
+    if block.status == "fails":
+        bad = [ch["name"] for ch in block.checks or () if not ch.get("ok", True)]
+        return f"its drive fails: the largest it may use, {block.id}, fails {', '.join(bad)}"
+    return f"its drive is {block.status}: {block.reason or ''}"
 
 
 Judge = Callable[[str, str | None], tuple[bool, str]]
@@ -358,9 +361,9 @@ def _walk(axis: Axis, duty: DutyCycle, ranking: Ranking, strict: bool,
                            "reason": f"voltage_class: {vc['note']}"})
             continue
         block = memo.motor_prospect(motors, m, axis.drive)
-        if "status" not in block:  # checkable: its current decides
+        if block.status is None:  # checkable: its current decides
             block, _ = _candidate_drive(axis, duty, ranking, int(k), memo)
-        if block["status"] == "ok" or (not strict and block["status"] != "fails"):
+        if block.status == "ok" or (not strict and block.status != "fails"):
             if judge is None:
                 return int(k), passed
             gb = ranking.gearboxes
@@ -370,7 +373,7 @@ def _walk(axis: Axis, duty: DutyCycle, ranking: Ranking, strict: bool,
                 return int(k), passed
             passed.append({"motor": str(motors.ids[m]), "drive_status": "dynamics", "reason": why})
             continue
-        passed.append({"motor": str(motors.ids[m]), "drive_status": block["status"], "reason": _drive_reason(block)})
+        passed.append({"motor": str(motors.ids[m]), "drive_status": block.status, "reason": _drive_reason(block)})
     return None, passed
 
 
@@ -383,10 +386,10 @@ def _needs_walk(axis: Axis, duty: DutyCycle, ranking: Ranking, strict: bool, mem
     if vc is not None and (vc["status"] == "fail" or (strict and vc["status"] == "unknown")):
         return True
     block = memo.motor_prospect(ranking.motors, int(ranking.candidates.motor[best]), axis.drive)
-    if "status" in block:
+    if block.status is not None:
         return strict
     block, _ = _candidate_drive(axis, duty, ranking, best, memo)
-    return block["status"] != "ok"
+    return block.status != "ok"
 
 
 def orderable(axis: Axis, duty: DutyCycle, chosen: Selection, reselect: Callable[[], Selection] | None = None,
@@ -438,7 +441,7 @@ def attach_drives(axis: Axis, duty: DutyCycle, chosen: Selection, margins: Margi
     ks = [k for _, k in zip(chosen.listed, shown, strict=False)]
     ks += [ranking.best] if "selected" in sel and ranking.best is not None else []
     catalog.motor_rows([str(motors.ids[int(c.motor[k])]) for k in ks])  # one query for the motors below
-    done: dict[int, tuple[dict[str, Any], DriveData | None]] = {}
+    done: dict[int, tuple[DriveAnswer, DriveData | None]] = {}
     supply = stated_supply(axis)
     for cand, k in zip(chosen.listed, shown, strict=False):
         done[k] = _candidate_drive(axis, duty, ranking, k, memo)
@@ -450,7 +453,6 @@ def attach_drives(axis: Axis, duty: DutyCycle, chosen: Selection, margins: Margi
         return
     best = ranking.best
     block, drive = done[best] if best in done else _candidate_drive(axis, duty, ranking, best, memo)
-    block = dict(block)  # the selected candidate's own copy (the listed one keeps its block)
     from drivetrain.sizing.selection import candidate_cycle
 
     cycle, _ = candidate_cycle(axis, duty, ranking, best)
@@ -491,7 +493,8 @@ def _reselect(axis: Axis, duty: DutyCycle, chosen: Selection, best: int, passed:
 
 def selected_electrical(axis: Axis, cycle: DutyCycle, motors: MotorTable, m: int, drive: DriveData | None,
                         margins: Margins | None) -> dict[str, Any]:
-    """``electrical`` and ``regen`` of the selected motor with its drive (empty keys when not known)."""
+    """``electrical`` (a dict joining the selected candidate) and ``regen`` (a :class:`Regen`) of the selected
+    motor with its drive (empty keys when not known)."""
     from drivetrain import catalog
     from drivetrain.axis.model import motor_from_catalog_row
 
@@ -535,7 +538,7 @@ def selected_electrical(axis: Axis, cycle: DutyCycle, motors: MotorTable, m: int
 
 
 def _mechanical_regen(cycle: DutyCycle, motor: MotorData, drive: DriveData | None,
-                      elec: MotorElectrical) -> dict[str, Any]:
+                      elec: MotorElectrical) -> Regen:
     """The regen block from the motor torque and speed (copper loss where R and K_t are known)."""
     t_m = cycle.motor_torque(motor.inertia)
     current = np.zeros_like(t_m)

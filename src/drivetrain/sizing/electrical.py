@@ -10,8 +10,8 @@ what is missing is reported as missing (None), never guessed.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from dataclasses import dataclass, field, fields
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
@@ -27,6 +27,226 @@ if TYPE_CHECKING:
 Array = np.ndarray
 
 
+@dataclass(frozen=True)
+class RegenEvent:
+    """One regeneration event of the cycle: an interval in which the motor sends power into the DC bus.
+
+    Attributes
+    ----------
+    t0_s : float
+        Start of the event [s] from the start of the cycle.
+    t1_s : float
+        End of the event [s].
+    energy_J : float
+        Energy the event sends into the DC bus [J], after the copper loss.
+    resistor_J : float
+        Of it, the energy the braking resistor must take [J] (what the bus capacitors cannot absorb).
+    """
+
+    t0_s: float
+    t1_s: float
+    energy_J: float
+    resistor_J: float
+
+    def to_dict(self) -> dict[str, float]:
+        """The event in the JSON of docs/axis-file.md (``regen.events[]``), keys in field order."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+@dataclass(frozen=True)
+class Regen:
+    """The regeneration block of the motor with its drive: the energy the cycle sends into the DC bus, what
+    the bus capacitors absorb and what is left for a braking resistor (``physics.regen.regen_cycle``).
+
+    The given motor's sits in ``SizingResult.extras["regen"]``, the selected candidate's in
+    ``SizingResult.selection["selected"]["regen"]``; :meth:`to_dict` is the ``regen`` object of the JSON
+    (docs/axis-file.md), its keys the fields in this order.
+
+    Attributes
+    ----------
+    shaft_energy_per_cycle_J : float
+        Mechanical energy the motor shaft returns per cycle [J] (the integral of the negative T * omega).
+    copper_loss_in_events_J : float
+        Copper loss in the motor's windings during the regeneration events [J] (0 where R or K_t is not known).
+    energy_per_cycle_J : float
+        Energy into the DC bus per cycle [J]: the shaft's minus the copper loss, over the events.
+    capacitor_energy_per_event_J : float
+        Energy the drive's bus capacitors can absorb in one event [J] (0 without the drive's data).
+    capacitor_basis : str
+        Where that energy comes from: ``"published"`` (the drive's absorbable energy), ``"capacitance"``
+        (1/2 C (U_max^2 - U_bus^2)) or ``"none"``.
+    capacitor_absorbed_J : float
+        Energy the bus capacitors absorb per cycle [J].
+    resistor_energy_per_cycle_J : float
+        Energy the braking resistor must take per cycle [J].
+    resistor_peak_power_W : float
+        Peak power into the braking resistor [W].
+    resistor_average_power_W : float
+        Average power into the braking resistor over the cycle [W].
+    resistor_min_ohm : float or None
+        The drive's minimum braking resistance [ohm]; None where the drive does not state it.
+    resistor_max_ohm : float or None
+        The largest resistance that still takes the peak power at the drive's regeneration-on voltage
+        [ohm] (U_on^2 / P_peak); None where that voltage is not known or no power goes to a resistor.
+    resistor_needed : bool
+        Whether the cycle sends energy to a braking resistor at all.
+    builtin_resistor_sufficient : bool or None
+        Whether the drive's built-in resistor takes the peak and average power; None where not known.
+    events : tuple of RegenEvent
+        The regeneration events of the cycle, in time order.
+    """
+
+    shaft_energy_per_cycle_J: float
+    copper_loss_in_events_J: float
+    energy_per_cycle_J: float
+    capacitor_energy_per_event_J: float
+    capacitor_basis: str
+    capacitor_absorbed_J: float
+    resistor_energy_per_cycle_J: float
+    resistor_peak_power_W: float
+    resistor_average_power_W: float
+    resistor_min_ohm: float | None
+    resistor_max_ohm: float | None
+    resistor_needed: bool
+    builtin_resistor_sufficient: bool | None
+    events: tuple[RegenEvent, ...] = ()
+
+    def to_dict(self, events: bool = True) -> dict[str, Any]:
+        """The ``regen`` object of the JSON (docs/axis-file.md): the fields in order, ``events`` as a list
+        of their dicts; without ``events`` where ``events`` is False (the web page's panel)."""
+        out: dict[str, Any] = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "events"}
+        if events:
+            out["events"] = [e.to_dict() for e in self.events]
+        return out
+
+
+DriveLayout = Literal["given motor", "currents", "not checked", "pairing"]
+"""How a drive block was built, which fixes its JSON keys and their order (``DriveAnswer.to_dict``)."""
+
+_DRIVE_KEYS: dict[str, tuple[str, ...]] = {
+    "given motor": ("id", "vendor", "continuous_current_A", "peak_current_A", "i2t_setpoint_A2s", "i2t_peak_A2s",
+                    "ok", "checks"),
+    "currents": ("basis", "candidates", "motor_rms_current_A", "motor_peak_current_A", "id", "vendor",
+                 "continuous_current_A", "peak_current_A", "i2t_setpoint_A2s", "i2t_peak_A2s", "ok", "checks",
+                 "status", "supply_voltage_V", "peak_time_s", "unverified", "unverified_reason"),
+    "not checked": ("basis", "candidates", "status", "id", "ok", "checks", "reason", "motor_rms_current_A",
+                    "motor_peak_current_A"),
+    "pairing": ("basis", "candidates", "motor_rms_current_A", "motor_peak_current_A", "id", "vendor", "judged_by",
+                "pairing_source", "checks", "continuous_current_A", "peak_current_A", "status", "ok", "reason",
+                "supply_voltage_V", "peak_time_s", "unverified", "unverified_reason"),
+}
+"""The keys of each layout's JSON, in the order of docs/axis-file.md's examples (as they were before the block
+was typed: the JSON is unchanged)."""
+
+_DRIVE_LEFT_OUT_WHEN_NONE = frozenset({"motor_rms_current_A", "motor_peak_current_A", "continuous_current_A",
+                                       "peak_current_A", "i2t_setpoint_A2s", "i2t_peak_A2s", "checks",
+                                       "unverified_reason"})
+"""Keys the JSON leaves out where they are not known (the others are ``null`` then); ``unverified`` is left out
+unless true."""
+
+
+@dataclass(frozen=True)
+class DriveAnswer:
+    """The drive block: the drive of a given motor (``drive:`` in the axis file, checked by its currents), or the
+    drive a catalog candidate may be ordered with (``drive_select.pick_drive``; docs/checks.md, "Drive selection").
+
+    A given motor's sits in ``SizingResult.extras["drive"]``; a catalog selection's in each listed candidate's
+    ``drive`` and in ``selection["selected"]["drive"]``. :meth:`to_dict` is the ``drive`` object of the JSON
+    (docs/axis-file.md, "Result keys of the electrical half" and "Drives in a selection").
+
+    Attributes
+    ----------
+    layout : str
+        How the block was built, which fixes its JSON keys and their order: ``"given motor"`` (a given motor's
+        drive), ``"currents"`` (a catalog candidate's drive checked by its currents), ``"not checked"`` (its
+        drive cannot be checked, or the given drive cannot run the motor: ``status`` and ``reason`` say why),
+        ``"pairing"`` (judged by the vendor's pairing). Not itself in the JSON.
+    basis : str or None
+        Where the drives considered come from (``"vendor pairing table"``, ``"vendor and supply voltage"``,
+        ``"given in the axis file"``, ...); None for a given motor's drive.
+    candidates : tuple of str or None
+        The drive ids considered; None for a given motor's drive.
+    motor_rms_current_A : float or None
+        The motor's RMS current over the candidate's own cycle [A rms]; None without a torque constant.
+    motor_peak_current_A : float or None
+        The motor's peak current over that cycle [A rms]; None without a torque constant.
+    id : str or None
+        The drive named (None when none can be named).
+    vendor : str or None
+        Its vendor.
+    judged_by : str or None
+        ``"vendor pairing"`` where the pairing judged the drive, else None.
+    pairing_source : str or None
+        The source of that pairing (``catalog.drive_pair_sources``), where judged by it.
+    continuous_current_A : float or None
+        The drive's continuous output current [A rms]; None where not known.
+    peak_current_A : float or None
+        The drive's peak output current [A rms]; None where not known.
+    i2t_setpoint_A2s : float or None
+        The set point of the drive's I^2 t accumulator [A^2 s], where the vendor states how long the peak lasts.
+    i2t_peak_A2s : float or None
+        The accumulator's highest value over the periodic cycle [A^2 s], with the set point.
+    ok : bool or None
+        Whether the drive passes its checks; None where it cannot be judged.
+    checks : tuple of dict or None
+        The drive's checks (``drive_rms_current``, ``drive_peak_current``, ``drive_i2t``, or the pairing's
+        ``drive_continuous_by_pairing``, ``drive_peak_by_pairing``): each with its name, required and available
+        value, unit, margin and ok; None where the drive was not checked.
+    status : str or None
+        ``"ok"``, ``"fails"``, ``"unknown"`` or ``"none"`` (docs/axis-file.md); None for a given motor's drive
+        (its ``ok`` says) and, before its current is known, for a candidate's drive that can be checked.
+    reason : str or None
+        Why the status is ``unknown``, ``none`` or (a given drive that cannot run the motor) ``fails``; or how
+        the pairing judged the drive.
+    supply_voltage_V : float or None
+        The drive's supply voltage [V] (AC line to line, rms), where the catalog states it.
+    peak_time_s : float or None
+        How long the drive may deliver its peak current [s], where the vendor states it.
+    unverified : bool
+        Whether the drive's ratings (or its pairing) are a third-party transcription (data/SOURCES.md, "Drives").
+    unverified_reason : str or None
+        Why, where unverified.
+    """
+
+    layout: DriveLayout
+    basis: str | None = None
+    candidates: tuple[str, ...] | None = None
+    motor_rms_current_A: float | None = None
+    motor_peak_current_A: float | None = None
+    id: str | None = None
+    vendor: str | None = None
+    judged_by: str | None = None
+    pairing_source: str | None = None
+    continuous_current_A: float | None = None
+    peak_current_A: float | None = None
+    i2t_setpoint_A2s: float | None = None
+    i2t_peak_A2s: float | None = None
+    ok: bool | None = None
+    checks: tuple[dict[str, Any], ...] | None = None
+    status: str | None = None
+    reason: str | None = None
+    supply_voltage_V: float | None = None
+    peak_time_s: float | None = None
+    unverified: bool = False
+    unverified_reason: str | None = None
+
+    @property
+    def outcome(self) -> str:
+        """``status``, or for a given motor's drive (which has none) ``"ok"`` or ``"fails"`` by ``ok``."""
+        return self.status or ("ok" if self.ok else "fails")
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``drive`` object of the JSON (docs/axis-file.md): the keys of :attr:`layout` in their order, those
+        not known left out where the JSON leaves them out (``_DRIVE_LEFT_OUT_WHEN_NONE``)."""
+        out: dict[str, Any] = {}
+        for key in _DRIVE_KEYS[self.layout]:
+            value = getattr(self, key)
+            if (value is None and key in _DRIVE_LEFT_OUT_WHEN_NONE) or (key == "unverified" and not value):
+                continue
+            out[key] = list(value) if isinstance(value, tuple) else value
+        return out
+
+
 @dataclass
 class ElectricalAnswer:
     """What the electrical half adds to a given motor's result."""
@@ -35,8 +255,8 @@ class ElectricalAnswer:
     """keys joining the ``motor`` block (supply_voltage_V, envelope_source, rms_current_A, ...)"""
     checks: list[Check] = field(default_factory=list)
     """checks joining the motor's checks"""
-    drive: dict[str, Any] | None = None
-    regen: dict[str, Any] | None = None
+    drive: DriveAnswer | None = None
+    regen: Regen | None = None
     curve: dict[str, Any] | None = None
     """the T-n curve at the supply voltage (speeds, continuous and peak torque), for reports"""
 
@@ -190,25 +410,26 @@ def _thermal(duty: DutyCycle, current: Array, elec: MotorElectrical, derate: flo
     return keys
 
 
-def _drive_block(drive: DriveData, duty: DutyCycle, current: Array, i_rms: float, i_peak: float) -> dict[str, Any]:
+def _drive_block(drive: DriveData, duty: DutyCycle, current: Array, i_rms: float, i_peak: float) -> DriveAnswer:
+    """The drive's current checks over the cycle (RMS, peak and, with a stated peak time, the I^2 t accumulator)."""
     checks = [_check("drive_rms_current", i_rms, drive.continuous_current, "A"),
               _check("drive_peak_current", i_peak, drive.peak_current, "A")]
-    block: dict[str, Any] = {"id": drive.name, "vendor": drive.vendor,
-                             "continuous_current_A": drive.continuous_current, "peak_current_A": drive.peak_current}
+    setpoint = i2t_peak = None
     if drive.peak_time is not None:
         setpoint = float(drive_overload.i2t_setpoint(drive.peak_current, drive.continuous_current, drive.peak_time))
         per = drive_overload.i2t_periodic(duty.t, current, drive.continuous_current, setpoint)
-        block["i2t_setpoint_A2s"] = setpoint
-        block["i2t_peak_A2s"] = float(per.peak)
-        checks.append(_check("drive_i2t", float(per.peak), setpoint, "A^2*s",
+        i2t_peak = float(per.peak)
+        checks.append(_check("drive_i2t", i2t_peak, setpoint, "A^2*s",
                              "Copley I2T accumulator, periodic steady state"))
-    block["ok"] = all(c.ok for c in checks)
-    block["checks"] = [c.to_dict() for c in checks]
-    return block
+    return DriveAnswer("given motor", id=drive.name, vendor=drive.vendor,
+                       continuous_current_A=drive.continuous_current, peak_current_A=drive.peak_current,
+                       i2t_setpoint_A2s=setpoint, i2t_peak_A2s=i2t_peak, ok=all(c.ok for c in checks),
+                       checks=tuple(c.to_dict() for c in checks))
 
 
 def _regen_block(duty: DutyCycle, t_m: Array, current: Array, elec: MotorElectrical, drive: DriveData | None,
-                 bus: float | None) -> dict[str, Any]:
+                 bus: float | None) -> Regen:
+    """The regeneration block of the motor's cycle with its drive (``physics.regen.regen_cycle``)."""
     p_cu = regen.copper_loss(current, elec.resistance) if elec.resistance is not None else np.zeros_like(current)
     e_c, basis = 0.0, "none"
     if drive is not None and drive.absorbable_energy is not None:
@@ -228,21 +449,21 @@ def _regen_block(duty: DutyCycle, t_m: Array, current: Array, elec: MotorElectri
                                                          drive.builtin_average_power, drive.builtin_resistance,
                                                          drive.regen_on_voltage,
                                                          math.nan if r_min is None else r_min))
-    return {
-        "shaft_energy_per_cycle_J": r.shaft_energy,
-        "copper_loss_in_events_J": float(r.events.copper_energy.sum()),
-        "energy_per_cycle_J": r.energy,
-        "capacitor_energy_per_event_J": e_c,
-        "capacitor_basis": basis,
-        "capacitor_absorbed_J": r.capacitor_absorbed,
-        "resistor_energy_per_cycle_J": r.resistor_energy,
-        "resistor_peak_power_W": r.resistor_peak_power,
-        "resistor_average_power_W": r.resistor_average_power,
-        "resistor_min_ohm": r_min,
-        "resistor_max_ohm": None if r_max is None or math.isinf(r_max) else r_max,
-        "resistor_needed": r.resistor_energy > 0.0,
-        "builtin_resistor_sufficient": builtin,
-        "events": [{"t0_s": float(a), "t1_s": float(b), "energy_J": float(e), "resistor_J": float(q)}
-                   for a, b, e, q in zip(r.events.t_start, r.events.t_stop, r.events.bus_energy,
-                                         r.events.resistor_energy, strict=True)],
-    }
+    return Regen(
+        shaft_energy_per_cycle_J=r.shaft_energy,
+        copper_loss_in_events_J=float(r.events.copper_energy.sum()),
+        energy_per_cycle_J=r.energy,
+        capacitor_energy_per_event_J=e_c,
+        capacitor_basis=basis,
+        capacitor_absorbed_J=r.capacitor_absorbed,
+        resistor_energy_per_cycle_J=r.resistor_energy,
+        resistor_peak_power_W=r.resistor_peak_power,
+        resistor_average_power_W=r.resistor_average_power,
+        resistor_min_ohm=r_min,
+        resistor_max_ohm=None if r_max is None or math.isinf(r_max) else r_max,
+        resistor_needed=r.resistor_energy > 0.0,
+        builtin_resistor_sufficient=builtin,
+        events=tuple(RegenEvent(float(a), float(b), float(e), float(q))
+                     for a, b, e, q in zip(r.events.t_start, r.events.t_stop, r.events.bus_energy,
+                                           r.events.resistor_energy, strict=True)),
+    )

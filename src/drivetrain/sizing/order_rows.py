@@ -22,6 +22,7 @@ from drivetrain.sizing.order_spec import (
 )
 
 if TYPE_CHECKING:
+    from drivetrain.sizing.electrical import DriveAnswer, Regen
     from drivetrain.sizing.result import SizingResult
 
 
@@ -33,8 +34,8 @@ class _Ctx:
     motor_id: str | None = None
     motor_row: dict[str, Any] | None = None
     motor: dict[str, Any] | None = None
-    drive: dict[str, Any] | None = None
-    regen: dict[str, Any] | None = None
+    drive: DriveAnswer | None = None
+    regen: Regen | None = None
     elec: dict[str, Any] = field(default_factory=dict)
     gearbox_id: str | None = None
     gearbox_checks: list[dict[str, Any]] = field(default_factory=list)
@@ -276,21 +277,23 @@ def _supply(c: _Ctx) -> tuple[float | None, float | None, str]:
 
 
 def drive_row(c: _Ctx) -> OrderRow:
-    d = c.drive or {}
+    d = c.drive
     axis = c.result.axis
-    did = d.get("id") or (axis.drive.name if axis.drive is not None else None)
-    checked = did is not None and (d.get("ok") is not None or axis.drive is not None)
+    did = (d.id if d is not None else None) or (axis.drive.name if axis.drive is not None else None)
+    checked = did is not None and ((d is not None and d.ok is not None) or axis.drive is not None)
     if checked:
         row = c.catalog(did)
         code = str(did)
-        spec = {"continuous_current_A": d.get("continuous_current_A"), "peak_current_A": d.get("peak_current_A"),
+        spec = {"continuous_current_A": None if d is None else d.continuous_current_A,
+                "peak_current_A": None if d is None else d.peak_current_A,
                 "voltage_class_V": None if row is None else row.get("voltage_V"), "motor": c.motor_id}
         choose = code_choices(code)
         open_points = _choose_open(choose)
-        open_points += _checks_open(d.get("checks", []))
+        checks = [] if d is None else list(d.checks or ())
+        open_points += _checks_open(checks)
         if row is None and axis.drive is not None:
             return _named_row("drive", f"servo drive {did} (as the axis file gives it)", code, axis.drive.vendor,
-                              spec, _checks_open(d.get("checks", [])))
+                              spec, _checks_open(checks))
         return OrderRow("drive", "catalog", "incomplete" if open_points else "complete",
                         f"servo drive {'' if row is None else (row.get('series') or '')} {did}".replace("  ", " "),
                         order_code=None if choose else code, catalog_id=code, spec=spec, choose=choose,
@@ -298,7 +301,7 @@ def drive_row(c: _Ctx) -> OrderRow:
     return _drive_spec(c, d)
 
 
-def _drive_spec(c: _Ctx, d: dict[str, Any]) -> OrderRow:
+def _drive_spec(c: _Ctx, d: DriveAnswer | None) -> OrderRow:
     """A drive for the motor as a specification: continuous and peak output current with the peak's duration,
     supply and DC bus, the motor; in torque terms where the motor's k_T is not known."""
     spec: dict[str, Any] = {"motor": c.motor_id or (c.result.axis.motor.name if c.result.axis.motor else None)}
@@ -322,14 +325,14 @@ def _drive_spec(c: _Ctx, d: dict[str, Any]) -> OrderRow:
         open_points.append("supply voltage not given (motor.supply_voltage) and the motor's voltage class unknown")
     elif basis != "the answer's supply":
         spec["voltage_basis"] = basis
-    if c.regen and c.regen.get("resistor_needed"):
+    if c.regen is not None and c.regen.resistor_needed:
         spec["braking_chopper"] = "for an external braking resistor (row braking_resistor)"
-    if d.get("candidates"):
-        spec["vendor_pairing"] = list(d["candidates"])
-        open_points.append(f"the vendor pairs {', '.join(d['candidates'])} with this motor; the catalog has no "
+    if d is not None and d.candidates:
+        spec["vendor_pairing"] = list(d.candidates)
+        open_points.append(f"the vendor pairs {', '.join(d.candidates)} with this motor; the catalog has no "
                            "currents to check them against this specification")
-    if d.get("reason"):
-        open_points.append(str(d["reason"]))
+    if d is not None and d.reason:
+        open_points.append(str(d.reason))
     return OrderRow("drive", "specification", "specification", f"servo drive for {spec['motor'] or 'the motor'}",
                     spec=spec, open_points=open_points, element="drive")
 
@@ -470,18 +473,18 @@ def resistor_row(c: _Ctx) -> OrderRow | None:
     resistor is not known to take it: the resistance window, energy per event, peak and average power and the
     standard values inside the window."""
     rg = c.regen
-    if not rg or not rg.get("resistor_needed") or rg.get("builtin_resistor_sufficient") is True:
+    if rg is None or not rg.resistor_needed or rg.builtin_resistor_sufficient is True:
         return None
-    drive = c.catalog((c.drive or {}).get("id")) if (c.drive or {}).get("ok") is not None else None
+    drive = c.catalog(c.drive.id) if c.drive is not None and c.drive.ok is not None else None
     given = c.result.axis.drive
-    r_min = rg.get("resistor_min_ohm")
+    r_min = rg.resistor_min_ohm
     if r_min is None:
         r_min = (drive or {}).get("min_resistance_ohm") or (given.min_resistance if given is not None else None)
-    events = [float(e["resistor_J"]) for e in rg.get("events", [])]
+    events = [e.resistor_J for e in rg.events]
     u_on = (drive or {}).get("regen_on_voltage_V") or (given.regen_on_voltage if given is not None else None)
-    spec, open_points = resistor_spec(float(rg["resistor_peak_power_W"]), float(rg["resistor_average_power_W"]),
-                                      float(rg["resistor_energy_per_cycle_J"]), max(events) if events else None,
-                                      r_min, rg.get("resistor_max_ohm"), u_on, _supply(c)[1])
+    spec, open_points = resistor_spec(float(rg.resistor_peak_power_W), float(rg.resistor_average_power_W),
+                                      float(rg.resistor_energy_per_cycle_J), max(events) if events else None,
+                                      r_min, rg.resistor_max_ohm, u_on, _supply(c)[1])
     return OrderRow("braking_resistor", "specification", "specification", "braking resistor", spec=spec,
                     open_points=open_points, element="drive")
 

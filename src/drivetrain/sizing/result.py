@@ -14,6 +14,7 @@ from drivetrain.axis.model import Axis, MotorData
 from drivetrain.duty.cycle import DutyCycle, load_metrics
 from drivetrain.physics.acceleration import acceleration_power, minimum_accel_time, minimum_decel_time, operation_power
 from drivetrain.sizing.checks import Check, running_torque
+from drivetrain.sizing.electrical import DriveAnswer, Regen
 from drivetrain.sizing.motor_fit import MotorArrays, demand, fit_motors
 from drivetrain.sizing.verdict import Status, Unknown, collect_unknowns, failures, unknown_fails
 from drivetrain.version import __version__
@@ -49,7 +50,9 @@ class SizingResult:
         A catalog selection's summary: counts, the ``selected`` candidate, next smaller motor, advice.
     extras : dict
         The axis's own checks and notes, in the order of the answer: ``warnings``, ``guide``,
-        ``slip_check``, ``mechanism_checks``, ``brake_check``, a given motor's ``drive`` and ``regen``,
+        ``slip_check``, ``mechanism_checks``, ``brake_check``, a given motor's ``drive`` and ``regen``
+        (a ``sizing.electrical.DriveAnswer`` and a ``Regen``; the selected candidate's are in
+        ``selection["selected"]``, each listed candidate's drive in its ``drive``),
         ``gearbox_checks`` (and a gantry share's ``load_share``).
     ranking : Ranking or None
         The evaluated candidates behind ``candidates`` and ``selection`` (not part of the JSON).
@@ -119,13 +122,16 @@ class SizingResult:
         out: dict[str, Any] = {"axis": self.axis.name, "drivetrain_version": __version__,
                                "catalog_version": DATA_VERSION, "efficiency_model": self.axis.efficiency_model}
         out.update(self.metrics)
-        out.update(self.extras)
+        out.update({k: plain_block(v) for k, v in self.extras.items()})
         if self.motor is not None:
             out["motor"] = self.motor
         if self.selection is not None:
             out["selection"] = self.selection
+            pick = self.selection.get("selected")
+            if isinstance(pick, dict) and any(isinstance(v, TYPED_BLOCKS) for v in pick.values()):
+                out["selection"] = {**self.selection, "selected": {k: plain_block(v) for k, v in pick.items()}}
         if self.candidates:
-            out["candidates"] = self.candidates
+            out["candidates"] = [{k: plain_block(v) for k, v in c.items()} for c in self.candidates]
         if self.modes is not None:
             out["modes"] = self.modes
         import importlib  # the order sheet reads the result: looked up by name, so no circle of files
@@ -259,6 +265,15 @@ class SizingResult:
         fig.suptitle(self.axis.name)
         fig.tight_layout()
         return fig
+
+
+TYPED_BLOCKS = (DriveAnswer, Regen)
+"""The typed blocks of the answer that sit in ``extras`` or in the selected candidate (their JSON: ``to_dict``)."""
+
+
+def plain_block(value: Any) -> Any:
+    """A block of the answer as the JSON holds it: a typed block's ``to_dict()``, any other value as it is."""
+    return value.to_dict() if isinstance(value, TYPED_BLOCKS) else value
 
 
 def ratio_for_inertia_ratio(load_inertia: float, motor_inertia: float, limit: float) -> float:
@@ -466,8 +481,11 @@ def _first_move_ramp_times(duty: DutyCycle) -> float:
 def verdict(result: SizingResult) -> bool:
     """True when the axis's own checks (slip, guide, brake, gearbox ratings, mechanism, drive) and the
     given motor or the selected candidate pass (the pipeline's last stage; ``SizingResult.ok``)."""
-    own = [result.extras[k]["ok"] for k in ("slip_check", "guide", "brake_check", "gearbox_checks", "drive")
+    own = [result.extras[k]["ok"] for k in ("slip_check", "guide", "brake_check", "gearbox_checks")
            if k in result.extras]
+    drive = result.extras.get("drive")
+    if drive is not None:
+        own.append(drive.ok)
     own += [c["ok"] for c in result.extras.get("mechanism_checks", [])]
     if not all(own):
         return False

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any, Literal, Protocol
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Axis
+    from drivetrain.sizing.electrical import DriveAnswer
 
 
 class Answer(Protocol):
@@ -29,7 +30,7 @@ Status = Literal["pass", "pass with unknowns", "fail"]
 @dataclass(frozen=True)
 class Unknown:
     """A check of the answer that could not be judged: its name, the part it concerns (``motor``,
-    ``drive``, ``electrical``, ``regen``, ``gearbox`` (a catalog gearbox), ``gearbox stage (NAME)`` (one of
+    ``drive``, ``electrical``, ``gearbox`` (a catalog gearbox), ``gearbox stage (NAME)`` (one of
     ``transmission:``), ``motor-gearbox fit``, ``brake``, ``mechanism``, ``guide``, ``dynamics``) and what
     would decide it."""
 
@@ -81,35 +82,28 @@ def _decide(check: dict[str, Any], default: str) -> str:
     return str(check.get("note") or check.get("reason") or default)
 
 
-def _drive_unknowns(block: dict[str, Any] | None) -> list[Unknown]:
+def _drive_unknowns(block: DriveAnswer | None) -> list[Unknown]:
     """A drive block (``drive_select.pick_drive``, or a given motor's): unknown or none as a whole, or
     its own checks that cannot be judged."""
-    if not isinstance(block, dict):
+    if block is None:
         return []
-    if block.get("status") in ("unknown", "none"):
-        what = "no drive in the catalog fits" if block["status"] == "none" else "cannot be checked"
-        return [Unknown("drive", "drive", str(block.get("reason") or what))]
+    if block.status in ("unknown", "none"):
+        what = "no drive in the catalog fits" if block.status == "none" else "cannot be checked"
+        return [Unknown("drive", "drive", str(block.reason or what))]
     return [Unknown(c["name"], "drive", _decide(c, "the drive's rating is not known"))
-            for c in _check_list(block) if _not_judged(c)]
-
-
-def _regen_unknowns(block: dict[str, Any] | None) -> list[Unknown]:
-    """The braking block's own checks that cannot be judged. Whether the drive's built-in braking resistor
-    suffices is not one: where that is not known, the block's energy, powers and resistance window specify
-    the external resistor to fit, which answers the question either way (docs/checks.md, "The verdict")."""
-    if not isinstance(block, dict):
-        return []
-    return [Unknown(c["name"], "regen", _decide(c, "a rating it needs is not known"))
-            for c in _check_list(block) if _not_judged(c)]
+            for c in block.checks or () if _not_judged(c)]
 
 
 def collect_unknowns(result: Answer) -> list[Unknown]:
     """Every check of the answer whose status is unknown (docs/checks.md, "The verdict"), in the order of
     the answer: the axis's own checks (load slip, guide, brake, mechanism), the transmission's gearbox
     ratings (``gearbox_checks``, the T2B shock-factor case included), the given motor (its checks and
-    electrical half, drive, regen) or the selected candidate (its checks, motor-gearbox fit, drive,
-    voltage class, electrical, regen) and the dynamic selection's chosen candidate. The modes'
-    ``servo_bandwidth`` is reported, not judged: it is not part of the verdict."""
+    electrical half, drive) or the selected candidate (its checks, motor-gearbox fit, drive, voltage class,
+    electrical) and the dynamic selection's chosen candidate. The regeneration block (``Regen``) holds no
+    check: whether the drive's built-in braking resistor suffices is not one, since where that is not known
+    the block's energy, powers and resistance window specify the external resistor to fit, which answers
+    the question either way (docs/checks.md, "The verdict"). The modes' ``servo_bandwidth`` is reported,
+    not judged: it is not part of the verdict."""
     out: list[Unknown] = []
     ex = result.extras
     for key, part in (("slip_check", "mechanism"), ("guide", "guide"), ("brake_check", "brake")):
@@ -126,7 +120,6 @@ def collect_unknowns(result: Answer) -> list[Unknown]:
                 for c in _check_list(result.motor) if _not_judged(c)]
         drive = ex.get("drive")
         out += _drive_unknowns(drive)
-        out += _regen_unknowns(ex.get("regen"))
     elif result.selection is not None and result.selection.get("selected"):
         pick = result.selection["selected"]
         for c in _check_list(pick):
@@ -141,7 +134,6 @@ def collect_unknowns(result: Answer) -> list[Unknown]:
         out += _drive_unknowns(drive)
         out += [Unknown(c["name"], "electrical", _decide(c, "an electrical datum is not known"))
                 for c in _check_list(pick.get("electrical")) if _not_judged(c)]
-        out += _regen_unknowns(pick.get("regen"))
         dyn = result.selection.get("dynamics")
         chosen = dyn.get("chosen") if isinstance(dyn, dict) else None
         out += [Unknown(c["name"], "dynamics", _decide(c, "the simulation could not judge it"))
@@ -201,9 +193,9 @@ def failures(result: Answer) -> list[str]:
     if result.motor is not None:
         out += [f"motor: {c['name']}" for c in _check_list(result.motor) if _failed(c)]
         drive = ex.get("drive")
-        if isinstance(drive, dict) and (drive.get("status") == "fails" or drive.get("ok") is False):
-            bad = ", ".join(c["name"] for c in _check_list(drive) if _failed(c))
-            out.append(f"drive: {drive.get('reason') or bad}")
+        if drive is not None and (drive.status == "fails" or drive.ok is False):
+            bad = ", ".join(c["name"] for c in drive.checks or () if _failed(c))
+            out.append(f"drive: {drive.reason or bad}")
     elif result.selection is not None:
         sel = result.selection
         if sel.get("drive_advice"):

@@ -232,8 +232,10 @@ def electrical_payload(result: Any) -> dict[str, Any] | None:
             return None
         elec = {k: v for k, v in (sel.get("electrical") or {}).items() if k != "curve"}
         out = {"drive": sel.get("drive"), "electrical": elec or None, "regen": sel.get("regen")}
-    if out["regen"] is not None:
-        out["regen"] = {k: v for k, v in out["regen"].items() if k != "events"}
+    if out["drive"] is not None:
+        out["drive"] = out["drive"].to_dict()
+    if out["regen"] is not None:  # the panel shows the figures, not the events
+        out["regen"] = out["regen"].to_dict(events=False)
     return out if any(v for v in out.values()) else None
 
 
