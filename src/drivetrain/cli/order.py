@@ -7,7 +7,7 @@ from __future__ import annotations
 from typing import Any
 
 from drivetrain.cli.quantities import TableUnits
-from drivetrain.report.order import UNIT_SUFFIXES, _value, order_cells, spec_text, state_text
+from drivetrain.report.order import _value, order_cells, spec_items, spec_text, state_text
 from drivetrain.terminal import Col, print_table
 
 __all__ = ["ORDER_COLUMNS", "bom_text", "order_cells", "print_order", "print_result_order", "spec_text",
@@ -30,15 +30,7 @@ def spec_text_in(spec: dict[str, Any], units: TableUnits | None = None) -> str:
     if units is None or units.system == "si":
         return spec_text(spec)
     parts = []
-    for key, value in spec.items():
-        if value is None:
-            continue
-        name, unit = key, ""
-        for suffix, shown in UNIT_SUFFIXES:
-            if key.endswith(suffix):
-                name, unit = key[: -len(suffix)], shown
-                break
-        label = name.replace("_", " ")
+    for label, value, unit in spec_items(spec):
         if unit in _QUANTITY and isinstance(value, (int, float)) and not isinstance(value, bool):
             quantity, si = _QUANTITY[unit]
             parts.append(f"{label} {units.q(float(value) * si, quantity, unit, 1.0 / si)}")

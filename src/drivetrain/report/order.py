@@ -41,9 +41,10 @@ def order_cells(order: dict[str, Any]) -> list[tuple[str, ...]]:
             for r in order["rows"]]
 
 
-def spec_text(spec: dict[str, Any]) -> str:
-    """A row's specification in one line: ``name value unit`` pairs (the unit from the key's suffix)."""
-    parts = []
+def spec_items(spec: dict[str, Any]) -> list[tuple[str, Any, str]]:
+    """A row's specification as (label, value, unit) with the unit read from the key's suffix (``_Nm``:
+    N*m, ...); the keys without a value left out."""
+    out = []
     for key, value in spec.items():
         if value is None:
             continue
@@ -52,8 +53,13 @@ def spec_text(spec: dict[str, Any]) -> str:
             if key.endswith(suffix):
                 name, unit = key[: -len(suffix)], shown
                 break
-        parts.append(f"{name.replace('_', ' ')} {_value(value)}{' ' + unit if unit else ''}")
-    return "; ".join(parts)
+        out.append((name.replace("_", " "), value, unit))
+    return out
+
+
+def spec_text(spec: dict[str, Any]) -> str:
+    """A row's specification in one line: ``name value unit`` pairs (the unit from the key's suffix)."""
+    return "; ".join(f"{label} {_value(value)}{' ' + unit if unit else ''}" for label, value, unit in spec_items(spec))
 
 
 def _value(v: Any) -> str:
