@@ -59,15 +59,16 @@ def run(data: dict[str, Any], policy: str) -> None:
         attach_drives(axis, duty, chosen, margins)
         with_drives.append(time.perf_counter() - t0)
     a, b = statistics.median(without), statistics.median(with_drives)
-    sel = chosen["selection"]
+    sel = chosen.summary
     print(f"unknown: {policy}; samples per cycle: {len(duty.t)}; candidates evaluated: {sel['evaluated']}; "
-          f"listed with a drive block: {len(chosen['candidates'])}; "
+          f"listed with a drive block: {len(chosen.listed)}; "
           f"passed over for the drive: {sel.get('drive_passed_over_count', 0)}")
     print(f"  selection without drives: {a * 1e3:.1f} ms (median of {RUNS})")
     print(f"  selection with drives:    {b * 1e3:.1f} ms (median of {RUNS})")
     print(f"  ratio with / without drives: {b / a:.2f} (target <= 2)")
-    d = sel.get("selected", {}).get("drive", {})
-    print(f"  selected: {sel.get('selected', {}).get('motor')} drive: {d.get('id')} ({d.get('status')})")
+    d = sel.get("selected", {}).get("drive")
+    print(f"  selected: {sel.get('selected', {}).get('motor')} drive: {getattr(d, 'id', None)} "
+          f"({getattr(d, 'status', None)})")
 
 
 if __name__ == "__main__":
