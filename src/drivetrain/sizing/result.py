@@ -73,22 +73,30 @@ class SizingResult:
 
     @property
     def ok(self) -> bool:
-        """Whether the answer stands: ``status != "fail"`` (kept for compatibility; :attr:`status` says more)."""
-        return self.status != "fail"
+        """Whether the answer stands: ``status != "fail"`` (kept for compatibility; :attr:`status` says more).
+        The order sheet's open points never fail an answer, so it is not built here."""
+        if not verdict(self):
+            return False
+        return not (unknown_fails(self.axis) and collect_unknowns(self, sheet=False))
 
     @property
     def status(self) -> Status:
         """The verdict in three outcomes (docs/checks.md, "The verdict"): ``"pass"`` (every check judged and
         passed), ``"pass with unknowns"`` (every judged check passed, :attr:`unknowns` could not be judged)
         or ``"fail"`` (a check fails; or, under ``motor.select.unknown: fail``, a check cannot be judged)."""
+        return self._verdict()[0]
+
+    def _verdict(self, sheet: Any = True) -> tuple[Status, list[Unknown]]:
+        """:attr:`status` and :attr:`unknowns` from one collection (``sheet``: the order sheet where the caller
+        built it)."""
+        unknowns = collect_unknowns(self, sheet)
         if not verdict(self):
-            return "fail"
-        unknowns = self.unknowns
+            return "fail", unknowns
         if not unknowns:
-            return "pass"
+            return "pass", unknowns
         # an order-sheet open point (check "order_code") is no check: unknown: fail does not fail on it
         checks = any(u.check != "order_code" for u in unknowns)
-        return "fail" if unknown_fails(self.axis) and checks else "pass with unknowns"
+        return ("fail" if unknown_fails(self.axis) and checks else "pass with unknowns"), unknowns
 
     @property
     def unknowns(self) -> list[Unknown]:
@@ -99,8 +107,8 @@ class SizingResult:
     def verdict_line(self) -> str:
         """The verdict in one line, as the CLI prints it last: ``PASS``, ``PASS WITH UNKNOWNS: check (why),
         ...`` or ``FAIL: ...`` (what fails, then what could not be judged)."""
-        status = self.status
-        unknown = [f"{u.check} ({u.decide})" for u in self.unknowns]
+        status, unknowns = self._verdict()
+        unknown = [f"{u.check} ({u.decide})" for u in unknowns]
         if status == "pass":
             return "PASS"
         if status == "pass with unknowns":
@@ -136,8 +144,10 @@ class SizingResult:
             out["modes"] = self.modes
         import importlib  # the order sheet reads the result: looked up by name, so no circle of files
 
-        out["order"] = importlib.import_module("drivetrain.sizing.order").order_sheet(self).to_dict()
-        out["verdict"] = {"status": self.status, "unknowns": [u.to_dict() for u in self.unknowns]}
+        sheet = importlib.import_module("drivetrain.sizing.order").order_sheet(self)
+        out["order"] = sheet.to_dict()
+        status, unknowns = self._verdict(sheet)  # the sheet built once, for the order block and the verdict
+        out["verdict"] = {"status": status, "unknowns": [u.to_dict() for u in unknowns]}
         return out
 
     def _repr_html_(self) -> str:

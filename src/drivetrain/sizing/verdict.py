@@ -94,7 +94,7 @@ def _drive_unknowns(block: DriveAnswer | None) -> list[Unknown]:
             for c in block.checks or () if _not_judged(c)]
 
 
-def collect_unknowns(result: Answer) -> list[Unknown]:
+def collect_unknowns(result: Answer, sheet: Any = True) -> list[Unknown]:
     """Every check of the answer whose status is unknown (docs/checks.md, "The verdict"), in the order of
     the answer: the axis's own checks (load slip, guide, brake, mechanism), the transmission's gearbox
     ratings (``gearbox_checks``, the T2B shock-factor case included), the given motor (its checks and
@@ -138,8 +138,8 @@ def collect_unknowns(result: Answer) -> list[Unknown]:
         chosen = dyn.get("chosen") if isinstance(dyn, dict) else None
         out += [Unknown(c["name"], "dynamics", _decide(c, "the simulation could not judge it"))
                 for c in _check_list(chosen) if _not_judged(c)]
-    if hasattr(result, "duty"):  # a SizingResult: its order sheet (a bare Answer has none)
-        out += order_unknowns(result, out)
+    if sheet is not False and hasattr(result, "duty"):  # a SizingResult: its order sheet (a bare Answer has none)
+        out += order_unknowns(result, out, None if sheet is True else sheet)
     return out
 
 
@@ -156,16 +156,17 @@ def sheet_parts(part: str) -> tuple[str, ...]:
     return SHEET_PARTS.get("gearbox" if part.startswith("gearbox stage") else part, ())
 
 
-def order_unknowns(result: Any, known: list[Unknown]) -> list[Unknown]:
+def order_unknowns(result: Any, known: list[Unknown], sheet: Any = None) -> list[Unknown]:
     """What keeps a catalog part of the order sheet (``sizing.order.order_sheet``) from being ordered as
     written, as unknowns with check ``order_code`` and the sheet's part (docs/order-sheet.md, "The sheet and
     the verdict"): code positions still to choose, a holding-brake variant the catalog has no order code for,
     and any other incomplete catalog row whose part no unknown of ``known`` concerns. They are no check:
     ``motor.select.unknown: fail`` selects on checks and does not fail on them; an answer with one is
     ``pass with unknowns``, never ``pass``."""
-    import importlib  # the sheet reads the result, which imports this module: looked up by name
+    if sheet is None:  # the caller's sheet where it has one (``SizingResult.to_dict`` builds it once)
+        import importlib  # the sheet reads the result, which imports this module: looked up by name
 
-    sheet = importlib.import_module("drivetrain.sizing.order").order_sheet(result)
+        sheet = importlib.import_module("drivetrain.sizing.order").order_sheet(result)
     covered = {p for u in known for p in sheet_parts(u.part)}
     out: list[Unknown] = []
     for row in sheet.rows:
