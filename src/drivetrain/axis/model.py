@@ -27,8 +27,10 @@ from drivetrain.axis.electrical import (
     motor_electrical,
     nominal_bus_voltage,
 )
+from drivetrain.axis.mechanisms import MechanismSpec
 from drivetrain.axis.requirements import Requirements, RequirementsSpec, requirements
 from drivetrain.axis.resolve import resolve_transmission
+from drivetrain.axis.transmission import TransmissionSpec
 from drivetrain.axis.yaml_text import check_text, read_yaml
 from drivetrain.errors import InputError
 from drivetrain.fields import (
@@ -48,9 +50,8 @@ from drivetrain.fields import (
 from drivetrain.physics.brake import BRAKE_SAFETY_FACTOR
 from drivetrain.physics.efficiency import EfficiencyModel
 from drivetrain.physics.loads import G_STANDARD
-from drivetrain.physics.mechanisms import Mechanism, MechanismSpec
+from drivetrain.physics.mechanisms import Mechanism
 from drivetrain.physics.stage import Stage, chain_inertia
-from drivetrain.physics.transmission import TransmissionSpec
 
 if TYPE_CHECKING:
     from drivetrain.motion.cycle import Cycle

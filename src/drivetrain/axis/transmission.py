@@ -1,10 +1,8 @@
-"""Transmission elements between the motor and the mechanism, ordered from the motor outward.
+"""The axis file's ``transmission:`` entries (pydantic models), ordered from the motor outward.
 
-Each element becomes a ``Stage`` (ratio = input speed / output speed; its own inertia on the
-motor side of its losses; downstream inertia reflected J / i^2). Lecture: "Gear system-motor
-connections" (T_1 = T_2 / n, J_2' = J_2 / n^2), belt-pulley (Ratio = D_L / D_m), gears
-(Ratio = N_teeth(load) / N_teeth(motor)), harmonic drive (GR = FS / (CS - FS)), worm (50-80 %
-efficiency, self-locking at high ratio), chains (about 80 % efficiency).
+Each entry builds a ``Stage`` (drivetrain.physics.stage) with the ratios, default efficiencies and
+reflections of ``drivetrain.physics.transmission``: ratio = input speed / output speed, its own inertia
+on the motor side of its losses, downstream inertia reflected J / i^2, compliance K / i^2, B / i^2.
 """
 
 from __future__ import annotations
@@ -14,6 +12,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field, model_validator
 
+from drivetrain.axis.mechanisms.base import WheelSpec
 from drivetrain.errors import InputError
 from drivetrain.fields import (
     BackEfficiency,
@@ -29,54 +28,16 @@ from drivetrain.fields import (
     TorsionalDamping,
     TorsionalStiffness,
 )
-from drivetrain.physics.mechanisms.base import WheelSpec
 from drivetrain.physics.stage import Stage
-
-ARCMIN = math.pi / (180.0 * 60.0)
-"""[rad] one arc minute."""
-
-GEARBOX_EFFICIENCY: dict[str, float] = {
-    "spur": 0.98,
-    "helical": 0.98,
-    "bevel": 0.96,
-    "planetary": 0.97,
-    "worm": 0.65,
-    "harmonic": 0.80,
-    "cycloidal": 0.90,
-}
-"""Default efficiency per gearbox kind and stage [-], overridable in the axis file.
-
-worm 0.65: middle of the lecture's 50-80 % range (Worm Gears). planetary 0.97 per stage: the
-one-stage catalog value of the shipped planetary gearboxes (G+ GPB/GPD drawings; 0.94 for two
-stages). spur and helical 0.98, bevel 0.96: common handbook figures for one mesh. harmonic 0.80
-and cycloidal 0.90: mid-range of strain-wave and cycloidal catalog ratings at rated load. Set
-the datasheet value of the real part whenever it is known.
-"""
-
-CHAIN_EFFICIENCY = 0.80
-"""Chain drive efficiency [-]: lecture, belt-pulley systems: chains, "approximately 80%"."""
-
-GEAR_PAIR_EFFICIENCY = 0.98
-BELT_EFFICIENCY = 0.95
-"""Default belt-stage efficiency [-]: timing belts are typically rated 0.94-0.98 by belt vendors."""
-
-
-
-def harmonic_ratio(flexspline_teeth: int, circular_spline_teeth: int) -> float:
-    """Harmonic drive ratio GR = FS / (CS - FS) [-] (lecture, harmonic drive; circular spline fixed).
-
-    >>> harmonic_ratio(200, 202)
-    100.0
-    """
-    if circular_spline_teeth <= flexspline_teeth:
-        raise InputError("circular_spline_teeth", f"must exceed the flexspline teeth {flexspline_teeth}",
-                         circular_spline_teeth)
-    return flexspline_teeth / (circular_spline_teeth - flexspline_teeth)
-
-
-def teeth_ratio(drive_teeth: int, driven_teeth: int) -> float:
-    """Ratio = N_teeth(load) / N_teeth(motor) [-] (lecture, gear and belt-pulley ratio)."""
-    return driven_teeth / drive_teeth
+from drivetrain.physics.transmission import (
+    BELT_EFFICIENCY,
+    CHAIN_EFFICIENCY,
+    GEAR_PAIR_EFFICIENCY,
+    GEARBOX_EFFICIENCY,
+    compliance_at_input,
+    harmonic_ratio,
+    teeth_ratio,
+)
 
 
 class _Compliance(Spec):
@@ -271,12 +232,8 @@ class ClutchBrakeSpec(Spec):
 
 
 def _compliance_at_input(spec: _Compliance, ratio: float) -> dict[str, Any]:
-    """Output-side stiffness, damping and backlash seen at the input: K / i^2, B / i^2, play * i."""
-    return {
-        "stiffness": None if spec.stiffness is None else spec.stiffness / ratio**2,
-        "damping": spec.damping / ratio**2,
-        "backlash": spec.backlash * ratio,
-    }
+    """The element's output-side compliance seen at its input (``physics.transmission.compliance_at_input``)."""
+    return compliance_at_input(spec.stiffness, spec.damping, spec.backlash, ratio)
 
 
 TransmissionSpec = Annotated[
