@@ -1,6 +1,7 @@
 """The axis file (YAML, v1): pydantic models that validate it, and the SI ``Axis`` it loads into.
 
-See docs/axis-file.md for every key, with one example per mechanism. Bad input raises
+The ``mechanism:`` and ``transmission:`` entries have their models in ``axis.mechanisms`` and
+``axis.transmission``. See docs/axis-file.md for every key, with one example per mechanism. Bad input raises
 ``InputError`` naming the field path (``mechanism.load.mass: must be > 0 kg, got -3 kg``).
 """
 
