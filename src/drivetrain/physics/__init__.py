@@ -2,4 +2,4 @@
 
 Plain functions with units and sources, and the frozen SI dataclasses they work on (``Stage``,
 ``Mechanism``, ``LinearLoad``, ...). Imports only the base layer (errors) and each other; the
-axis file's pydantic models that build these objects live in ``drivetrain.axis``."""
+axis file's models that build these objects live in ``drivetrain.axis``."""
