@@ -156,6 +156,36 @@ def test_no_circle_between_files() -> None:
     assert found is None, "circle of files: " + " -> ".join(found or [])
 
 
+def _third_party_imports(path: Path) -> set[str]:
+    """The top-level names of the packages outside drivetrain that a module imports (lazy ones too)."""
+    names: set[str] = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            names.update(a.name.split(".")[0] for a in node.names)
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names.add(node.module.split(".")[0])
+    return names - {"drivetrain"}
+
+
+def test_physics_holds_formulas_not_the_axis_files_models() -> None:
+    """``physics/`` holds formulas and the SI types they work on; the axis file's pydantic models (the
+    ``drivetrain.fields.Spec`` subclasses, their unions and validators) live in ``axis/``. No module of
+    physics, nor any module it reaches through its imports, imports pydantic or ``drivetrain.fields``."""
+    paths = _module_paths()
+    edges = _imports()
+    reached: set[str] = set()
+    todo = [m for m in paths if _room(m) == "physics"]
+    assert "drivetrain.physics.mechanisms.base" in todo and "drivetrain.physics.transmission" in todo
+    while todo:
+        module = todo.pop()
+        if module not in reached:
+            reached.add(module)
+            todo.extend(edges[module])
+    assert "drivetrain.fields" not in reached, "physics reaches drivetrain.fields (the axis file's field types)"
+    wrong = sorted(m for m in reached if "pydantic" in _third_party_imports(paths[m]))
+    assert not wrong, f"physics imports pydantic through {wrong}"
+
+
 def test_a_circle_of_files_is_found() -> None:
     assert _circle({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == ["a", "b", "c", "a"]
     assert _circle({"a": {"b"}, "b": set()}) is None

@@ -12,11 +12,11 @@ from pathlib import Path
 
 import pytest
 
+from drivetrain.axis.mechanisms import MECHANISM_TYPES
 from drivetrain.axis.model import parse_axis
+from drivetrain.axis.transmission import TRANSMISSION_TYPES
 from drivetrain.axis.yaml_text import parse_yaml
 from drivetrain.duty.cycle import duty_cycle
-from drivetrain.physics.mechanisms import MECHANISM_TYPES
-from drivetrain.physics.transmission import TRANSMISSION_TYPES
 
 DOCS = Path(__file__).parents[2] / "docs"
 AXIS_FILE = DOCS / "axis-file.md"

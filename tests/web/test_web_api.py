@@ -338,8 +338,8 @@ def test_openapi_describes_the_axis_schema(client: TestClient) -> None:
 
 
 def test_form_description_covers_every_mechanism_and_transmission(client: TestClient) -> None:
-    from drivetrain.physics.mechanisms import MECHANISM_TYPES
-    from drivetrain.physics.transmission import TRANSMISSION_TYPES
+    from drivetrain.axis.mechanisms import MECHANISM_TYPES
+    from drivetrain.axis.transmission import TRANSMISSION_TYPES
 
     desc = client.get("/api/form").json()
     fields = {f["name"]: f for f in desc["axis"]["fields"]}

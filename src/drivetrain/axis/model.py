@@ -1,6 +1,7 @@
 """The axis file (YAML, v1): pydantic models that validate it, and the SI ``Axis`` it loads into.
 
-See docs/axis-file.md for every key, with one example per mechanism. Bad input raises
+The ``mechanism:`` and ``transmission:`` entries have their models in ``axis.mechanisms`` and
+``axis.transmission``. See docs/axis-file.md for every key, with one example per mechanism. Bad input raises
 ``InputError`` naming the field path (``mechanism.load.mass: must be > 0 kg, got -3 kg``).
 """
 
@@ -27,8 +28,10 @@ from drivetrain.axis.electrical import (
     motor_electrical,
     nominal_bus_voltage,
 )
+from drivetrain.axis.mechanisms import MechanismSpec
 from drivetrain.axis.requirements import Requirements, RequirementsSpec, requirements
 from drivetrain.axis.resolve import resolve_transmission
+from drivetrain.axis.transmission import TransmissionSpec
 from drivetrain.axis.yaml_text import check_text, read_yaml
 from drivetrain.errors import InputError
 from drivetrain.fields import (
@@ -48,9 +51,8 @@ from drivetrain.fields import (
 from drivetrain.physics.brake import BRAKE_SAFETY_FACTOR
 from drivetrain.physics.efficiency import EfficiencyModel
 from drivetrain.physics.loads import G_STANDARD
-from drivetrain.physics.mechanisms import Mechanism, MechanismSpec
+from drivetrain.physics.mechanisms import Mechanism
 from drivetrain.physics.stage import Stage, chain_inertia
-from drivetrain.physics.transmission import TransmissionSpec
 
 if TYPE_CHECKING:
     from drivetrain.motion.cycle import Cycle

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from drivetrain.axis.transmission import GearboxSpec, TransmissionSpec
 from drivetrain.errors import InputError
-from drivetrain.physics.transmission import GearboxSpec, TransmissionSpec
 
 
 def catalog_gearbox_row(catalog_id: str, field: str) -> dict[str, Any]:

@@ -395,10 +395,10 @@ def gearbox_rating_checks(axis: Axis, duty: DutyCycle, motor: MotorData | None,
     the cycle; the emergency-stop torque needs a motor (given, or the selected one). A rating
     that is not given is reported unknown, not passed; ``strict`` makes an unknown fail.
     """
+    from drivetrain.axis.transmission import GearboxSpec
     from drivetrain.duty.cycle import gearbox_split_at_motor_peak
     from drivetrain.physics.averages import cubic_mean
     from drivetrain.physics.torque_split import gearbox_peak_torque
-    from drivetrain.physics.transmission import GearboxSpec
     from drivetrain.sizing.checks import GEARBOX_CHECKS, gearbox_ratings, shock_factor
 
     margins = axis.spec.motor.margins if axis.spec.motor is not None else None

@@ -217,10 +217,10 @@ def _object(node: dict[str, Any], defs: dict[str, Any]) -> dict[str, Any]:
 @lru_cache(maxsize=1)
 def form_description() -> dict[str, Any]:
     """What the page needs to build the axis editor: the axis fields, profile columns, type lists."""
+    from drivetrain.axis.mechanisms import MECHANISM_TYPES
+    from drivetrain.axis.transmission import TRANSMISSION_TYPES
     from drivetrain.motion.cams import CAM_LAWS
     from drivetrain.motion.profiles import HOLDING, SHAPES, VALID_KEYS
-    from drivetrain.physics.mechanisms import MECHANISM_TYPES
-    from drivetrain.physics.transmission import TRANSMISSION_TYPES
 
     schema = axis_json_schema()
     defs = schema.get("$defs", {})

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from typing import Literal
 
+from drivetrain.axis.mechanisms.base import RotaryLoadSpec
 from drivetrain.fields import (
     BackEfficiency,
     Density,
@@ -20,7 +21,7 @@ from drivetrain.fields import (
     Spec,
 )
 from drivetrain.physics.inertia import point_mass, solid_cylinder
-from drivetrain.physics.mechanisms.base import Mechanism, RotaryLoad, RotaryLoadSpec, part_inertia
+from drivetrain.physics.mechanisms.base import Mechanism, RotaryLoad, part_inertia
 from drivetrain.physics.stage import Stage
 
 

@@ -12,11 +12,12 @@ from __future__ import annotations
 
 from typing import Literal
 
+from drivetrain.axis.mechanisms.base import LinearLoadSpec, WheelSpec
+from drivetrain.axis.mechanisms.limits import BeltDriveSpec
 from drivetrain.fields import BackEfficiency, Coefficient, Efficiency, Incline, Length, MassNonNeg, Spec
 from drivetrain.physics.inertia import linear_mass_reflected
 from drivetrain.physics.loads import slip_limit_acceleration
-from drivetrain.physics.mechanisms.base import LinearLoadSpec, Mechanism, WheelSpec
-from drivetrain.physics.mechanisms.limits import BeltDriveSpec
+from drivetrain.physics.mechanisms.base import Mechanism
 from drivetrain.physics.stage import Stage
 
 

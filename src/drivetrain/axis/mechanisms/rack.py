@@ -9,10 +9,11 @@ from __future__ import annotations
 
 from typing import Literal
 
+from drivetrain.axis.mechanisms.base import LinearLoadSpec
+from drivetrain.axis.mechanisms.limits import RackSpec
 from drivetrain.fields import BackEfficiency, Density, Efficiency, Incline, Inertia, Length, LengthNonNeg, Spec
 from drivetrain.physics.inertia import linear_mass_reflected
-from drivetrain.physics.mechanisms.base import LinearLoadSpec, Mechanism, part_inertia
-from drivetrain.physics.mechanisms.limits import RackSpec
+from drivetrain.physics.mechanisms.base import Mechanism, part_inertia
 from drivetrain.physics.stage import Stage
 
 

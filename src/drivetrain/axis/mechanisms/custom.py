@@ -5,9 +5,10 @@ from __future__ import annotations
 import math
 from typing import Literal
 
+from drivetrain.axis.mechanisms.base import RotaryLoadSpec
 from drivetrain.fields import BackEfficiency, Efficiency, Inertia, Spec
 from drivetrain.physics.inertia import point_mass, solid_cylinder
-from drivetrain.physics.mechanisms.base import Mechanism, RotaryLoad, RotaryLoadSpec
+from drivetrain.physics.mechanisms.base import Mechanism, RotaryLoad
 from drivetrain.physics.stage import Stage
 
 

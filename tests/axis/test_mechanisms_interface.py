@@ -12,10 +12,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from drivetrain.axis.mechanisms import MECHANISM_TYPES
 from drivetrain.axis.model import load_axis, parse_axis
-from drivetrain.physics.mechanisms import MECHANISM_TYPES
+from drivetrain.axis.transmission import TRANSMISSION_TYPES
 from drivetrain.physics.stage import torque_in
-from drivetrain.physics.transmission import TRANSMISSION_TYPES
 
 EXAMPLES = sorted((Path(__file__).parents[2] / "examples").glob("*.yaml"))
 

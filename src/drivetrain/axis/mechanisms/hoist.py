@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from typing import Literal
 
+from drivetrain.axis.mechanisms.base import LinearLoadSpec
 from drivetrain.fields import (
     BackEfficiency,
     Density,
@@ -20,7 +21,7 @@ from drivetrain.fields import (
     Spec,
 )
 from drivetrain.physics.inertia import linear_mass_reflected
-from drivetrain.physics.mechanisms.base import LinearLoadSpec, Mechanism, part_inertia
+from drivetrain.physics.mechanisms.base import Mechanism, part_inertia
 from drivetrain.physics.stage import Stage
 
 
