@@ -203,6 +203,7 @@ def candidate_response(axis: Axis, motor: str, motor_inertia: float, torque_limi
 
     # The simulation: the chain with the mechanism's spring following the load over one cycle.
     from drivetrain.dynamics.axis_model import AxisDynamics, load_friction, with_mechanism_spring
+    from drivetrain.dynamics.reduction import reduce_for_simulation, reduced_step
     from drivetrain.dynamics.reference import Reference
     from drivetrain.dynamics.simulation import default_step, simulate
 
@@ -217,7 +218,11 @@ def candidate_response(axis: Axis, motor: str, motor_inertia: float, torque_limi
         chain = chain.with_(friction=tuple(frictions))
     ratio = math.prod(s.ratio for s in stages)
     ref = Reference.from_load(t, x, v, a, ratio)
-    sim = simulate(chain, loop, ref, load_torque=load_torque, step=default_step(chain, loop),
+    # a part whose mode the loop does not act on is lumped (``reduction``); the linear checks above
+    # judged the full chain
+    sim_chain, lumped = reduce_for_simulation(chain, float(analysis.velocity_bandwidth_hz), req.current_bandwidth)
+    step = reduced_step(chain, sim_chain, loop) if lumped else default_step(chain, loop)
+    sim = simulate(sim_chain, loop, ref, load_torque=load_torque, step=step,
                    settle_tolerance=req.settling_window * ratio, check_stability=False)  # judged above
     follow = _per_move_error(sim.states["reference_speed"], sim.load_error) / ratio
     resp = replace(base, following_error=follow, settling_time=np.asarray(sim.settling_time, dtype=float))
