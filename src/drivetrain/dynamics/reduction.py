@@ -182,8 +182,10 @@ def reduced_step(full: Chain, reduced: Chain, loop: ServoLoop) -> float:
     omega_max <= ``STEP_FACTOR`` on the reduced chain (at the stiffest mechanism spring), never
     finer than ``default_step`` of the full chain. Finer than ``default_step``'s 0.2 because the
     settling tail (the load stuck by friction near the window, backlash closing) is what the
-    selection judges: on the belt example's 20 best candidates, settling moved by up to +3 % from
-    0.05 to 0.025 and by up to +45 % from 0.05 to 0.2 (bench/RESULTS.md)."""
+    selection judges. Measured on examples/belt_dynamic.yaml's 20 best candidates, settling windows
+    of 50, 20 and 10 um, against the full chain at its ``default_step``: the median settling time
+    +1.1, +3.6, +4.1 % at 0.05 (+0.7, +2.7, +2.6 % at 0.025; +4.1, +8.9, +10.7 %, worst +42 %, at
+    0.2); bench/RESULTS.md, "Dynamic selection"."""
     from drivetrain.dynamics.kernel_io import _omega_max, default_step
 
     t_c = loop.current_sample_time
