@@ -124,20 +124,19 @@ def _spring_ends(chain: Chain) -> list[float]:
     return [float(np.max(k)), float(np.min(k))]
 
 
-def _at(chain: Chain, k_last: float) -> Chain:
-    return chain.with_(stiffness=np.r_[chain.stiffness[:-1], k_last], spring_table=None)
-
-
-def _highest_mode(chain: Chain) -> tuple[float, float]:
-    """The highest mode's frequency [Hz] and modal damping ratio (phi' C phi / (2 omega phi' M phi))."""
-    from drivetrain.dynamics.linear import modes
-
-    f, shapes = modes(chain)
-    phi = shapes[:, -1]
-    w = 2.0 * math.pi * float(f[-1])
-    c = float(phi @ chain.damping_matrix() @ phi)
-    m = float(phi @ (np.asarray(chain.inertia, dtype=float) * phi))
-    return float(f[-1]), c / (2.0 * w * m)
+def _modes(inertia: np.ndarray, stiffness: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Natural frequencies [rad/s] and M-orthonormal mode shapes of a free chain, the rigid-body mode
+    left out (K v = w^2 M v as ``linear.modes``, on arrays: no ``Chain`` built for each trial)."""
+    n = inertia.size
+    k = np.zeros((n, n))
+    i = np.arange(n - 1)
+    k[i, i] += stiffness
+    k[i + 1, i + 1] += stiffness
+    k[i, i + 1] -= stiffness
+    k[i + 1, i] -= stiffness
+    s = 1.0 / np.sqrt(inertia)
+    w2, u = np.linalg.eigh(k * s[:, None] * s[None, :])
+    return np.sqrt(np.clip(w2[1:], 0.0, None)), u[:, 1:] * s[:, None]
 
 
 def reduce_for_simulation(chain: Chain, velocity_bandwidth_hz: float, current_bandwidth_hz: float) -> (
@@ -149,9 +148,7 @@ def reduce_for_simulation(chain: Chain, velocity_bandwidth_hz: float, current_ba
     velocity_bandwidth_hz: the tuned velocity loop's -3 dB bandwidth [Hz]; current_bandwidth_hz: the
     drive's current-loop bandwidth [Hz].
     """
-    from drivetrain.dynamics.linear import natural_frequencies
-
-    floor = max(SEPARATION * velocity_bandwidth_hz, current_bandwidth_hz)
+    floor = 2.0 * math.pi * max(SEPARATION * velocity_bandwidth_hz, current_bandwidth_hz)
     notes: list[str] = []
     while chain.n >= 3 and math.isfinite(floor):
         inner = [j for j in range(1, chain.n - 1) if _lumpable(chain, j)]
@@ -160,19 +157,20 @@ def reduce_for_simulation(chain: Chain, velocity_bandwidth_hz: float, current_ba
         # the inertia whose own mode (neighbours held) is highest at the weakest spring
         j = max(inner, key=lambda i: (float(chain.stiffness[i - 1]) + _weakest(chain, i)) / float(chain.inertia[i]))
         reduced = lump_inertia(chain, j)
-        f_fast, zeta = math.inf, math.inf
+        damping = chain.damping_matrix()
+        w_fast, zeta = math.inf, math.inf
         for k_full, k_red in zip(_spring_ends(chain), _spring_ends(reduced), strict=True):
-            full = _at(chain, k_full)
-            f_top, z_top = _highest_mode(full)
-            f_fast, zeta = min(f_fast, f_top), min(zeta, z_top)
-            kept, before = natural_frequencies(_at(reduced, k_red)), natural_frequencies(full)[:-1]
-            if np.any(np.abs(kept - before) > MODE_TOLERANCE * before):
+            w, shapes = _modes(chain.inertia, np.r_[chain.stiffness[:-1], k_full])
+            kept, _ = _modes(reduced.inertia, np.r_[reduced.stiffness[:-1], k_red])
+            phi = shapes[:, -1]  # M-normalised: modal damping ratio = phi' C phi / (2 w)
+            w_fast, zeta = min(w_fast, float(w[-1])), min(zeta, float(phi @ damping @ phi) / (2.0 * float(w[-1])))
+            if np.any(np.abs(kept - w[:-1]) > MODE_TOLERANCE * w[:-1]):
                 return chain, tuple(notes)
-        if f_fast < floor or zeta < MIN_DAMPING:
+        if w_fast < floor or zeta < MIN_DAMPING:
             break
-        notes.append(f"{chain.names[j]} lumped into its neighbours: its mode at {f_fast:.0f} Hz (damping "
-                     f"{zeta:.2f}) is >= {SEPARATION:g} x the {velocity_bandwidth_hz:.1f} Hz velocity bandwidth "
-                     f"and above the {current_bandwidth_hz:g} Hz current loop")
+        notes.append(f"{chain.names[j]} lumped into its neighbours: its mode at {w_fast / (2 * math.pi):.0f} Hz "
+                     f"(damping {zeta:.2f}) is >= {SEPARATION:g} x the {velocity_bandwidth_hz:.1f} Hz velocity "
+                     f"bandwidth and above the {current_bandwidth_hz:g} Hz current loop")
         chain = reduced
     return chain, tuple(notes)
 
