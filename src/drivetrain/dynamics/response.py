@@ -14,7 +14,10 @@ gearbox in front), ``candidate_response``:
 4. simulates one cycle of the axis's own profile through the nonlinear kernel (torque limit at the
    motor's peak, backlash, load friction, gravity; the mechanism's spring following the load) and
    measures, at the load, the largest position error during each move and the time from each stop
-   until the error stays inside the settling window.
+   until the error stays inside the settling window. A small part between two springs whose mode lies
+   far above the loop (a belt's drive pulley between the gearbox and the belt) is lumped into its
+   neighbours for this run only (``reduction``: its step would otherwise be set by that mode); the
+   answer says so (``lumped``), and steps 1-3 keep the full chain.
 
 Data the model lacks (the mechanism's or a gearbox's stiffness) is taken as rigid. A stiffer chain
 never settles slower, so a candidate that fails with a rigid part fails for certain, and one that
@@ -70,6 +73,8 @@ class Response:
             velocity_bandwidth, already fails the candidate; settling and following error are then
             not judged, and say so).
         checks: the dynamic checks (name, required, available, unit, margin, ok, status, note, source).
+        lumped: the parts the simulation lumped into their neighbours, each with why (``reduction``;
+            the linear figures are the full chain's).
     """
 
     motor: str
@@ -89,6 +94,7 @@ class Response:
     stable: bool = True
     simulated: bool = True
     checks: list[dict[str, Any]] = field(default_factory=list)
+    lumped: tuple[str, ...] = ()
 
     @property
     def status(self) -> str:
@@ -117,6 +123,7 @@ class Response:
             "following_error_per_move": [float(v) for v in self.following_error],
             "settling_time_per_stop_s": [_none(float(v)) for v in self.settling_time],
             "settling_window": self.window, "rigid_for_want_of_data": list(self.rigid),
+            "simulation_lumped": list(self.lumped),
             "checks": [dict(c) for c in self.checks],
         }
 
@@ -225,7 +232,8 @@ def candidate_response(axis: Axis, motor: str, motor_inertia: float, torque_limi
     sim = simulate(sim_chain, loop, ref, load_torque=load_torque, step=step,
                    settle_tolerance=req.settling_window * ratio, check_stability=False)  # judged above
     follow = _per_move_error(sim.states["reference_speed"], sim.load_error) / ratio
-    resp = replace(base, following_error=follow, settling_time=np.asarray(sim.settling_time, dtype=float))
+    resp = replace(base, following_error=follow, settling_time=np.asarray(sim.settling_time, dtype=float),
+                   lumped=lumped)
     return replace(resp, checks=dynamic_checks(resp, req))
 
 
