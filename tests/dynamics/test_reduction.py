@@ -87,3 +87,21 @@ def test_the_reduced_chain_moves_as_the_full_one() -> None:
     assert np.all(np.isfinite(s_full)) and np.all(s_full > 0)
     assert s_red == pytest.approx(s_full, rel=0.10)
     assert math.isclose(red.total_inertia, chain.total_inertia, rel_tol=1e-12)
+
+
+def test_a_reference_kept_on_the_simulation_grid_gives_the_same_run() -> None:
+    """``reference_on_grid`` (the selection's candidates share it) changes no number of the run."""
+    from drivetrain.dynamics.response import reference_on_grid
+
+    chain = _belt_chain()
+    loop = tune(chain, None, current_bandwidth_hz=1000.0, velocity_sample_time=250e-6,
+                current_sample_time=125e-6, position_sample_time=500e-6, torque_limit=4.46)
+    ref = move_reference(20.0, 300.0, 3000.0, dwell=0.05, repeat=2, step=3e-4)
+    h = default_step(chain, loop)
+    grid = reference_on_grid(ref, h)
+    assert reference_on_grid(ref, h) is grid  # kept for the next candidate
+    a = simulate(chain, loop, ref, step=h, settle_tolerance=1e-3)
+    b = simulate(chain, loop, grid, step=h, settle_tolerance=1e-3)
+    for name in ("load_error", "following_error", "torque"):
+        assert np.array_equal(getattr(a, name), getattr(b, name))
+    assert np.array_equal(a.settling_time, b.settling_time)

@@ -33,6 +33,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from drivetrain.dynamics.reference import Reference
+
 if TYPE_CHECKING:
     from drivetrain.axis.model import Axis
     from drivetrain.axis.requirements import Requirements
@@ -211,7 +213,6 @@ def candidate_response(axis: Axis, motor: str, motor_inertia: float, torque_limi
     # The simulation: the chain with the mechanism's spring following the load over one cycle.
     from drivetrain.dynamics.axis_model import AxisDynamics, load_friction, with_mechanism_spring
     from drivetrain.dynamics.reduction import reduce_for_simulation, reduced_step
-    from drivetrain.dynamics.reference import Reference
     from drivetrain.dynamics.simulation import default_step, simulate
 
     dyn = AxisDynamics(model_from_stages(motor_inertia, stages, 0.0), motor, motor_inertia, stages)
@@ -229,12 +230,40 @@ def candidate_response(axis: Axis, motor: str, motor_inertia: float, torque_limi
     # judged the full chain
     sim_chain, lumped = reduce_for_simulation(chain, float(analysis.velocity_bandwidth_hz), req.current_bandwidth)
     step = reduced_step(chain, sim_chain, loop) if lumped else default_step(chain, loop)
-    sim = simulate(sim_chain, loop, ref, load_torque=load_torque, step=step,
+    sim = simulate(sim_chain, loop, reference_on_grid(ref, step), load_torque=load_torque, step=step,
                    settle_tolerance=req.settling_window * ratio, check_stability=False)  # judged above
     follow = _per_move_error(sim.states["reference_speed"], sim.load_error) / ratio
     resp = replace(base, following_error=follow, settling_time=np.asarray(sim.settling_time, dtype=float),
                    lumped=lumped)
     return replace(resp, checks=dynamic_checks(resp, req))
+
+
+_GRIDS: dict[tuple[bytes, float, int], Reference] = {}
+"""The last few references resampled onto a simulation's grid (``reference_on_grid``)."""
+GRIDS_KEPT = 4
+
+
+def reference_on_grid(ref: Reference, step: float) -> Reference:
+    """``ref`` resampled onto the instants a simulation at ``step`` [s] steps through (those of
+    ``simulation.simulate``: k x step, k = 0 .. round(end / step)), kept for the next candidate or
+    study variant with the same profile, ratio and step (the candidates of one gearbox share all
+    three, a study's variants often do). ``simulate`` then takes the samples as they are
+    (``Reference.resample`` at its own instants): the same numbers as resampling each time."""
+    import hashlib
+
+    n = round(float(ref.time[-1]) / step)
+    digest = hashlib.blake2b(digest_size=16)
+    for arr in (ref.time, ref.position, ref.speed, ref.acceleration):
+        digest.update(np.ascontiguousarray(arr, dtype=float).tobytes())
+    key = (digest.digest(), float(step), n)
+    hit = _GRIDS.pop(key, None)
+    if hit is None:
+        t = np.arange(n + 1, dtype=np.float64) * step
+        hit = Reference(np.asarray(t, dtype=np.float64), *ref.resample(t))
+    _GRIDS[key] = hit  # the most recent last; the oldest dropped
+    while len(_GRIDS) > GRIDS_KEPT:
+        del _GRIDS[next(iter(_GRIDS))]
+    return hit
 
 
 def profile_samples(axis: Axis) -> Samples:
