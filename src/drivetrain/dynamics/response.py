@@ -27,6 +27,7 @@ passes with it is ``unknown``, naming what to give.
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
@@ -241,6 +242,7 @@ def candidate_response(axis: Axis, motor: str, motor_inertia: float, torque_limi
 _GRIDS: dict[tuple[bytes, float, int], Reference] = {}
 """The last few references resampled onto a simulation's grid (``reference_on_grid``)."""
 GRIDS_KEPT = 4
+_GRIDS_LOCK = threading.Lock()
 
 
 def reference_on_grid(ref: Reference, step: float) -> Reference:
@@ -256,13 +258,15 @@ def reference_on_grid(ref: Reference, step: float) -> Reference:
     for arr in (ref.time, ref.position, ref.speed, ref.acceleration):
         digest.update(np.ascontiguousarray(arr, dtype=float).tobytes())
     key = (digest.digest(), float(step), n)
-    hit = _GRIDS.pop(key, None)
+    with _GRIDS_LOCK:  # the web app sizes in threads
+        hit = _GRIDS.pop(key, None)
     if hit is None:
         t = np.arange(n + 1, dtype=np.float64) * step
         hit = Reference(np.asarray(t, dtype=np.float64), *ref.resample(t))
-    _GRIDS[key] = hit  # the most recent last; the oldest dropped
-    while len(_GRIDS) > GRIDS_KEPT:
-        del _GRIDS[next(iter(_GRIDS))]
+    with _GRIDS_LOCK:
+        _GRIDS[key] = hit  # the most recent last; the oldest dropped
+        while len(_GRIDS) > GRIDS_KEPT:
+            del _GRIDS[next(iter(_GRIDS))]
     return hit
 
 
