@@ -4,7 +4,7 @@ springs, whose mode lies far above the servo loop, is lumped into its neighbours
 Why: the fixed-step kernel's step is set by the chain's highest mode (``kernel_io.default_step``:
 step x omega_max <= 0.2). A small part between two springs (a belt's drive pulley between the
 gearbox and the belt) makes a mode far above anything the loop acts on (examples/belt_dynamic.yaml:
-1.3-1.8 kHz across the stroke against a 27.5 Hz velocity loop and a 248 Hz first mode), and that
+1.3-1.8 kHz across the stroke against a 27-30 Hz velocity loop and a 248 Hz first mode), and that
 mode alone makes the step 7x shorter than the current loop's period. At the loop's frequencies
 such a part is rigid against its springs: it sits where their static balance puts it.
 
