@@ -37,7 +37,7 @@ damped one rings under the impacts of a backlash and the loop's sampled torque, 
 cannot show); and the reduced chain's other natural frequencies stay within ``MODE_TOLERANCE`` of the
 full chain's (the time scales are separated: the error of the singular perturbation in them is
 O(epsilon^2), epsilon the ratio of the frequencies). Ellis, *Control System Design Guide*, 4th ed.
-(2012), ch. 16 ("Compliance and Resonance"), rests on the same premise: the loop neither excites nor
+(2012), ch. "Compliance and Resonance", rests on the same premise: the loop neither excites nor
 sees a resonance far above its bandwidth.
 
 The linear checks (bandwidth, margins, resonance, anti-resonance) keep the full chain; only the
