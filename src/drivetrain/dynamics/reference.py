@@ -50,8 +50,12 @@ class Reference:
                                      np.asarray(acceleration) * ratio)
 
     def resample(self, t: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """Position, speed, acceleration at times ``t`` (linear interpolation, held at the ends)."""
+        """Position, speed, acceleration at times ``t`` (linear interpolation, held at the ends). At the
+        reference's own instants (a reference already on a simulation's grid,
+        ``response.reference_on_grid``) the samples themselves, which is what the interpolation gives."""
         tt = np.asarray(t, dtype=float)
+        if tt.shape == self.time.shape and np.array_equal(tt, self.time):
+            return self.position, self.speed, self.acceleration
         return (np.interp(tt, self.time, self.position), np.interp(tt, self.time, self.speed),
                 np.interp(tt, self.time, self.acceleration))
 

@@ -14,7 +14,10 @@ gearbox in front), ``candidate_response``:
 4. simulates one cycle of the axis's own profile through the nonlinear kernel (torque limit at the
    motor's peak, backlash, load friction, gravity; the mechanism's spring following the load) and
    measures, at the load, the largest position error during each move and the time from each stop
-   until the error stays inside the settling window.
+   until the error stays inside the settling window. A small part between two springs whose mode lies
+   far above the loop (a belt's drive pulley between the gearbox and the belt) is lumped into its
+   neighbours for this run only (``reduction``: its step would otherwise be set by that mode); the
+   answer says so (``lumped``), and steps 1-3 keep the full chain.
 
 Data the model lacks (the mechanism's or a gearbox's stiffness) is taken as rigid. A stiffer chain
 never settles slower, so a candidate that fails with a rigid part fails for certain, and one that
@@ -24,11 +27,14 @@ passes with it is ``unknown``, naming what to give.
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
+
+from drivetrain.dynamics.reference import Reference
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Axis
@@ -70,6 +76,8 @@ class Response:
             velocity_bandwidth, already fails the candidate; settling and following error are then
             not judged, and say so).
         checks: the dynamic checks (name, required, available, unit, margin, ok, status, note, source).
+        lumped: the parts the simulation lumped into their neighbours, each with why (``reduction``;
+            the linear figures are the full chain's).
     """
 
     motor: str
@@ -89,6 +97,7 @@ class Response:
     stable: bool = True
     simulated: bool = True
     checks: list[dict[str, Any]] = field(default_factory=list)
+    lumped: tuple[str, ...] = ()
 
     @property
     def status(self) -> str:
@@ -117,6 +126,7 @@ class Response:
             "following_error_per_move": [float(v) for v in self.following_error],
             "settling_time_per_stop_s": [_none(float(v)) for v in self.settling_time],
             "settling_window": self.window, "rigid_for_want_of_data": list(self.rigid),
+            "simulation_lumped": list(self.lumped),
             "checks": [dict(c) for c in self.checks],
         }
 
@@ -203,7 +213,7 @@ def candidate_response(axis: Axis, motor: str, motor_inertia: float, torque_limi
 
     # The simulation: the chain with the mechanism's spring following the load over one cycle.
     from drivetrain.dynamics.axis_model import AxisDynamics, load_friction, with_mechanism_spring
-    from drivetrain.dynamics.reference import Reference
+    from drivetrain.dynamics.reduction import reduce_for_simulation, reduced_step
     from drivetrain.dynamics.simulation import default_step, simulate
 
     dyn = AxisDynamics(model_from_stages(motor_inertia, stages, 0.0), motor, motor_inertia, stages)
@@ -217,11 +227,47 @@ def candidate_response(axis: Axis, motor: str, motor_inertia: float, torque_limi
         chain = chain.with_(friction=tuple(frictions))
     ratio = math.prod(s.ratio for s in stages)
     ref = Reference.from_load(t, x, v, a, ratio)
-    sim = simulate(chain, loop, ref, load_torque=load_torque, step=default_step(chain, loop),
+    # a part whose mode the loop does not act on is lumped (``reduction``); the linear checks above
+    # judged the full chain
+    sim_chain, lumped = reduce_for_simulation(chain, float(analysis.velocity_bandwidth_hz), req.current_bandwidth)
+    step = reduced_step(chain, sim_chain, loop) if lumped else default_step(chain, loop)
+    sim = simulate(sim_chain, loop, reference_on_grid(ref, step), load_torque=load_torque, step=step,
                    settle_tolerance=req.settling_window * ratio, check_stability=False)  # judged above
     follow = _per_move_error(sim.states["reference_speed"], sim.load_error) / ratio
-    resp = replace(base, following_error=follow, settling_time=np.asarray(sim.settling_time, dtype=float))
+    resp = replace(base, following_error=follow, settling_time=np.asarray(sim.settling_time, dtype=float),
+                   lumped=lumped)
     return replace(resp, checks=dynamic_checks(resp, req))
+
+
+_GRIDS: dict[tuple[bytes, float, int], Reference] = {}
+"""The last few references resampled onto a simulation's grid (``reference_on_grid``)."""
+GRIDS_KEPT = 4
+_GRIDS_LOCK = threading.Lock()
+
+
+def reference_on_grid(ref: Reference, step: float) -> Reference:
+    """``ref`` resampled onto the instants a simulation at ``step`` [s] steps through (those of
+    ``simulation.simulate``: k x step, k = 0 .. round(end / step)), kept for the next candidate or
+    study variant with the same profile, ratio and step (the candidates of one gearbox share all
+    three, a study's variants often do). ``simulate`` then takes the samples as they are
+    (``Reference.resample`` at its own instants): the same numbers as resampling each time."""
+    import hashlib
+
+    n = round(float(ref.time[-1]) / step)
+    digest = hashlib.blake2b(digest_size=16)
+    for arr in (ref.time, ref.position, ref.speed, ref.acceleration):
+        digest.update(np.ascontiguousarray(arr, dtype=float).tobytes())
+    key = (digest.digest(), float(step), n)
+    with _GRIDS_LOCK:  # the web app sizes in threads
+        hit = _GRIDS.pop(key, None)
+    if hit is None:
+        t = np.arange(n + 1, dtype=np.float64) * step
+        hit = Reference(np.asarray(t, dtype=np.float64), *ref.resample(t))
+    with _GRIDS_LOCK:
+        _GRIDS[key] = hit  # the most recent last; the oldest dropped
+        while len(_GRIDS) > GRIDS_KEPT:
+            del _GRIDS[next(iter(_GRIDS))]
+    return hit
 
 
 def profile_samples(axis: Axis) -> Samples:

@@ -108,11 +108,11 @@ def simulate(
     theta, omega = initial_state(chain, float(r_pos[0]), load_torque)
     t_m0 = float(load_torque)
     limit = speed_limit if speed_limit is not None else max(1e4, 100.0 * float(np.max(np.abs(r_vel))))
-    at_rest = np.nonzero(r_vel == 0.0)[0]
-    moves = (np.abs(np.diff(r_pos[at_rest])) if at_rest.size > 1
-             else np.array([float(np.ptp(r_pos))]))
     tol = settle_tolerance
     if tol is None:
+        at_rest = np.nonzero(r_vel == 0.0)[0]
+        moves = (np.abs(np.diff(r_pos[at_rest])) if at_rest.size > 1
+                 else np.array([float(np.ptp(r_pos))]))
         tol = max(1e-3 * float(np.max(moves)) if moves.size else 1e-3, 10.0 * loop.encoder_resolution, 1e-9)
     rec, metrics = _run(chain, h, n_steps, record_every, load_torque, 0, loop, alpha_c, nb, lp_alpha,
                         (n_cur, n_vel, n_pos), r_pos, r_vel, r_acc, np.zeros(1), theta, omega, t_m0, t_m0, limit)
