@@ -332,7 +332,7 @@ def test_a_brake_whose_dwells_are_all_braked_still_gets_its_holding_torque() -> 
         if "dwell" in step:
             step["holding"] = "brake"
     result = size(data)
-    assert result.metrics["holding_torque_Nm"] == 0.0
+    assert result.metrics.holding_torque_Nm == 0.0
     motor = next(r for r in order_sheet(result).rows if r.part == "motor")
     need = next(c for c in result.selection["selected"]["checks"] if c["name"] == "motor_brake")["required"]
     assert motor.spec["holding_brake"] == "required" and need > 0.0

@@ -10,6 +10,7 @@ from drivetrain.cli.quantities import TableUnits
 from drivetrain.terminal import Col, print_table, table_console
 
 if TYPE_CHECKING:
+    from drivetrain.sizing.axis_blocks import GearboxChecks, MechanismCheck
     from drivetrain.sizing.electrical import DriveAnswer, Regen
 
 __all__ = ["CANDIDATE_COLUMNS", "print_sizing", "table_console"]
@@ -23,7 +24,7 @@ def print_sizing(result: Any, units: TableUnits | None = None) -> None:
 
     u = units or TableUnits()
     console = table_console()
-    m = snapped_metrics(result.metrics)  # a figure that is zero to within round-off prints as 0
+    m = snapped_metrics(result.metrics.to_dict())  # a figure that is zero to within round-off prints as 0
     torque = u.unit("torque", "N*m")
     rows = [
         ("cycle time", f"{m['cycle_time_s']:.4g} s"),
@@ -44,16 +45,16 @@ def print_sizing(result: Any, units: TableUnits | None = None) -> None:
     rows += _motor_shaft_rows(result, u)
     print_table(console, _demand_title(result),
                 (Col("quantity"), Col("value", right=True, number=True)), rows)
-    mech = result.extras.get("mechanism_checks")
-    if mech:
+    mech: list[MechanismCheck] = result.extras.get("mechanism_checks") or []
+    if mech:  # printed as the motor's checks are, from their JSON
         _print_checks(console, f"mechanism {result.axis.mechanism.type}",
-                      {"ok": all(c["ok"] for c in mech), "checks": mech}, u)
+                      {"ok": all(c.ok for c in mech), "checks": [c.to_dict() for c in mech]}, u)
     if result.motor is not None:
         _print_checks(console, f"motor {result.motor['name']}", result.motor, u)
         _print_electrical(console, result, u)
-    gear = result.extras.get("gearbox_checks")
-    if gear:
-        _print_checks(console, "gearbox ratings (transmission)", gear, u)
+    gear: GearboxChecks | None = result.extras.get("gearbox_checks")
+    if gear is not None:
+        _print_checks(console, "gearbox ratings (transmission)", gear.to_dict(), u)
     if result.candidates:
         _print_candidates(console, result, u)
     print_result_order(console, result, u)

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from drivetrain.report.blocks import Cell, KeyFigure, Table
-from drivetrain.report.checks import CHECK_NAMES, EXTRA_CHECKS, failure_sentence, speed_si
+from drivetrain.report.checks import CHECK_NAMES, failure_sentence, speed_si
 from drivetrain.report.diagram import MECHANISM_NAMES, is_load_part
 from drivetrain.report.display import (
     DisplayUnits,
@@ -23,6 +23,7 @@ from drivetrain.report.display import (
     snapped_metrics,
 )
 from drivetrain.report.focus import Focus
+from drivetrain.sizing.axis_blocks import GuideReport
 from drivetrain.units import quantity_of_key
 
 if TYPE_CHECKING:
@@ -47,18 +48,16 @@ def _extra_values(result: SizingResult, du: DisplayUnits) -> list[tuple[str, str
         rows.append((f"{label}{key.replace('_', ' ')}", fmt_number(float(value))))
 
     for key, value in sorted(result.extras.items()):
-        if isinstance(value, dict):
-            if key in EXTRA_CHECKS and "required" in value:
-                continue
-            for sub, v in value.items():
-                add(f"{key.replace('_', ' ')}: ", sub, v)
-        else:
+        if isinstance(value, GuideReport):  # its forces and moments; its checks are the checks table's
+            for sub, v in value.to_dict().items():
+                add("guide: ", sub, v)
+        else:  # a scalar (a gantry share's load_share); the check blocks are the checks table's
             add("", key, value)
     return rows
 
 
 def key_figures(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> list[KeyFigure]:
-    m = result.metrics
+    m = result.metrics.to_dict()
     src = focus.metrics if focus is not None else m
     where = f"{focus.motor.name}, with rotor" if focus is not None else "at motor shaft, rotor excluded"
     figs = [
@@ -159,7 +158,7 @@ def steps_table(result: SizingResult, du: DisplayUnits) -> Table:
 
 
 def demand_table(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> Table:
-    m = snapped_metrics(result.metrics)
+    m = snapped_metrics(result.metrics.to_dict())
     mo = snapped_metrics(focus.metrics) if focus is not None else None
     rows: list[list[Cell]] = []
 
@@ -218,7 +217,7 @@ def demand_table(result: SizingResult, du: DisplayUnits, focus: Focus | None) ->
 
 
 def segments_table(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> Table:
-    seg = result.metrics.get("segments", [])
+    seg = result.metrics.segments
     mseg = focus.metrics.get("segments", []) if focus is not None else []
     rows = []
     for k, s in enumerate(seg):

@@ -44,18 +44,19 @@ from typing import TYPE_CHECKING, Any, Literal, overload
 import numpy as np
 
 from drivetrain.axis.model import Axis, load_axis, parse_axis
-from drivetrain.duty.cycle import DutyCycle, duty_from_samples, load_metrics
+from drivetrain.duty.cycle import DutyCycle, demand_of, duty_from_samples
 from drivetrain.errors import InputError
 from drivetrain.sizing.drive_select import DriveMemo
 from drivetrain.sizing.result import SizingResult, brake_check, gearbox_rating_checks, motor_result, selected_motor
 
 if TYPE_CHECKING:
     from drivetrain.motion.cycle import Cycle, Samples
+    from drivetrain.sizing.axis_blocks import GearboxChecks, MechanismCheck, Modes
     from drivetrain.sizing.candidates import Selection
     from drivetrain.sizing.search import Prepared, Tables
 
 AxisInput = Axis | dict[str, Any] | str | Path
-ModesStage = Callable[[SizingResult], "dict[str, Any] | None"]
+ModesStage = Callable[[SizingResult], "Modes | None"]
 Listing = Literal["ranked", "selected"]
 
 
@@ -104,7 +105,7 @@ def read_axis(axis: AxisInput) -> Axis:
     return axis
 
 
-def axis_checks(axis: Axis, duty: DutyCycle, mechanism: list[dict[str, Any]] | None = None) -> dict[str, Any]:
+def axis_checks(axis: Axis, duty: DutyCycle, mechanism: list[MechanismCheck] | None = None) -> dict[str, Any]:
     """The axis-checks stage: the answer's ``warnings``, ``guide``, ``slip_check``, ``mechanism_checks``
     and ``brake_check`` (those that apply), in that order. ``mechanism``: the axis's mechanism checks
     where the caller computed them (``mechanism_checks.prepare_many``)."""
@@ -112,11 +113,11 @@ def axis_checks(axis: Axis, duty: DutyCycle, mechanism: list[dict[str, Any]] | N
 
     out: dict[str, Any] = {"warnings": sanity_warnings(axis, duty)}
     if axis.spec.guide is not None and axis.mechanism.motion == "linear":
-        from drivetrain.physics.guides import guide_report
+        from drivetrain.sizing.axis_blocks import guide_report
 
         out["guide"] = guide_report(axis, duty)
     if axis.mechanism.slip_limit is not None:
-        from drivetrain.physics.guides import slip_check
+        from drivetrain.sizing.axis_blocks import slip_check
 
         incline = getattr(axis.mechanism.load, "incline", 0.0)
         out["slip_check"] = slip_check(np.asarray(duty.samples.a), axis.mechanism.slip_limit, incline, axis.gravity)
@@ -235,7 +236,7 @@ def attach_modes(result: SizingResult, modes: ModesStage) -> SizingResult:
 
 
 def size_duty(axis: Axis, duty: DutyCycle, *, all_pairs: bool = False, listing: Listing = "ranked",
-              drives: bool = True, context: Context | None = None, mechanism: list[dict[str, Any]] | None = None,
+              drives: bool = True, context: Context | None = None, mechanism: list[MechanismCheck] | None = None,
               prepared: Prepared | None = None, own_checks: dict[str, Any] | None = None,
               modes: ModesStage | None = None) -> SizingResult:
     """The pipeline from a duty cycle the caller has: axis checks, selection, drives, mechanism, modes.
@@ -247,9 +248,9 @@ def size_duty(axis: Axis, duty: DutyCycle, *, all_pairs: bool = False, listing: 
     ``prepared``: what ``size_many`` computed for many axes together.
     """
     context = context or Context()
-    result = SizingResult(axis=axis, duty=duty, metrics=load_metrics(duty))
+    result = SizingResult(axis=axis, duty=duty, metrics=demand_of(duty))
     result.extras = axis_checks(axis, duty, mechanism) if own_checks is None else dict(own_checks)
-    gear: dict[str, Any] | None = None
+    gear: GearboxChecks | None = None
     if axis.motor is not None:
         result.motor, beside = motor_result(axis, duty, axis.motor)
         result.extras.update(beside)  # the electrical half's drive and regen sit beside the motor
@@ -322,7 +323,7 @@ def size_many(axes: Sequence[AxisInput], points_per_phase: int = 64, all_pairs: 
                 raise
             read.append(exc)
     pairs = [x for x in read if not isinstance(x, InputError)]
-    mechanism: list[list[dict[str, Any]] | None] = [None] * len(pairs)
+    mechanism: list[list[MechanismCheck] | None] = [None] * len(pairs)
     prepared: list[Prepared | None] = [None] * len(pairs)
     if len(pairs) > 1:
         from drivetrain.sizing.mechanism_checks import prepare_many

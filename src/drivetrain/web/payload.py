@@ -209,7 +209,7 @@ def size_payload(axis: dict[str, Any]) -> dict[str, Any]:
             selected = selected_payload(parsed, result, envelopes)
     return {"result": result.to_dict(), "motion": parsed.mechanism.motion, "series": series,
             "envelopes": envelopes, "selected": selected, "notes": notes,
-            "modes": None if result.modes is None else dict(plain(result.modes)),
+            "modes": None if result.modes is None else dict(plain(result.modes.to_dict())),
             "electrical": electrical_payload(result), "elapsed_ms": (time.perf_counter() - t0) * 1e3}
 
 
