@@ -189,7 +189,7 @@ def test_shipped_examples_report_modes_across_the_stroke(example: str, weakest: 
     from drivetrain.sizing.pipeline import size
 
     res = size(ROOT / "examples" / example)
-    assert {c.name for c in res.extras.get("mechanism_checks", [])} == checks
+    assert {c.name for c in res.mechanism_checks} == checks
     modes = modes_of_result(res)
     assert modes is not None
     assert modes.weakest_link == weakest
@@ -197,4 +197,4 @@ def test_shipped_examples_report_modes_across_the_stroke(example: str, weakest: 
     assert modes.checks[0].name == "servo_bandwidth"
     # No shipped example fails for want of an input: without a stated bandwidth the check is unknown.
     assert modes.checks[0].status == ("pass" if example == "belt_gantry_3m.yaml" else "unknown")
-    assert all(c.ok for c in res.extras["mechanism_checks"])
+    assert all(c.ok for c in res.mechanism_checks)

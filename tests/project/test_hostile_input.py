@@ -576,7 +576,7 @@ def test_dwell_only_conveyor_sizes_without_nan(tmp_path: Path) -> None:
     data["motor"] = {"name": "m", "inertia": "1 kg*cm^2", "rated_torque": "2 N*m", "peak_torque": "6 N*m",
                      "max_speed": "3000 rpm"}
     result = size(parse_axis(data))
-    slip = result.extras["slip_check"]
+    slip = result.slip_check
     assert slip.ok and "never accelerates" in (slip.note or "")
     assert not any(isinstance(v, float) and math.isnan(v) for v in slip.to_dict().values())
 

@@ -415,7 +415,7 @@ def test_html_mechanism_section_has_the_checks_and_f1_across_the_stroke(gantry: 
     assert section is not None
     body = section.group(0)
     rows = re.search(r'id="dt-table-mechanism-checks".*?<tbody>(.*?)</tbody>', body, re.S)
-    assert rows is not None and rows.group(1).count("<tr>") == len(gantry.extras["mechanism_checks"])
+    assert rows is not None and rows.group(1).count("<tr>") == len(gantry.mechanism_checks)
     assert "Belt tension" in body and "Gates Mectrol" in body
     modes = modes_of_result(gantry)
     assert modes is not None

@@ -76,13 +76,15 @@ def test_each_block_is_typed_and_its_to_dict_is_its_json(name: str) -> None:
     answer = result.to_dict()
     kinds = {"guide": GuideReport, "slip_check": RatingCheck, "brake_check": RatingCheck,
              "gearbox_checks": GearboxChecks}
-    for key, block in result.extras.items():
-        if key in kinds:
-            assert isinstance(block, kinds[key])
+    for key, kind in kinds.items():
+        block = getattr(result, key)
+        assert (block is None) == (key not in answer)
+        if block is not None:
+            assert isinstance(block, kind)
             assert json.dumps(block.to_dict()) == json.dumps(answer[key])
-        elif key == "mechanism_checks":
-            assert block and all(isinstance(c, MechanismCheck) for c in block)
-            assert json.dumps([c.to_dict() for c in block]) == json.dumps(answer[key])
+    assert all(isinstance(c, MechanismCheck) for c in result.mechanism_checks)
+    assert json.dumps([c.to_dict() for c in result.mechanism_checks]) == json.dumps(answer["mechanism_checks"])
+    assert json.dumps(result.own_blocks()) == json.dumps({k: answer[k] for k in result.own_blocks()})
     assert isinstance(result.metrics, Demand)
     assert list(answer)[4:4 + len(result.metrics.to_dict())] == list(result.metrics.to_dict())
     assert json.dumps(result.metrics.to_dict()) == json.dumps({k: answer[k] for k in result.metrics.to_dict()})
@@ -92,16 +94,16 @@ def test_each_block_is_typed_and_its_to_dict_is_its_json(name: str) -> None:
 
 def test_the_blocks_read_by_attribute() -> None:
     z = size(ROOT / "examples" / "z_axis.yaml")
-    brake = z.extras["brake_check"]
+    brake = z.brake_check
     assert brake.name == "brake_holding_torque" and brake.unit == "N*m" and brake.ok
     assert brake.margin == pytest.approx(brake.available / brake.required - 1.0)
     assert z.metrics.peak_torque_Nm >= z.metrics.rms_torque_Nm > 0.0
     assert z.metrics.max_speed_rpm > z.metrics.mean_speed_rpm > 0.0
     ball = size(ROOT / "examples" / "ball_screw.yaml")
-    guide = ball.extras["guide"]
+    guide = ball.guide
     assert guide.actuator_peak_force_N >= guide.actuator_rms_force_N > 0.0
     assert guide.ok == all(c.ok for c in guide.checks)
-    checks = {c.name: c for c in ball.extras["mechanism_checks"]}
+    checks = {c.name: c for c in ball.mechanism_checks}
     assert checks["nut_life"].unit == "h" and checks["nut_life"].source
     assert checks["nut_life"].ok == (checks["nut_life"].margin >= 0.0)  # type: ignore[operator]
 
@@ -120,6 +122,20 @@ def test_a_mechanism_check_keeps_the_key_order_of_its_kind() -> None:
         judged.ok = False  # type: ignore[misc]
 
 
+def test_a_gantry_share_keeps_the_order_of_its_blocks() -> None:
+    """A share keeps its whole axis's checks and gearbox ratings, then its load_share, then its drive's blocks."""
+    from drivetrain.machine.axes import size_share
+
+    full = size(ROOT / "examples" / "z_axis.yaml")
+    share = size_share(full, 0.25)
+    assert share.load_share == 0.25 and share.mechanism_checks == full.mechanism_checks
+    assert share.brake_check == full.brake_check and share.gearbox_checks == full.gearbox_checks
+    blocks = list(share.own_blocks())
+    assert blocks.index("load_share") == len(blocks) - 1 - sum(b is not None for b in (share.drive, share.regen))
+    assert list(share.to_dict())[4 + len(share.metrics.to_dict()):][:len(blocks)] == blocks
+    assert "load_share" not in full.own_blocks()
+
+
 def test_a_rating_check_has_a_note_only_where_one_is_said() -> None:
     keys = ["name", "required", "available", "unit", "margin", "ok", "approximate"]
     assert list(RatingCheck("slip_limit", 1.0, 2.0, "m/s^2", 1.0, True).to_dict()) == keys
@@ -129,7 +145,7 @@ def test_a_rating_check_has_a_note_only_where_one_is_said() -> None:
 
 def test_transmission_gearbox_checks_are_typed_and_judged() -> None:
     res = size(GEARBOX_AXIS)
-    gear = res.extras["gearbox_checks"]
+    gear = res.gearbox_checks
     assert isinstance(gear, GearboxChecks) and len(gear.checks) == 5
     checks = {c.name: c for c in gear.checks}
     rated = checks["gearbox_rated_torque"]
@@ -147,7 +163,7 @@ def test_transmission_gearbox_checks_are_typed_and_judged() -> None:
     assert f"gearbox: gearbox_rated_torque [{stage}]" in failures(res)
     assert any(u.check == "gearbox_emergency_stop_torque" and u.part == f"gearbox stage ({stage})"
                for u in collect_unknowns(res, sheet=False))
-    assert [c for _, c in own_checks(res.extras)] == list(gear.checks)
+    assert [c for _, c in own_checks(res)] == list(gear.checks)
 
 
 def test_the_demand_is_a_dataclass_of_the_json_keys() -> None:

@@ -53,7 +53,7 @@ def _expected_parts(result: Any) -> Counter[str]:
     parts["brake"] = sum(st.kind == "brake" for st in axis.transmission)
     parts["screw"] = int(axis.spec.mechanism.type in ("ball_screw", "lead_screw"))
     parts["guide"] = int(axis.spec.guide is not None)
-    regen = (pick or {}).get("regen") if pick is not None else result.extras.get("regen")
+    regen = (pick or {}).get("regen") if pick is not None else result.regen
     parts["braking_resistor"] = int(bool(regen is not None and regen.resistor_needed
                                          and regen.builtin_resistor_sufficient is not True))
     return +parts

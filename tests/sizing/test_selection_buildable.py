@@ -148,7 +148,7 @@ def test_given_gearbox_ratings_are_checked_and_named() -> None:
             "motor": {"inertia": "1 kg*cm^2", "rated_torque": "2 N*m", "peak_torque": "6 N*m",
                       "rated_speed": "3000 rpm", "max_speed": "6000 rpm"}}
     res = size(data)
-    gear = res.extras["gearbox_checks"]
+    gear = res.gearbox_checks
     checks = {c.name: c for c in gear.checks}
     duty = res.duty
     t_out = duty.stage_torque[0]
@@ -176,7 +176,7 @@ def test_catalog_gearbox_in_transmission_brings_its_ratings() -> None:
             "profile": [{"move": "90 deg", "time": "0.5 s"}, {"dwell": "2 s"}],
             "motor": {"id": "SGM7J-04A"}}
     res = size(data)
-    checks = {c.name: c for c in res.extras["gearbox_checks"].checks}
+    checks = {c.name: c for c in res.gearbox_checks.checks}
     row = catalog.get("GPB060-L1-i5")
     assert checks["gearbox_rated_torque"].available == pytest.approx(row["rated_output_torque_Nm"])
     assert checks["gearbox_emergency_stop_torque"].available == pytest.approx(row["emergency_stop_torque_Nm"])

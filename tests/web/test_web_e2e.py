@@ -556,7 +556,7 @@ def test_mechanism_checks_and_modes_show_in_the_results(page: Any) -> None:
     wait_until(page, "() => !document.querySelector('#mechanism').hidden")
     table = page.locator(".mechanism-table")
     text = table.inner_text()
-    expected = size(ROOT / "examples" / "belt_gantry_3m.yaml").extras["mechanism_checks"]
+    expected = size(ROOT / "examples" / "belt_gantry_3m.yaml").mechanism_checks
     assert table.locator("tbody tr").count() == len(expected) + 1  # and the servo-bandwidth check
     assert "belt tension" in text and "servo bandwidth" in text
     assert "weakest link: timing_belt belt" in page.inner_text(".modes-summary")

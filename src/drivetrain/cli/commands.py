@@ -104,7 +104,7 @@ def size(args: argparse.Namespace, axis: str | dict[str, Any] | None = None) -> 
         from drivetrain.terminal import table_console
 
         print_modes_across(table_console(), modes, units)
-    for warning in result.extras.get("warnings", []):
+    for warning in result.warnings:
         print(f"warning: {warning}")
     if explanation:
         print(explanation)

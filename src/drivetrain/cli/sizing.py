@@ -10,7 +10,6 @@ from drivetrain.cli.quantities import TableUnits
 from drivetrain.terminal import Col, print_table, table_console
 
 if TYPE_CHECKING:
-    from drivetrain.sizing.axis_blocks import GearboxChecks, MechanismCheck
     from drivetrain.sizing.electrical import DriveAnswer, Regen
 
 __all__ = ["CANDIDATE_COLUMNS", "print_sizing", "table_console"]
@@ -45,14 +44,14 @@ def print_sizing(result: Any, units: TableUnits | None = None) -> None:
     rows += _motor_shaft_rows(result, u)
     print_table(console, _demand_title(result),
                 (Col("quantity"), Col("value", right=True, number=True)), rows)
-    mech: list[MechanismCheck] = result.extras.get("mechanism_checks") or []
+    mech = result.mechanism_checks
     if mech:  # printed as the motor's checks are, from their JSON
         _print_checks(console, f"mechanism {result.axis.mechanism.type}",
                       {"ok": all(c.ok for c in mech), "checks": [c.to_dict() for c in mech]}, u)
     if result.motor is not None:
         _print_checks(console, f"motor {result.motor['name']}", result.motor, u)
         _print_electrical(console, result, u)
-    gear: GearboxChecks | None = result.extras.get("gearbox_checks")
+    gear = result.gearbox_checks
     if gear is not None:
         _print_checks(console, "gearbox ratings (transmission)", gear.to_dict(), u)
     if result.candidates:
@@ -127,7 +126,7 @@ def _print_checks(console: Any, title: str, block: dict[str, Any], u: TableUnits
 
 def _print_electrical(console: Any, result: Any, u: TableUnits) -> None:
     """The electrical half of a given motor: supply, envelope source, currents, winding, drive, regen."""
-    _print_electrical_blocks(console, result.motor, result.extras.get("drive"), result.extras.get("regen"), u)
+    _print_electrical_blocks(console, result.motor, result.drive, result.regen, u)
 
 
 def _drive_label(drive: DriveAnswer | None) -> str:

@@ -41,7 +41,7 @@ CHECK_NAMES: dict[str, str] = {
 CHECK_QUANTITY: dict[str, str] = {"N*m": "torque", "Nm": "torque", "rpm": "angular_speed", "kg*m^2": "inertia",
                                    "W": "power", "N": "force", "s": "time", "J": "energy", "m/s^2": "acceleration"}
 EXTRA_CHECKS = ("slip_check", "brake_check", "guide", "gearbox_checks")
-"""Keys of ``SizingResult.extras`` that hold the axis's own checks (a ``RatingCheck``, or a block with ``checks``)."""
+"""The blocks of ``SizingResult`` that hold the axis's own checks (a ``RatingCheck``, or a block with ``checks``)."""
 
 
 def _check_quantity(unit: str) -> str | None:
@@ -114,9 +114,9 @@ def _rule(check: dict[str, Any], factors: dict[str, float]) -> str:
 
 
 def axis_checks(result: SizingResult) -> list[dict[str, Any]]:
-    """The axis's own checks (load slip, brake, guide ratings, gearbox ratings), from ``SizingResult.extras``,
+    """The axis's own checks (load slip, brake, guide ratings, gearbox ratings) of the result,
     as the JSON states them (read with the motor's checks)."""
-    return [c.to_dict() for _, c in own_checks(result.extras, EXTRA_CHECKS)]
+    return [c.to_dict() for _, c in own_checks(result, EXTRA_CHECKS)]
 
 
 def _tightest(checks: list[dict[str, Any]], du: DisplayUnits) -> str:

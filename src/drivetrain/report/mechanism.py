@@ -70,7 +70,7 @@ def _table(key: str, title: str, rows: list[list[Cell]], note: str) -> Table:
 
 def mechanism_checks_table(result: SizingResult, du: DisplayUnits) -> Table | None:
     """The ``mechanism_checks`` of the result as a table, or None when the axis has none."""
-    checks: list[MechanismCheck] = result.extras.get("mechanism_checks") or []
+    checks = result.mechanism_checks
     if not checks:
         return None
     return _table("mechanism-checks", "Checks of the mechanism", _rows(checks, du),

@@ -23,7 +23,6 @@ from drivetrain.report.display import (
     snapped_metrics,
 )
 from drivetrain.report.focus import Focus
-from drivetrain.sizing.axis_blocks import GuideReport
 from drivetrain.units import quantity_of_key
 
 if TYPE_CHECKING:
@@ -33,7 +32,7 @@ MAX_CANDIDATE_ROWS = 25
 
 
 def _extra_values(result: SizingResult, du: DisplayUnits) -> list[tuple[str, str]]:
-    """Scalar results in ``extras`` (e.g. the guide's peak forces), labelled and in display units."""
+    """The guide's peak forces and moments and a gantry share's load share, labelled and in display units."""
     rows: list[tuple[str, str]] = []
 
     def add(label: str, key: str, value: Any) -> None:
@@ -47,12 +46,11 @@ def _extra_values(result: SizingResult, du: DisplayUnits) -> list[tuple[str, str
             return
         rows.append((f"{label}{key.replace('_', ' ')}", fmt_number(float(value))))
 
-    for key, value in sorted(result.extras.items()):
-        if isinstance(value, GuideReport):  # its forces and moments; its checks are the checks table's
-            for sub, v in value.to_dict().items():
-                add("guide: ", sub, v)
-        else:  # a scalar (a gantry share's load_share); the check blocks are the checks table's
-            add("", key, value)
+    if result.guide is not None:  # its forces and moments; its checks are the checks table's
+        for sub, v in result.guide.to_dict().items():
+            add("guide: ", sub, v)
+    if result.load_share is not None:
+        add("", "load_share", result.load_share)
     return rows
 
 
@@ -198,7 +196,7 @@ def demand_table(result: SizingResult, du: DisplayUnits, focus: Focus | None) ->
             if focus.metrics.get(key) is not None:
                 extra.append((label, "", du.fmt(focus.metrics[key], q)))
     slip = result.axis.mechanism.slip_limit
-    if slip is not None and "slip_check" not in result.extras:
+    if slip is not None and result.slip_check is None:
         a_max = float(np.max(np.abs(result.duty.samples.a)))
         extra.append(("Slip limit of the load a_max", f"{du.fmt(slip, 'acceleration')} (profile "
                       f"{du.fmt(a_max, 'acceleration')}{': SLIPS' if a_max > slip else ''})", ""))

@@ -1,6 +1,9 @@
-"""The typed blocks of the axis's own checks in the answer (``SizingResult.extras``) and of its modes
-(``SizingResult.modes``): each a dataclass whose fields carry their units, its ``to_dict()`` the object of the
-JSON that docs/axis-file.md documents (the keys in their order, an optional key only where the JSON has it).
+"""The typed blocks of the axis's own checks in the answer (``SizingResult.guide``, ``slip_check``,
+``mechanism_checks``, ``brake_check``, ``gearbox_checks``) and of its modes (``SizingResult.modes``): each a
+dataclass whose fields carry their units, its ``to_dict()`` the object of the JSON that docs/axis-file.md
+documents (the keys in their order, an optional key only where the JSON has it).
+
+* :class:`AxisChecks`: what the axis-checks stage of the pipeline finds (``sizing.pipeline.axis_checks``);
 
 * :class:`RatingCheck`: one rating against what the cycle needs: ``slip_check``, ``brake_check`` and each of
   the guide's rating checks;
@@ -431,23 +434,47 @@ class Modes:
         return out
 
 
+@dataclass(frozen=True)
+class AxisChecks:
+    """What the axis-checks stage finds (``sizing.pipeline.axis_checks``): the axis's own checks, before a motor.
+
+    Attributes
+    ----------
+    warnings : tuple of str
+        What is implausible in the axis file (``duty.sanity.sanity_warnings``), in words.
+    guide : GuideReport or None
+        The carriage's forces, moments and rating checks, for a linear axis with ``guide:``.
+    slip_check : RatingCheck or None
+        The load's slip on its carrier, for a mechanism with a slip limit.
+    mechanism_checks : tuple of MechanismCheck
+        The limits of the screw, nut, guide life, belt and rack the axis file has ratings for (may be empty).
+    brake_check : RatingCheck or None
+        A brake stage's holding torque against the braked dwells.
+    """
+
+    warnings: tuple[str, ...] = ()
+    guide: GuideReport | None = None
+    slip_check: RatingCheck | None = None
+    mechanism_checks: tuple[MechanismCheck, ...] = ()
+    brake_check: RatingCheck | None = None
+
+
 AxisCheck = RatingCheck | MechanismCheck | GearboxCheck
 """A check of the axis's own blocks (``own_checks``)."""
 
 
-def own_checks(extras: dict[str, Any], keys: tuple[str, ...] = ("slip_check", "guide", "brake_check",
-                                                                "mechanism_checks", "gearbox_checks")
-               ) -> list[tuple[str, AxisCheck]]:
-    """The checks of the axis's own blocks of ``SizingResult.extras`` (those of ``keys`` that are there, in that
-    order), each with the key of its block."""
+def own_checks(result: Any, keys: tuple[str, ...] = ("slip_check", "guide", "brake_check", "mechanism_checks",
+                                                     "gearbox_checks")) -> list[tuple[str, AxisCheck]]:
+    """The checks of the axis's own blocks of an answer (a ``SizingResult``, or ``AxisChecks``: the attributes of
+    ``keys`` it has, in that order), each with the name of its block."""
     out: list[tuple[str, AxisCheck]] = []
     for key in keys:
-        block = extras.get(key)
+        block = getattr(result, key, None)
         if isinstance(block, RatingCheck):
             out.append((key, block))
         elif isinstance(block, (GuideReport, GearboxChecks)):
             out += [(key, c) for c in block.checks]
-        elif isinstance(block, list):
+        elif isinstance(block, (list, tuple)):
             out += [(key, c) for c in block]
     return out
 
@@ -520,5 +547,5 @@ def slip_check(accel: Array, limit: float, incline: float, g: float) -> RatingCh
     return RatingCheck("slip_limit", need, avail, "m/s^2", margin, margin >= 0.0, note=note)
 
 
-__all__ = ["AxisCheck", "BandwidthCheck", "GearboxCheck", "GearboxChecks", "GuideReport", "MechanismCheck",
-           "ModeAtPosition", "Modes", "RatingCheck", "guide_report", "own_checks", "slip_check"]
+__all__ = ["AxisCheck", "AxisChecks", "BandwidthCheck", "GearboxCheck", "GearboxChecks", "GuideReport",
+           "MechanismCheck", "ModeAtPosition", "Modes", "RatingCheck", "guide_report", "own_checks", "slip_check"]

@@ -22,7 +22,7 @@ from drivetrain.sizing.order_spec import (
 )
 
 if TYPE_CHECKING:
-    from drivetrain.sizing.axis_blocks import GuideReport, MechanismCheck, RatingCheck
+    from drivetrain.sizing.axis_blocks import MechanismCheck
     from drivetrain.sizing.electrical import DriveAnswer, Regen
     from drivetrain.sizing.result import SizingResult
 
@@ -72,7 +72,7 @@ def context(result: SizingResult) -> _Ctx:
         spec = axis.spec.motor
         c.motor_id = spec.id if spec is not None and spec.id else None
         c.motor, c.elec = result.motor, dict(result.motor or {})
-        c.drive, c.regen = result.extras.get("drive"), result.extras.get("regen")
+        c.drive, c.regen = result.drive, result.regen
     elif result.selection is not None and result.ranking is not None and result.ranking.best is not None:
         pick = result.selection.get("selected") or {}
         c.motor_id, c.motor = pick.get("motor"), pick
@@ -415,7 +415,7 @@ def gearbox_rows(c: _Ctx) -> list[OrderRow]:
     if c.gearbox_id is not None:
         rows.append(_gearbox_catalog_row(c, c.gearbox_id, c.ratio, c.gearbox_checks, "selection"))
     axis = c.result.axis
-    checks = c.result.extras["gearbox_checks"].checks if "gearbox_checks" in c.result.extras else ()
+    checks = c.result.gearbox_checks.checks if c.result.gearbox_checks is not None else ()
     specs: list[Any] = list(axis.spec.transmission)  # each read by its type
     for k, (spec, st) in enumerate(zip(specs, axis.transmission, strict=False)):
         if getattr(spec, "type", None) != "gearbox":
@@ -510,7 +510,7 @@ def transmission_part_rows(c: _Ctx) -> list[OrderRow]:
             rows.append(OrderRow("coupling", "specification", "specification", "shaft coupling", spec=sp,
                                  element=element, open_points=["load-side bore: the driven shaft's diameter"]))
         elif st.kind == "brake":
-            check: RatingCheck | None = c.result.extras.get("brake_check")
+            check = c.result.brake_check
             static = None if check is None else check.required
             sp = {"static_torque_Nm": static, "holding_torque_min_Nm":
                   None if static is None else brake_holding_torque(float(static)),
@@ -523,7 +523,7 @@ def transmission_part_rows(c: _Ctx) -> list[OrderRow]:
 
 
 def _check_named(c: _Ctx, name: str) -> MechanismCheck | None:
-    return next((ch for ch in c.result.extras.get("mechanism_checks", []) if ch.name == name), None)
+    return next((ch for ch in c.result.mechanism_checks if ch.name == name), None)
 
 
 def _rating_from_life(check: MechanismCheck | None, rating: float | None, exponent: float) -> float | None:
@@ -553,7 +553,7 @@ def mechanism_rows(c: _Ctx) -> list[OrderRow]:
                               "diameter_mm": None if mech.diameter is None else mech.diameter * 1e3,
                               "length_mm": None if mech.length is None else mech.length * 1e3,
                               "max_speed_rpm": float(np.max(np.abs(v))) / mech.lead * 60.0}
-        guide: GuideReport | None = c.result.extras.get("guide")
+        guide = c.result.guide
         if guide is not None:
             sp["axial_load_peak_N"] = guide.actuator_peak_force_N
         if limits is not None:
@@ -566,7 +566,7 @@ def mechanism_rows(c: _Ctx) -> list[OrderRow]:
         if nut is not None:
             sp["nut_dynamic_rating_min_N"] = _rating_from_life(_check_named(c, "nut_life"), nut.C_a, 3.0)
             sp["nut_static_rating_min_N"] = _rating_from_safety(_check_named(c, "nut_static_safety"), nut.C_0a)
-        open_points = _checks_open([ch.to_dict() for ch in c.result.extras.get("mechanism_checks", [])
+        open_points = _checks_open([ch.to_dict() for ch in c.result.mechanism_checks
                                     if ch.name.startswith(("screw_", "nut_"))])
         if limits is None:
             open_points.append("critical speed and buckling not judged: give mechanism.screw (root_diameter, "
@@ -581,7 +581,7 @@ def mechanism_rows(c: _Ctx) -> list[OrderRow]:
     g = axis.spec.guide
     if g is not None:
         exponent = 3.0 if g.rolling == "ball" else 10.0 / 3.0
-        gb: GuideReport | None = c.result.extras.get("guide")
+        gb = c.result.guide
         sp = {"carriages": g.carriages, "orientation": g.orientation, "rolling": g.rolling,
               "dynamic_rating_min_N": _rating_from_life(_check_named(c, "guide_life"), g.dynamic_rating, exponent),
               "static_rating_min_N": _rating_from_safety(_check_named(c, "guide_static_safety"), g.static_rating),
@@ -589,8 +589,8 @@ def mechanism_rows(c: _Ctx) -> list[OrderRow]:
         peaks = (gb.peak_normal_N, gb.peak_pitch_Nm, gb.peak_roll_Nm, gb.peak_yaw_Nm) if gb is not None else (None,) * 4
         sp.update(zip(("peak_normal_load_N", "peak_pitch_moment_Nm", "peak_roll_moment_Nm", "peak_yaw_moment_Nm"),
                       peaks, strict=True))
-        own = [ch for ch in c.result.extras.get("mechanism_checks", []) if ch.name.startswith("guide_")]
-        open_points = _checks_open([ch.to_dict() for ch in [*own, *(gb.checks if gb is not None else ())]])
+        own = [ch for ch in c.result.mechanism_checks if ch.name.startswith("guide_")]
+        open_points = _checks_open([ch.to_dict() for ch in own] + [ch.to_dict() for ch in (gb.checks if gb else ())])
         if g.dynamic_rating is None:
             open_points.append("guide life not judged: give guide.dynamic_rating (C) and static_rating (C0)")
         rows.append(OrderRow("guide", "specification", "specification", f"linear guide, {g.carriages} carriage(s)",

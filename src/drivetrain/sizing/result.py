@@ -20,7 +20,6 @@ from drivetrain.sizing.axis_blocks import (
     MechanismCheck,
     Modes,
     RatingCheck,
-    own_checks,
 )
 from drivetrain.sizing.checks import Check, running_torque
 from drivetrain.sizing.electrical import DriveAnswer, Regen
@@ -58,14 +57,27 @@ class SizingResult:
         A catalog selection's listed candidates, each with its checks (empty without a selection).
     selection : dict or None
         A catalog selection's summary: counts, the ``selected`` candidate, next smaller motor, advice.
-    extras : dict
-        The axis's own checks and notes by their JSON key, in the order of the answer: ``warnings`` (list of
-        str), ``guide`` (a ``sizing.axis_blocks.GuideReport``), ``slip_check`` (a ``RatingCheck``),
-        ``mechanism_checks`` (list of ``MechanismCheck``), ``brake_check`` (a ``RatingCheck``), a given motor's
-        ``drive`` and ``regen`` (a ``sizing.electrical.DriveAnswer`` and a ``Regen``; the selected candidate's
-        are in ``selection["selected"]``, each listed candidate's drive in its ``drive``), ``gearbox_checks``
-        (a ``GearboxChecks``) and a gantry share's ``load_share`` (its fraction of the load [-]). Only those
-        that apply are there; a gantry share keeps its whole axis's, so its order is its own.
+    warnings : list of str
+        What is implausible in the axis file, in words (empty when nothing is).
+    guide : GuideReport or None
+        The carriage's forces [N], moments [N m] and the guide's rating checks (``sizing.axis_blocks``), for a
+        linear axis with ``guide:``.
+    slip_check : RatingCheck or None
+        The load's slip on its carrier [m/s^2], for a mechanism with a slip limit.
+    mechanism_checks : list of MechanismCheck
+        The limits of the screw, nut, guide life, belt and rack the axis file has ratings for (empty if none).
+    brake_check : RatingCheck or None
+        A brake stage's holding torque against the braked dwells [N m].
+    drive : DriveAnswer or None
+        A given motor's drive (``sizing.electrical.DriveAnswer``); a catalog selection's are in
+        ``selection["selected"]`` and each listed candidate's ``drive``.
+    regen : Regen or None
+        A given motor's regeneration block (``sizing.electrical.Regen``); the selected candidate's is in
+        ``selection["selected"]``.
+    gearbox_checks : GearboxChecks or None
+        The ratings of the rated gearboxes of ``transmission:`` with the given or selected motor.
+    load_share : float or None
+        A gantry share's fraction of the load [-] (``machine.axes.size_share``); None for a whole axis.
     ranking : Ranking or None
         The evaluated candidates behind ``candidates`` and ``selection`` (not part of the JSON).
     modes : Modes or None
@@ -79,7 +91,15 @@ class SizingResult:
     motor: dict[str, Any] | None = None
     candidates: list[dict[str, Any]] = field(default_factory=list)
     selection: dict[str, Any] | None = None
-    extras: dict[str, Any] = field(default_factory=dict)
+    warnings: list[str] = field(default_factory=list)
+    guide: GuideReport | None = None
+    slip_check: RatingCheck | None = None
+    mechanism_checks: list[MechanismCheck] = field(default_factory=list)
+    brake_check: RatingCheck | None = None
+    drive: DriveAnswer | None = None
+    regen: Regen | None = None
+    gearbox_checks: GearboxChecks | None = None
+    load_share: float | None = None
     ranking: Ranking | None = None
     modes: Modes | None = None
 
@@ -134,7 +154,8 @@ class SizingResult:
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON result of docs/axis-file.md (keys carry their unit), from the fields in this order:
-        the axis, versions, ``metrics``, ``extras``, ``motor``, ``selection``, ``candidates``, ``modes``, the
+        the axis, versions, ``metrics``, the axis's own blocks (:meth:`own_blocks`), ``motor``, ``selection``,
+        ``candidates``, ``modes``, the
         order sheet (``order``: ``sizing.order.order_sheet``) and last the ``verdict`` (:attr:`status` and
         :attr:`unknowns`)."""
         from drivetrain.catalog import DATA_VERSION
@@ -142,7 +163,7 @@ class SizingResult:
         out: dict[str, Any] = {"axis": self.axis.name, "drivetrain_version": __version__,
                                "catalog_version": DATA_VERSION, "efficiency_model": self.axis.efficiency_model}
         out.update(self.metrics.to_dict())
-        out.update({k: plain_block(v) for k, v in self.extras.items()})
+        out.update(self.own_blocks())
         if self.motor is not None:
             out["motor"] = self.motor
         if self.selection is not None:
@@ -160,6 +181,30 @@ class SizingResult:
         out["order"] = sheet.to_dict()
         status, unknowns = self._verdict(sheet)  # the sheet built once, for the order block and the verdict
         out["verdict"] = {"status": status, "unknowns": [u.to_dict() for u in unknowns]}
+        return out
+
+    def own_blocks(self) -> dict[str, Any]:
+        """The JSON of the axis's own blocks and a given motor's drive, in the answer's order: ``warnings``,
+        ``guide``, ``slip_check``, ``mechanism_checks``, ``brake_check``, ``drive``, ``regen``,
+        ``gearbox_checks``; a gantry share (which keeps its whole axis's checks) puts its ``load_share`` after
+        them and its drive's blocks last. A block that does not apply is left out."""
+        out: dict[str, Any] = {"warnings": list(self.warnings)}
+        for key in ("guide", "slip_check"):
+            block = getattr(self, key)
+            if block is not None:
+                out[key] = block.to_dict()
+        if self.mechanism_checks:
+            out["mechanism_checks"] = [c.to_dict() for c in self.mechanism_checks]
+        if self.brake_check is not None:
+            out["brake_check"] = self.brake_check.to_dict()
+        drive = {k: b.to_dict() for k, b in (("drive", self.drive), ("regen", self.regen)) if b is not None}
+        if self.load_share is None:
+            out.update(drive)
+        if self.gearbox_checks is not None:
+            out["gearbox_checks"] = self.gearbox_checks.to_dict()
+        if self.load_share is not None:
+            out["load_share"] = self.load_share
+            out.update(drive)
         return out
 
     def _repr_html_(self) -> str:
@@ -289,18 +334,13 @@ class SizingResult:
         return fig
 
 
-TYPED_BLOCKS = (DriveAnswer, Regen, RatingCheck, GuideReport, GearboxChecks)
-"""The typed blocks of the answer that sit in ``extras`` or in the selected candidate (their JSON: ``to_dict``)."""
+TYPED_BLOCKS = (DriveAnswer, Regen)
+"""The typed blocks of the answer that sit in the selected candidate (their JSON: ``to_dict``)."""
 
 
 def plain_block(value: Any) -> Any:
-    """A block of the answer as the JSON holds it: a typed block's ``to_dict()`` (``mechanism_checks``: a list of
-    ``MechanismCheck``, each its ``to_dict()``), any other value as it is."""
-    if isinstance(value, TYPED_BLOCKS):
-        return value.to_dict()
-    if isinstance(value, list) and value and isinstance(value[0], MechanismCheck):
-        return [c.to_dict() for c in value]
-    return value
+    """A block of the answer as the JSON holds it: a typed block's ``to_dict()``, any other value as it is."""
+    return value.to_dict() if isinstance(value, TYPED_BLOCKS) else value
 
 
 def ratio_for_inertia_ratio(load_inertia: float, motor_inertia: float, limit: float) -> float:
@@ -506,12 +546,9 @@ def _first_move_ramp_times(duty: DutyCycle) -> float:
 def verdict(result: SizingResult) -> bool:
     """True when the axis's own checks (slip, guide, brake, gearbox ratings, mechanism, drive) and the
     given motor or the selected candidate pass (the pipeline's last stage; ``SizingResult.ok``)."""
-    ex = result.extras
-    own = [ex[k].ok for k in ("slip_check", "guide", "brake_check", "gearbox_checks") if k in ex]
-    drive = ex.get("drive")
-    if drive is not None:
-        own.append(drive.ok)
-    own += [c.ok for _, c in own_checks(ex, ("mechanism_checks",))]
+    blocks = (result.slip_check, result.guide, result.brake_check, result.gearbox_checks, result.drive)
+    own = [b.ok for b in blocks if b is not None]
+    own += [c.ok for c in result.mechanism_checks]
     if not all(own):
         return False
     if result.motor is not None:

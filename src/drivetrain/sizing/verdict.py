@@ -12,6 +12,7 @@ from drivetrain.sizing.axis_blocks import GearboxCheck, own_checks
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Axis
+    from drivetrain.sizing.axis_blocks import GearboxChecks, GuideReport, MechanismCheck, RatingCheck
     from drivetrain.sizing.electrical import DriveAnswer
 
 
@@ -19,7 +20,12 @@ class Answer(Protocol):
     """What the verdict reads of an answer (``SizingResult``; named here without importing it, which
     imports this module)."""
 
-    extras: dict[str, Any]
+    guide: GuideReport | None
+    slip_check: RatingCheck | None
+    mechanism_checks: list[MechanismCheck]
+    brake_check: RatingCheck | None
+    gearbox_checks: GearboxChecks | None
+    drive: DriveAnswer | None
     motor: dict[str, Any] | None
     selection: dict[str, Any] | None
     ranking: Any
@@ -115,8 +121,7 @@ def collect_unknowns(result: Answer, sheet: Any = True) -> list[Unknown]:
     the question either way (docs/checks.md, "The verdict"). The modes' ``servo_bandwidth`` is reported,
     not judged: it is not part of the verdict."""
     out: list[Unknown] = []
-    ex = result.extras
-    for key, own in own_checks(ex):
+    for key, own in own_checks(result):
         if not own.unknown:
             continue
         if isinstance(own, GearboxCheck):
@@ -129,7 +134,7 @@ def collect_unknowns(result: Answer, sheet: Any = True) -> list[Unknown]:
         out += [Unknown(c["name"], "motor" if c["name"] in _MOTOR_CHECKS else "electrical",
                         _decide(c, "a rating of the motor is not given"))
                 for c in _check_list(result.motor) if _not_judged(c)]
-        drive = ex.get("drive")
+        drive = result.drive
         out += _drive_unknowns(drive)
     elif result.selection is not None and result.selection.get("selected"):
         pick = result.selection["selected"]
@@ -197,14 +202,13 @@ def failures(result: Answer) -> list[str]:
     """What fails in the answer, one short phrase each (``part: check``), in the order of
     :func:`collect_unknowns`; empty where nothing fails."""
     out: list[str] = []
-    ex = result.extras
-    for key, own in own_checks(ex):
+    for key, own in own_checks(result):
         if own.failed:
             stage = own.stage if isinstance(own, GearboxCheck) else ""
             out.append(f"{_OWN_PARTS[key][0]}: {own.name}" + (f" [{stage}]" if stage else ""))
     if result.motor is not None:
         out += [f"motor: {c['name']}" for c in _check_list(result.motor) if _failed(c)]
-        drive = ex.get("drive")
+        drive = result.drive
         if drive is not None and (drive.status == "fails" or drive.ok is False):
             bad = ", ".join(c["name"] for c in drive.checks or () if _failed(c))
             out.append(f"drive: {drive.reason or bad}")

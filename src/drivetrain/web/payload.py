@@ -225,7 +225,7 @@ def electrical_payload(result: Any) -> dict[str, Any] | None:
         electrical = {k: v for k, v in m.items() if k not in ("checks", "supply_curve")}
         electrical["checks"] = [c for c in m.get("checks", []) if str(c.get("name", "")).startswith(
             ("motor_rms_current", "motor_peak_current", "peak_torque_at_supply", "winding_"))]
-        out = {"drive": result.extras.get("drive"), "electrical": electrical, "regen": result.extras.get("regen")}
+        out = {"drive": result.drive, "electrical": electrical, "regen": result.regen}
     else:
         sel = (result.selection or {}).get("selected")
         if not sel:
