@@ -16,6 +16,7 @@ import pytest
 from drivetrain import cli
 from drivetrain.duty.cycle import Demand
 from drivetrain.sizing.axis_blocks import (
+    AxisChecks,
     BandwidthCheck,
     GearboxCheck,
     GearboxChecks,
@@ -27,13 +28,14 @@ from drivetrain.sizing.axis_blocks import (
     own_checks,
 )
 from drivetrain.sizing.pipeline import size
+from drivetrain.sizing.result import SizingResult
 from drivetrain.sizing.verdict import collect_unknowns, failures
 from tests.sizing.test_typed_blocks import attributes
 
 ROOT = Path(__file__).resolve().parents[2]
 JSON_DATA = ROOT / "tests" / "data" / "json"
 TYPED = (RatingCheck, GuideReport, MechanismCheck, GearboxCheck, GearboxChecks, BandwidthCheck, ModeAtPosition,
-         Modes, Demand)
+         Modes, AxisChecks, Demand, SizingResult)
 VOLATILE = re.compile(r'^  "(drivetrain_version|catalog_version)": .*\n', re.MULTILINE)
 GEARBOX_AXIS: dict[str, Any] = {
     "axis": "rated gearbox", "mechanism": {"type": "rotary", "load": {"inertia": "0.05 kg*m^2"}},
