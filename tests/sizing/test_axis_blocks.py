@@ -173,3 +173,16 @@ def test_the_demand_is_a_dataclass_of_the_json_keys() -> None:
     demand = res.metrics.to_dict()
     assert list(demand) == [f.name for f in dataclasses.fields(Demand)]
     assert demand["segments"] is res.metrics.segments and res.metrics.segments[0]["kind"] in ("accel", "dwell")
+
+
+def test_the_axis_checks_stage_returns_the_blocks_the_answer_carries() -> None:
+    from drivetrain.axis.model import load_axis
+    from drivetrain.duty.cycle import duty_cycle
+    from drivetrain.sizing.pipeline import axis_checks
+
+    axis = load_axis(ROOT / "examples" / "ball_screw.yaml")
+    own = axis_checks(axis, duty_cycle(axis))
+    assert isinstance(own, AxisChecks) and isinstance(own.guide, GuideReport) and own.slip_check is None
+    res = size(ROOT / "examples" / "ball_screw.yaml")
+    assert own.guide == res.guide and list(own.mechanism_checks) == res.mechanism_checks
+    assert list(own.warnings) == res.warnings and own.brake_check == res.brake_check
