@@ -18,7 +18,7 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-EXAMPLES = ("ball_screw", "z_axis", "hoist")
+EXAMPLES = ("ball_screw", "z_axis", "hoist", "conveyor", "belt_gantry_3m")
 VOLATILE = re.compile(r'^  "(drivetrain_version|catalog_version)": .*\n', re.MULTILINE)
 
 

@@ -144,14 +144,14 @@ def table(profile_move: Any, time: float) -> dict[str, Any]:
 
 
 def test_a_sensible_axis_has_no_warnings() -> None:
-    assert size(SCREW).extras["warnings"] == []
-    assert size(table("90 deg", 0.5)).extras["warnings"] == []
+    assert size(SCREW).warnings == []
+    assert size(table("90 deg", 0.5)).warnings == []
 
 
 def test_an_absurd_torque_for_the_load_is_warned() -> None:
     """90 written bare is 90 rad (14 turns) in 0.2 s: the table's rim would accelerate at ~250 g."""
     res = size(table(90, 0.2))
-    warnings = res.extras["warnings"]
+    warnings = res.warnings
     assert len(warnings) == 1 and "times its weight at its rim" in warnings[0]
     assert res.to_dict()["warnings"] == warnings
 
@@ -159,7 +159,7 @@ def test_an_absurd_torque_for_the_load_is_warned() -> None:
 def test_an_absurd_linear_force_and_speed_are_warned() -> None:
     """200 written bare in the profile is 200 m in 1 s (the user meant mm)."""
     res = size(with_value("profile", [{"move": 200, "time": 1.0, "accel": 0.2}, {"dwell": 0.5}]))
-    text = " | ".join(res.extras["warnings"])
+    text = " | ".join(res.warnings)
     assert "times its weight and process forces" in text
     assert "peak speed is 250 m/s" in text
     assert "motor speed reaches" in text

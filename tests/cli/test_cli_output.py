@@ -132,7 +132,7 @@ def test_the_demand_table_prints_a_zero_average_power_as_zero(capsys: pytest.Cap
 
     monkeypatch.delenv("COLUMNS", raising=False)
     result = size(ROOT / "examples" / "ball_screw.yaml")
-    result.metrics["average_power_W"] = 3.79e-14 * result.metrics["peak_power_W"] / 3993.0
+    result.metrics.average_power_W = 3.79e-14 * result.metrics.peak_power_W / 3993.0
     print_sizing(result)
     line = next(ln for ln in capsys.readouterr().out.splitlines() if "peak / average power" in ln)
     assert line.rstrip(" │").endswith(" / 0 W") and "e-" not in line

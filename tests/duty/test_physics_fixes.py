@@ -134,7 +134,7 @@ def test_guide_actuator_rms_force_has_the_friction_term() -> None:
     w = 20 * G
     f_acc, f_vel, f_dec = 20 * a + 0.12 * w, 0.12 * w, -20 * a + 0.12 * w
     hand = math.sqrt((f_acc**2 * 0.2 + f_vel**2 * 0.6 + f_dec**2 * 0.2) / 1.5)
-    assert res.extras["guide"]["actuator_rms_force_N"] == pytest.approx(hand, rel=1e-12)
+    assert res.guide.actuator_rms_force_N == pytest.approx(hand, rel=1e-12)
 
 
 # --------------------------------------------------------------------------- (4) negative Coulomb torque

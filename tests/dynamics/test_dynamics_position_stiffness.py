@@ -96,9 +96,9 @@ def test_belt_gantry_rings_at_modes_f1_of_each_end() -> None:
     dyn = model(axis)
     modes = modes_across_stroke(axis, dyn.stages, dyn.motor_inertia)
     assert modes is not None
-    rows = modes["f1_by_position"]
-    f_home, f_far = rows[0]["f1_Hz"], rows[-1]["f1_Hz"]
-    assert f_far == pytest.approx(modes["f1_min_Hz"]) and f_home > 3 * f_far
+    rows = modes.f1_by_position
+    f_home, f_far = rows[0].f1_Hz, rows[-1].f1_Hz
+    assert f_far == pytest.approx(modes.f1_min_Hz) and f_home > 3 * f_far
     res = simulate_axis(axis)
     t = res.time
     h = float(t[1] - t[0])
@@ -111,7 +111,7 @@ def test_belt_gantry_rings_at_modes_f1_of_each_end() -> None:
     assert chain.spring_table is not None
     assert chain.stiffness.size == 2
     assert float(chain.spring_table[1].min()) == pytest.approx(
-        modes["springs_at_motor_Nm_per_rad"]["timing_belt belt"], rel=1e-9)
+        modes.springs_at_motor_Nm_per_rad["timing_belt belt"], rel=1e-9)
 
 
 def test_an_axis_without_stiffness_data_keeps_its_chain() -> None:
@@ -139,9 +139,9 @@ def test_servo_bandwidth_fails_when_the_loop_needs_more() -> None:
     dyn = model(axis)
     modes = modes_across_stroke(axis, dyn.stages, dyn.motor_inertia)
     assert modes is not None
-    (check,) = modes["checks"]
-    assert not check["ok"]
-    assert check["required"] == pytest.approx(60.0)
+    (check,) = modes.checks
+    assert not check.ok
+    assert check.required == pytest.approx(60.0)
 
 
 def test_without_a_bandwidth_the_check_is_unknown_not_failed() -> None:
@@ -151,16 +151,16 @@ def test_without_a_bandwidth_the_check_is_unknown_not_failed() -> None:
     dyn = model(axis)
     modes = modes_across_stroke(axis, dyn.stages, dyn.motor_inertia)
     assert modes is not None
-    (check,) = modes["checks"]
+    (check,) = modes.checks
     # What the application needs is an input: no default stands in for it, so nothing fails.
-    assert modes["velocity_bandwidth_Hz"] is None and modes["bandwidth_source"] == "not stated"
-    assert check["status"] == "unknown" and check["ok"] is None
-    assert math.isnan(check["required"]) and math.isnan(check["margin"])
-    assert check["available"] == pytest.approx(modes["f1_min_Hz"])
-    assert modes["max_velocity_bandwidth_Hz"] == pytest.approx(modes["f1_min_Hz"] / BANDWIDTH_FACTOR)
+    assert modes.velocity_bandwidth_Hz is None and modes.bandwidth_source == "not stated"
+    assert check.status == "unknown" and check.ok is None
+    assert math.isnan(check.required) and math.isnan(check.margin)
+    assert check.available == pytest.approx(modes.f1_min_Hz)
+    assert modes.max_velocity_bandwidth_Hz == pytest.approx(modes.f1_min_Hz / BANDWIDTH_FACTOR)
     # The note still gives the default tuning on the rigid inertia, for information:
     # min(2000 Hz / 4, 20 deg / (360 x 156.25 us)) = 355.6 Hz.
-    assert "355.6 Hz" in check["note"] and "velocity_bandwidth" in check["note"]
+    assert "355.6 Hz" in check.note and "velocity_bandwidth" in check.note
 
 
 def test_bad_bandwidth_names_its_field() -> None:
@@ -189,12 +189,12 @@ def test_shipped_examples_report_modes_across_the_stroke(example: str, weakest: 
     from drivetrain.sizing.pipeline import size
 
     res = size(ROOT / "examples" / example)
-    assert {c["name"] for c in res.extras.get("mechanism_checks", [])} == checks
+    assert {c.name for c in res.mechanism_checks} == checks
     modes = modes_of_result(res)
     assert modes is not None
-    assert modes["weakest_link"] == weakest
-    assert len(modes["f1_by_position"]) == 41
-    assert modes["checks"][0]["name"] == "servo_bandwidth"
+    assert modes.weakest_link == weakest
+    assert len(modes.f1_by_position) == 41
+    assert modes.checks[0].name == "servo_bandwidth"
     # No shipped example fails for want of an input: without a stated bandwidth the check is unknown.
-    assert modes["checks"][0]["status"] == ("pass" if example == "belt_gantry_3m.yaml" else "unknown")
-    assert all(c["ok"] for c in res.extras["mechanism_checks"])
+    assert modes.checks[0].status == ("pass" if example == "belt_gantry_3m.yaml" else "unknown")
+    assert all(c.ok for c in res.mechanism_checks)

@@ -132,7 +132,7 @@ def test_gantry_split_sizes_each_motor_for_its_share() -> None:
     res = size_machine(data)
     ap = res.axes["X"]
     full = drivetrain.size(axis)
-    assert [r.extras["load_share"] for r in ap.results] == [0.6, 0.4]
+    assert [r.load_share for r in ap.results] == [0.6, 0.4]
     for r, s in zip(ap.results, (0.6, 0.4), strict=True):
         np.testing.assert_allclose(r.duty.torque, s * full.duty.torque, rtol=1e-12)
         assert r.duty.load_inertia == pytest.approx(s * full.duty.load_inertia)

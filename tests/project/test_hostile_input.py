@@ -560,12 +560,12 @@ def test_temporary_names_are_unique(tmp_path: Path, monkeypatch: pytest.MonkeyPa
 
 
 def test_a_profile_that_only_dwells_explains_its_slip_margin() -> None:
-    from drivetrain.physics.guides import slip_check
+    from drivetrain.sizing.axis_blocks import slip_check
 
     out = slip_check(np.zeros(5), 2.9, math.radians(5), 9.80665)
-    assert out["ok"] and math.isinf(out["margin"]) and "never accelerates" in out["note"]
+    assert out.ok and math.isinf(out.margin) and "never accelerates" in (out.note or "")
     steep = slip_check(np.zeros(5), 0.3 * 9.80665 * math.cos(math.radians(30)), math.radians(30), 9.80665)
-    assert not steep["ok"] and steep["margin"] == -1.0 and "slides" in steep["note"]
+    assert not steep.ok and steep.margin == -1.0 and "slides" in (steep.note or "")
 
 
 def test_dwell_only_conveyor_sizes_without_nan(tmp_path: Path) -> None:
@@ -576,7 +576,7 @@ def test_dwell_only_conveyor_sizes_without_nan(tmp_path: Path) -> None:
     data["motor"] = {"name": "m", "inertia": "1 kg*cm^2", "rated_torque": "2 N*m", "peak_torque": "6 N*m",
                      "max_speed": "3000 rpm"}
     result = size(parse_axis(data))
-    slip = result.extras["slip_check"]
-    assert slip["ok"] and "never accelerates" in slip["note"]
-    assert not any(isinstance(v, float) and math.isnan(v) for v in slip.values())
+    slip = result.slip_check
+    assert slip.ok and "never accelerates" in (slip.note or "")
+    assert not any(isinstance(v, float) and math.isnan(v) for v in slip.to_dict().values())
 

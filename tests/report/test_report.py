@@ -130,8 +130,8 @@ def test_html_report_in_chromium_shows_numbers_checks_and_plots(ball: Any, brows
         selected = ball.selection["selected"]
         assert selected["motor"] in text
         # Key numbers, formatted independently of the report code (4 significant digits).
-        for value in (selected["peak_torque_Nm"], selected["rms_torque_Nm"], ball.metrics["peak_torque_Nm"],
-                      ball.metrics["rms_torque_Nm"]):
+        for value in (selected["peak_torque_Nm"], selected["rms_torque_Nm"], ball.metrics.peak_torque_Nm,
+                      ball.metrics.rms_torque_Nm):
             assert f"{value:.4g}" in text, value
         assert "PASS" in page.inner_text("#dt-verdict")
         # Every check of the selected motor, with its own verdict.
@@ -214,7 +214,7 @@ def test_pdf_report_pages_are_drawn_and_carry_the_numbers(ball: Any, tmp_path: P
                           timeout=60).stdout
     selected = ball.selection["selected"]
     assert selected["motor"] in text and "Z lift" in text
-    for value in (selected["peak_torque_Nm"], selected["rms_torque_Nm"], ball.metrics["peak_torque_Nm"]):
+    for value in (selected["peak_torque_Nm"], selected["rms_torque_Nm"], ball.metrics.peak_torque_Nm):
         assert f"{value:.4g}" in text, value
     lines = text.splitlines()
     for check in selected["checks"]:
@@ -365,7 +365,7 @@ def test_report_without_a_motor_states_the_demand() -> None:
     text = render_html(result)
     body = text[: text.index("<script")]
     assert "no motor given" in body and "no catalog used" in body
-    assert f"{result.metrics['peak_torque_Nm']:.4g} N·m" in body
+    assert f"{result.metrics.peak_torque_Nm:.4g} N·m" in body
 
 
 def test_axis_checks_join_the_motor_checks_and_the_verdict() -> None:
@@ -415,11 +415,11 @@ def test_html_mechanism_section_has_the_checks_and_f1_across_the_stroke(gantry: 
     assert section is not None
     body = section.group(0)
     rows = re.search(r'id="dt-table-mechanism-checks".*?<tbody>(.*?)</tbody>', body, re.S)
-    assert rows is not None and rows.group(1).count("<tr>") == len(gantry.extras["mechanism_checks"])
+    assert rows is not None and rows.group(1).count("<tr>") == len(gantry.mechanism_checks)
     assert "Belt tension" in body and "Gates Mectrol" in body
     modes = modes_of_result(gantry)
     assert modes is not None
-    assert f"{modes['f1_min_Hz']:.4g} Hz" in body
+    assert f"{modes.f1_min_Hz:.4g} Hz" in body
     assert "Servo bandwidth (f1)" in body and "weakest link: timing_belt belt" in body
     assert 'data-plot="modes"' in body
     # the plot carries f1 at every position of the table

@@ -149,4 +149,4 @@ def test_an_axis_with_its_own_brake_needs_no_motor_brake() -> None:
     assert not holding_need(ax, duty_cycle(ax)).needed
     res = size(ax)
     assert all(ch["name"] != "motor_brake" for ch in res.selection["selected"]["checks"])
-    assert res.extras["brake_check"]["ok"]
+    assert res.brake_check.ok

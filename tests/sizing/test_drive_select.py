@@ -126,7 +126,7 @@ def test_shipped_electrical_merge_matches_the_table_reader() -> None:
 
 def test_a_catalog_drive_by_id_is_checked_like_a_given_motor() -> None:
     r = size(axis(motor={"id": PAIRED_MOTOR}, drive={"id": PAIRED_DRIVE}))
-    d = r.extras["drive"]
+    d = r.drive
     assert d.id == PAIRED_DRIVE and d.continuous_current_A == 9.0 and d.ok is True
     assert r.motor["winding_temperature_rise_K"] is not None
 

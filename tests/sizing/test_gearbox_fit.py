@@ -116,11 +116,11 @@ def test_t2b_at_a_cycle_rate_that_needs_the_shock_factor_is_unknown_on_the_catal
 def test_t2b_at_a_cycle_rate_that_needs_the_shock_factor_is_unknown_on_the_transmission_path() -> None:
     gearbox = {"type": "gearbox", "ratio": 5, "max_torque": "200 N*m", "rated_torque": "100 N*m"}
     res = size(parse_axis(_table(gearbox=gearbox)))
-    t2b = next(c for c in res.extras["gearbox_checks"]["checks"] if c["name"] == "gearbox_peak_torque")
-    assert t2b["status"] == "unknown" and t2b["margin"] is None and "gearbox_shock_factor" in t2b["note"]
+    t2b = next(c for c in res.gearbox_checks.checks if c.name == "gearbox_peak_torque")
+    assert t2b.status == "unknown" and t2b.margin is None and "gearbox_shock_factor" in (t2b.note or "")
     slow = size(parse_axis(_table(gearbox=gearbox, period="5 s")))
-    t2b = next(c for c in slow.extras["gearbox_checks"]["checks"] if c["name"] == "gearbox_peak_torque")
-    assert t2b["status"] == "pass"
+    t2b = next(c for c in slow.gearbox_checks.checks if c.name == "gearbox_peak_torque")
+    assert t2b.status == "pass"
 
 
 def _gantry(**belt: Any) -> dict[str, Any]:

@@ -91,8 +91,8 @@ def test_a_failing_mechanism_check_fails_the_result() -> None:
     data["mechanism"]["nut"]["required_life"] = "1e8 h"
     data["mechanism"]["nut"]["load_factor"] = 10
     res = size(parse_axis(data))
-    checks = {c["name"]: c for c in res.extras["mechanism_checks"]}
-    assert not checks["nut_life"]["ok"]
+    checks = {c.name: c for c in res.mechanism_checks}
+    assert not checks["nut_life"].ok
     assert not res.ok
 
 
@@ -101,12 +101,12 @@ def test_guide_life_by_hand_for_a_horizontal_axis() -> None:
     data = copy.deepcopy(SCREW)
     data["guide"] = {"dynamic_rating": "10 kN", "static_rating": "15 kN", "carriages": 2}
     res = size(parse_axis(data))
-    checks = {c["name"]: c for c in res.extras["mechanism_checks"]}
+    checks = {c.name: c for c in res.mechanism_checks}
     p = 40 * 9.8 / 2
     life_m = float(rolling_life.guide_life(10e3, p, 50e3))
     hours = life_m / 1.0 * res.duty.period / 3600.0  # 1.0 m travelled per cycle (500 mm out and back)
-    assert checks["guide_life"]["available"] == pytest.approx(hours, rel=1e-6)
-    assert checks["guide_static_safety"]["available"] == pytest.approx(15e3 / p)
+    assert checks["guide_life"].available == pytest.approx(hours, rel=1e-6)
+    assert checks["guide_static_safety"].available == pytest.approx(15e3 / p)
 
 
 def test_rack_feed_force_with_application_factor() -> None:
@@ -115,20 +115,20 @@ def test_rack_feed_force_with_application_factor() -> None:
             "profile": [{"move": "1 m", "time": "1 s"}, {"dwell": "0.5 s"}]}
     axis = parse_axis(data)
     res = size(axis)
-    c = res.extras["mechanism_checks"][0]
-    assert c["name"] == "rack_feed_force"
-    assert c["required"] == pytest.approx(1.5 * float(np.max(np.abs(axial_force(axis, res.duty)))))
+    c = res.mechanism_checks[0]
+    assert c.name == "rack_feed_force"
+    assert c.required == pytest.approx(1.5 * float(np.max(np.abs(axial_force(axis, res.duty)))))
 
 
 def test_gantry_belt_checks_and_tensions() -> None:
     res = size(load_axis(GANTRY))
-    checks = {c["name"]: c for c in res.extras["mechanism_checks"]}
+    checks = {c.name: c for c in res.mechanism_checks}
     assert set(checks) == {"belt_slack_side", "belt_tension"}
-    assert checks["belt_tension"]["available"] == 5060.0
+    assert checks["belt_tension"].available == 5060.0
     pull = np.abs(axial_force(res.axis, res.duty))
     # Default pretension = the largest pull (ELATECH p. 54), so the tight span never exceeds twice it.
-    assert checks["belt_slack_side"]["available"] == pytest.approx(float(pull.max()))
-    assert pull.max() < checks["belt_tension"]["required"] <= 2 * pull.max()
+    assert checks["belt_slack_side"].available == pytest.approx(float(pull.max()))
+    assert pull.max() < checks["belt_tension"].required <= 2 * pull.max()
     assert res.ok
 
 
@@ -156,8 +156,8 @@ def test_a_very_stiff_belt_leaves_the_gearbox_mode() -> None:
     assert modes is not None
     from drivetrain.dynamics.linear import natural_frequencies
 
-    assert modes["f1_min_Hz"] == pytest.approx(float(natural_frequencies(dyn.chain)[0]), rel=1e-3)
-    assert "gearbox" in modes["weakest_link"]
+    assert modes.f1_min_Hz == pytest.approx(float(natural_frequencies(dyn.chain)[0]), rel=1e-3)
+    assert "gearbox" in modes.weakest_link
 
 
 def test_belt_tensions_follow_the_span_split() -> None:
@@ -169,8 +169,8 @@ def test_belt_tensions_follow_the_span_split() -> None:
                                          "loop")
     lp, lo = np.where(force >= 0, lo, lp), np.where(force >= 0, lp, lo)
     tight, _ = belt_rack.linear_belt_tensions(np.abs(force), float(np.abs(force).max()), lp, lo)
-    checks = {c["name"]: c for c in res.extras["mechanism_checks"]}
-    assert checks["belt_tension"]["required"] == pytest.approx(float(tight.max()))
+    checks = {c.name: c for c in res.mechanism_checks}
+    assert checks["belt_tension"].required == pytest.approx(float(tight.max()))
 
 
 @pytest.mark.parametrize(("patch", "field"), [

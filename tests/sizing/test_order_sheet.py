@@ -53,7 +53,7 @@ def _expected_parts(result: Any) -> Counter[str]:
     parts["brake"] = sum(st.kind == "brake" for st in axis.transmission)
     parts["screw"] = int(axis.spec.mechanism.type in ("ball_screw", "lead_screw"))
     parts["guide"] = int(axis.spec.guide is not None)
-    regen = (pick or {}).get("regen") if pick is not None else result.extras.get("regen")
+    regen = (pick or {}).get("regen") if pick is not None else result.regen
     parts["braking_resistor"] = int(bool(regen is not None and regen.resistor_needed
                                          and regen.builtin_resistor_sufficient is not True))
     return +parts
@@ -332,7 +332,7 @@ def test_a_brake_whose_dwells_are_all_braked_still_gets_its_holding_torque() -> 
         if "dwell" in step:
             step["holding"] = "brake"
     result = size(data)
-    assert result.metrics["holding_torque_Nm"] == 0.0
+    assert result.metrics.holding_torque_Nm == 0.0
     motor = next(r for r in order_sheet(result).rows if r.part == "motor")
     need = next(c for c in result.selection["selected"]["checks"] if c["name"] == "motor_brake")["required"]
     assert motor.spec["holding_brake"] == "required" and need > 0.0

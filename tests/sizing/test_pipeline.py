@@ -92,7 +92,7 @@ def test_the_answer_reads_like_the_table() -> None:
     pick = res.selection["selected"]
     table = res.torques()
     assert table.attrs["motor"] == pick["motor"]
-    assert table.loc["peak_torque_Nm", "demand"] == res.metrics["peak_torque_Nm"]
+    assert table.loc["peak_torque_Nm", "demand"] == res.metrics.peak_torque_Nm
     assert table.loc["peak_torque_Nm", "motor"] == pytest.approx(pick["peak_torque_Nm"], rel=1e-12)
     assert table.loc["rms_torque_Nm", "motor"] == pytest.approx(pick["rms_torque_Nm"], rel=1e-12)
     assert table.loc["rms_torque_Nm", "motor"] > table.loc["rms_torque_Nm", "demand"]  # the rotor adds torque

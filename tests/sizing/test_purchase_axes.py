@@ -44,7 +44,7 @@ def _braked_or_held(result: Any) -> bool:
     if any(st.kind == "brake" for st in result.axis.transmission):
         return False
     braked = bool(np.asarray(result.duty.samples.braked, dtype=bool).any())
-    return braked or abs(float(result.metrics.get("holding_torque_Nm") or 0.0)) > 1e-9
+    return braked or abs(float(result.metrics.holding_torque_Nm or 0.0)) > 1e-9
 
 
 @pytest.mark.parametrize("path", AXES, ids=IDS)

@@ -23,7 +23,7 @@ def _screw(move: str = "400 mm", time: str = "0.3 s", **mech: Any) -> dict[str, 
 
 def _checks(d: dict[str, Any]) -> dict[str, dict[str, Any]]:
     ax = parse_axis(d)
-    return {c["name"]: c for c in mechanism_checks(ax, duty_cycle(ax))}
+    return {c.name: c.to_dict() for c in mechanism_checks(ax, duty_cycle(ax))}
 
 
 def test_the_bound_of_a_25_mm_1_m_screw_by_hand() -> None:

@@ -60,7 +60,7 @@ def test_selected_passes_and_next_smaller_fails(family: str) -> None:
     assert checks["inertia_ratio"]["required"] == pytest.approx(
         (res.duty.load_inertia / ratio**2 + (j_total - j_m)) / j_m, rel=1e-9)
     speed_margin = res.axis.spec.motor.margins.speed
-    assert checks["max_speed"]["required"] == pytest.approx(res.metrics["max_speed_rpm"] * ratio * speed_margin,
+    assert checks["max_speed"]["required"] == pytest.approx(res.metrics.max_speed_rpm * ratio * speed_margin,
                                                             rel=1e-9)
     nxt = sel.get("next_smaller")
     if nxt is not None:

@@ -113,13 +113,13 @@ def test_gearbox_checked_by_its_ratings(sized: dict[str, SizingResult], name: st
                                             rel=1e-9)
     assert t2n["available"] == pytest.approx(gb["rated_output_torque_Nm"])
     n1max = checks["gearbox_max_input_speed"]
-    assert n1max["required"] == pytest.approx(res.metrics["max_speed_rpm"] * i * margins.speed, rel=1e-6)
+    assert n1max["required"] == pytest.approx(res.metrics.max_speed_rpm * i * margins.speed, rel=1e-6)
     if gb["max_input_speed_rad_s"] is None:
         assert n1max["status"] == "unknown"
     else:
         assert n1max["available"] == pytest.approx(gb["max_input_speed_rad_s"] * rpm)
     n1n = checks["gearbox_mean_input_speed"]
-    assert n1n["required"] == pytest.approx(res.metrics["mean_speed_rpm"] * i, rel=1e-6)
+    assert n1n["required"] == pytest.approx(res.metrics.mean_speed_rpm * i, rel=1e-6)
     assert n1n["available"] == pytest.approx(gb["rated_input_speed_rad_s"] * rpm)
     t2b = checks["gearbox_peak_torque"]
     assert t2b["required"] == pytest.approx(float(np.max(np.abs(duty.torque))) * margins.torque, rel=1e-9)
@@ -148,8 +148,8 @@ def test_given_gearbox_ratings_are_checked_and_named() -> None:
             "motor": {"inertia": "1 kg*cm^2", "rated_torque": "2 N*m", "peak_torque": "6 N*m",
                       "rated_speed": "3000 rpm", "max_speed": "6000 rpm"}}
     res = size(data)
-    gear = res.extras["gearbox_checks"]
-    checks = {c["name"]: c for c in gear["checks"]}
+    gear = res.gearbox_checks
+    checks = {c.name: c for c in gear.checks}
     duty = res.duty
     t_out = duty.stage_torque[0]
     want = gearbox_ratings(float(np.max(np.abs(t_out))), cubic_mean(t_out, duty.stage_omega[0], duty.weights),
@@ -157,12 +157,12 @@ def test_given_gearbox_ratings_are_checked_and_named() -> None:
                                                                     / duty.period), math.nan,
                            t2b=200.0, t2n=1.0, t2not=math.nan, n1max=6000 * 2 * math.pi / 60, n1n=math.nan,
                            torque_margin=1.2, speed_margin=1.1)
-    assert checks["gearbox_rated_torque"]["status"] == "fail"
-    assert checks["gearbox_rated_torque"]["margin"] == pytest.approx(float(want["gearbox_rated_torque"][2]))
-    assert checks["gearbox_peak_torque"]["required"] == pytest.approx(float(want["gearbox_peak_torque"][0]))
-    assert checks["gearbox_mean_input_speed"]["status"] == "unknown"
-    assert "rated_input_speed not given" in checks["gearbox_mean_input_speed"]["note"]
-    assert checks["gearbox_emergency_stop_torque"]["status"] == "unknown"  # T2NOT not given
+    assert checks["gearbox_rated_torque"].status == "fail"
+    assert checks["gearbox_rated_torque"].margin == pytest.approx(float(want["gearbox_rated_torque"][2]))
+    assert checks["gearbox_peak_torque"].required == pytest.approx(float(want["gearbox_peak_torque"][0]))
+    assert checks["gearbox_mean_input_speed"].status == "unknown"
+    assert "rated_input_speed not given" in (checks["gearbox_mean_input_speed"].note or "")
+    assert checks["gearbox_emergency_stop_torque"].status == "unknown"  # T2NOT not given
     assert not res.ok
     from drivetrain.report.model import build_report
 
@@ -176,12 +176,12 @@ def test_catalog_gearbox_in_transmission_brings_its_ratings() -> None:
             "profile": [{"move": "90 deg", "time": "0.5 s"}, {"dwell": "2 s"}],
             "motor": {"id": "SGM7J-04A"}}
     res = size(data)
-    checks = {c["name"]: c for c in res.extras["gearbox_checks"]["checks"]}
+    checks = {c.name: c for c in res.gearbox_checks.checks}
     row = catalog.get("GPB060-L1-i5")
-    assert checks["gearbox_rated_torque"]["available"] == pytest.approx(row["rated_output_torque_Nm"])
-    assert checks["gearbox_emergency_stop_torque"]["available"] == pytest.approx(row["emergency_stop_torque_Nm"])
-    assert checks["gearbox_emergency_stop_torque"]["status"] in ("pass", "fail")  # a motor is given: judged
-    assert checks["gearbox_peak_torque"]["status"] == "unknown"  # the shipped row has no T2B
+    assert checks["gearbox_rated_torque"].available == pytest.approx(row["rated_output_torque_Nm"])
+    assert checks["gearbox_emergency_stop_torque"].available == pytest.approx(row["emergency_stop_torque_Nm"])
+    assert checks["gearbox_emergency_stop_torque"].status in ("pass", "fail")  # a motor is given: judged
+    assert checks["gearbox_peak_torque"].status == "unknown"  # the shipped row has no T2B
 
 
 def test_motor_too_slow_fails_max_speed_first() -> None:
@@ -236,7 +236,7 @@ def test_a_candidate_exactly_at_its_limit_does_not_pass() -> None:
     demand fails by 1/1.2 - 1, not passes at +0.0 %."""
     base = {"mechanism": {"type": "rotary", "load": {"inertia": "0.01 kg*m^2", "torque": "0.5 N*m"}},
             "profile": [{"move": "180 deg", "time": "0.5 s"}, {"dwell": "0.5 s"}]}
-    rms = size(base).metrics["rms_torque_Nm"]
+    rms = size(base).metrics.rms_torque_Nm
     j = 1e-3  # a rotor large enough that its own inertia counts: recompute the RMS with it
     data = {**base, "motor": {"inertia": j, "rated_torque": 1.0, "peak_torque": 100.0, "rated_speed": "3000 rpm",
                               "max_speed": "6000 rpm"}}

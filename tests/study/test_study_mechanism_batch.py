@@ -77,10 +77,10 @@ def test_prepared_checks_equal_each_axis_alone(slice_: int, monkeypatch: pytest.
     together = prepare_many(list(zip(axes, duties, strict=True)))
     assert all(checks is not None for checks in together)
     assert together == alone  # every entry to the bit, notes included
-    names = {c["name"] for checks in alone for c in checks}
+    names = {c.name for checks in alone for c in checks}
     assert {"screw_buckling", "screw_dn_speed", "nut_life", "nut_static_safety", "guide_life",
             "guide_static_safety"} <= names
-    assert any("moments without moment_factors" in c["note"] for checks in alone for c in checks)
+    assert any("moments without moment_factors" in c.note for checks in alone for c in checks)
 
 
 def test_prepared_checks_are_returned_not_kept_on_the_duty_cycle() -> None:

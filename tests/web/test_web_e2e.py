@@ -224,7 +224,7 @@ def test_build_size_save_reload_and_download(page: Any, server: tuple[str, Path]
         checks = expected.motor["checks"]
     assert page.locator(".checks-table tbody tr").count() == len(checks)
     assert page.locator(".checks-table").inner_text().count("ok") >= sum(1 for c in checks if c["ok"])
-    assert float(metric(page, "RMS torque").split()[0]) == sig4(expected.metrics["rms_torque_Nm"])
+    assert float(metric(page, "RMS torque").split()[0]) == sig4(expected.metrics.rms_torque_Nm)
     assert page.locator("#plot-plane .main-svg").count() >= 1
     screenshot(page, "web-editor.png")
 
@@ -245,8 +245,8 @@ def test_build_size_save_reload_and_download(page: Any, server: tuple[str, Path]
     wait_sized(page)
     heavier = {**example, "mechanism": {**example["mechanism"], "load": {**example["mechanism"]["load"],
                                                                           "mass": "40 kg"}}}
-    rms = size(heavier).metrics["rms_torque_Nm"]
-    assert rms > expected.metrics["rms_torque_Nm"]
+    rms = size(heavier).metrics.rms_torque_Nm
+    assert rms > expected.metrics.rms_torque_Nm
     wait_until(page, "t => document.querySelector('.metrics-table').innerText.includes(t)", f"{sig4(rms):g}")
     assert float(metric(page, "RMS torque").split()[0]) == sig4(rms)
 
@@ -281,7 +281,7 @@ def test_build_size_save_reload_and_download(page: Any, server: tuple[str, Path]
     downloaded = parse_yaml(path.read_text(encoding="utf-8"))
     assert downloaded == heavier
     again = size(downloaded)
-    assert again.metrics["rms_torque_Nm"] == pytest.approx(rms, rel=1e-12)
+    assert again.metrics.rms_torque_Nm == pytest.approx(rms, rel=1e-12)
     assert [c["motor"] for c in again.candidates] == [c["motor"] for c in size(heavier).candidates]
 
     for fmt, check in (("html", lambda b: b"<html" in b[:2000].lower()), ("pdf", lambda b: b.startswith(b"%PDF"))):
@@ -468,7 +468,7 @@ def test_every_profile_option_has_a_field(page: Any) -> None:
     assert "problem" not in page.inner_text("#result-banner")
     expected = size(yaml_pane(page))
     wait_until(page, "t => document.querySelector('.metrics-table').innerText.includes(t)",
-               f"{sig4(expected.metrics['rms_torque_Nm']):g}")
+               f"{sig4(expected.metrics.rms_torque_Nm):g}")
 
     page.select_option("#f-profile-0--kind", "cam")
     wait_until(page, "() => document.querySelector('#f-profile-0-law') !== null")
@@ -556,7 +556,7 @@ def test_mechanism_checks_and_modes_show_in_the_results(page: Any) -> None:
     wait_until(page, "() => !document.querySelector('#mechanism').hidden")
     table = page.locator(".mechanism-table")
     text = table.inner_text()
-    expected = size(ROOT / "examples" / "belt_gantry_3m.yaml").extras["mechanism_checks"]
+    expected = size(ROOT / "examples" / "belt_gantry_3m.yaml").mechanism_checks
     assert table.locator("tbody tr").count() == len(expected) + 1  # and the servo-bandwidth check
     assert "belt tension" in text and "servo bandwidth" in text
     assert "weakest link: timing_belt belt" in page.inner_text(".modes-summary")

@@ -236,7 +236,7 @@ def test_an_answer_to_an_earlier_edit_is_never_shown(page: Any) -> None:  # noqa
     assert yaml_pane(page)["mechanism"]["load"]["mass"] == "30 kg"
     assert page.evaluate("() => document.body.dataset.sizing") == "idle"
     assert metric(page, "RMS torque") == shown
-    assert float(shown.split()[0]) == sig4(size(yaml_pane(page)).metrics["rms_torque_Nm"])
+    assert float(shown.split()[0]) == sig4(size(yaml_pane(page)).metrics.rms_torque_Nm)
 
 
 def test_a_round_off_residue_shows_as_zero_on_the_page(page: Any) -> None:  # noqa: F811

@@ -5,10 +5,13 @@ Each takes the command's JSON-ready dictionary (the same one ``--json`` prints) 
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from drivetrain.cli.quantities import TableUnits
 from drivetrain.terminal import Col, print_table, table_console
+
+if TYPE_CHECKING:
+    from drivetrain.sizing.axis_blocks import Modes
 
 
 def bus_window(b: dict[str, Any]) -> str:
@@ -69,26 +72,27 @@ def print_machine(out: dict[str, Any]) -> None:
                                                Col("qty", number=True), Col("used by")), rows)
 
 
-def print_modes(out: dict[str, Any], inertias: int, units: TableUnits | None = None) -> None:
-    """Natural frequencies, resonance, critical speeds and the first mode across the stroke."""
+def print_modes(out: dict[str, Any], inertias: int, units: TableUnits | None = None,
+                modes: Modes | None = None) -> None:
+    """Natural frequencies, resonance, critical speeds and (``modes``, the JSON's ``out["modes"]``) the first
+    mode across the stroke."""
     console = table_console()
     u = units or TableUnits()
     console.print(f"[bold]{out['axis']}[/] with motor {out['motor']}: {inertias} inertias at the motor shaft")
-    if "modes" in out:
-        print_modes_across(console, out["modes"], u)
+    if modes is not None:
+        print_modes_across(console, modes, u)
     if not out["natural_frequencies_Hz"]:
         console.print("rigid drive train: no stiffness given (add stiffness to a coupling, gearbox or belt, or "
                       "a dynamics.chain), so there is no resonance to report")
         return
     # Two models when the mechanism has stiffness data: name each (the table above has the mechanism's spring)
-    rigid = "motor and transmission, the mechanism rigid: " if "modes" in out else ""
+    rigid = "motor and transmission, the mechanism rigid: " if modes is not None else ""
     console.print(f"{rigid}natural frequencies: " + ", ".join(f"{f:.1f} Hz" for f in out["natural_frequencies_Hz"]))
     console.print(f"{rigid}two-mass resonance {out['resonance_Hz']:.1f} Hz, anti-resonance "
                   f"{out['anti_resonance_Hz']:.1f} Hz")
-    if "modes" in out:
-        m = out["modes"]
-        console.print(f"with the mechanism's spring at its weakest position ({_position(m['worst_position_m'], u)}): "
-                      "natural frequencies: " + ", ".join(f"{f:.1f} Hz" for f in m["natural_frequencies_at_worst_Hz"]))
+    if modes is not None:
+        console.print(f"with the mechanism's spring at its weakest position ({_position(modes.worst_position_m, u)}): "
+                      "natural frequencies: " + ", ".join(f"{f:.1f} Hz" for f in modes.natural_frequencies_at_worst_Hz))
     for c in out.get("critical_speeds", []):
         console.print(f"critical speed: {c['excitation']} crosses {c['natural_frequency_Hz']:.1f} Hz at "
                       f"{c['speed_rpm']:.0f} rpm")
@@ -107,24 +111,24 @@ def _stiffness(k: float, u: TableUnits) -> str:
     return f"{text} {u.unit('linear_stiffness', 'N/um')}"
 
 
-def print_modes_across(console: Any, modes: dict[str, Any], u: TableUnits) -> None:
-    console.print(f"with the mechanism's stiffness: lowest first mode {modes['f1_min_Hz']:.1f} Hz at position "
-                  f"{_position(modes['worst_position_m'], u)}; weakest link: {modes['weakest_link']}")
-    rows = modes["f1_by_position"]
+def print_modes_across(console: Any, modes: Modes, u: TableUnits) -> None:
+    console.print(f"with the mechanism's stiffness: lowest first mode {modes.f1_min_Hz:.1f} Hz at position "
+                  f"{_position(modes.worst_position_m, u)}; weakest link: {modes.weakest_link}")
+    rows = list(modes.f1_by_position)
     table = []
     for r in rows[:: max(1, len(rows) // 10)] + ([rows[-1]] if (len(rows) - 1) % max(1, len(rows) // 10) else []):
-        k = r["axial_stiffness_N_per_m"]
-        table.append((_position(r["position_m"], u), f"{r['f1_Hz']:.1f} Hz",
+        k = r.axial_stiffness_N_per_m
+        table.append((_position(r.position_m, u), f"{r.f1_Hz:.1f} Hz",
                       f"{k / 1e6:.3g} N/um" if u.system == "si" else _stiffness(k, u)))
     print_table(console, "first natural frequency across the stroke",
                 tuple(Col(n, right=True, number=True) for n in ("position", "f1", "mechanism stiffness")), table)
-    for c in modes.get("checks", []):
-        if c.get("status") == "unknown":
-            console.print(f"{c['name']}: f1 {c['available']:.1f} Hz, [yellow]unknown[/]; {c['note']}")
+    for c in modes.checks:
+        if c.status == "unknown":
+            console.print(f"{c.name}: f1 {c.available:.1f} Hz, [yellow]unknown[/]; {c.note}")
             continue
-        verdict = "[green]ok[/]" if c["ok"] else "[red]FAIL[/]"
-        console.print(f"{c['name']}: f1 {c['available']:.1f} Hz against {c['required']:.1f} Hz required "
-                      f"(margin {c['margin']:+.0%}) {verdict}; {c['note']}")
+        verdict = "[green]ok[/]" if c.ok else "[red]FAIL[/]"
+        console.print(f"{c.name}: f1 {c.available:.1f} Hz against {c.required:.1f} Hz required "
+                      f"(margin {c.margin:+.0%}) {verdict}; {c.note}")
 
 
 def print_simulation(out: dict[str, Any], units: TableUnits | None = None) -> None:

@@ -104,7 +104,7 @@ def size(args: argparse.Namespace, axis: str | dict[str, Any] | None = None) -> 
         from drivetrain.terminal import table_console
 
         print_modes_across(table_console(), modes, units)
-    for warning in result.extras.get("warnings", []):
+    for warning in result.warnings:
         print(f"warning: {warning}")
     if explanation:
         print(explanation)
@@ -159,6 +159,7 @@ def modes(args: argparse.Namespace) -> int:
     axis = load_axis(args.axis)
     dyn = model(axis)
     out: dict[str, Any] = {"axis": axis.name, "motor": dyn.motor, **modes_summary(dyn.chain)}
+    across = None
     if axis.spec.profile and out["natural_frequencies_Hz"]:
         from drivetrain.duty.cycle import duty_cycle
 
@@ -173,7 +174,7 @@ def modes(args: argparse.Namespace) -> int:
 
         across = modes_across_stroke(axis, dyn.stages, dyn.motor_inertia)
         if across is not None:
-            out["modes"] = across
+            out["modes"] = across.to_dict()
             out["natural_frequencies_model"] = "motor and transmission, the mechanism rigid (modes: with its spring)"
     if args.json:
         print(json.dumps(jsonable(out), indent=2))
@@ -181,7 +182,7 @@ def modes(args: argparse.Namespace) -> int:
     from drivetrain.cli.analyses import print_modes
     from drivetrain.cli.quantities import TableUnits
 
-    print_modes(out, len(dyn.chain.inertia), TableUnits(args.units, axis.raw))
+    print_modes(out, len(dyn.chain.inertia), TableUnits(args.units, axis.raw), across)
     return 0
 
 

@@ -23,7 +23,7 @@ def print_sizing(result: Any, units: TableUnits | None = None) -> None:
 
     u = units or TableUnits()
     console = table_console()
-    m = snapped_metrics(result.metrics)  # a figure that is zero to within round-off prints as 0
+    m = snapped_metrics(result.metrics.to_dict())  # a figure that is zero to within round-off prints as 0
     torque = u.unit("torque", "N*m")
     rows = [
         ("cycle time", f"{m['cycle_time_s']:.4g} s"),
@@ -44,16 +44,16 @@ def print_sizing(result: Any, units: TableUnits | None = None) -> None:
     rows += _motor_shaft_rows(result, u)
     print_table(console, _demand_title(result),
                 (Col("quantity"), Col("value", right=True, number=True)), rows)
-    mech = result.extras.get("mechanism_checks")
-    if mech:
+    mech = result.mechanism_checks
+    if mech:  # printed as the motor's checks are, from their JSON
         _print_checks(console, f"mechanism {result.axis.mechanism.type}",
-                      {"ok": all(c["ok"] for c in mech), "checks": mech}, u)
+                      {"ok": all(c.ok for c in mech), "checks": [c.to_dict() for c in mech]}, u)
     if result.motor is not None:
         _print_checks(console, f"motor {result.motor['name']}", result.motor, u)
         _print_electrical(console, result, u)
-    gear = result.extras.get("gearbox_checks")
-    if gear:
-        _print_checks(console, "gearbox ratings (transmission)", gear, u)
+    gear = result.gearbox_checks
+    if gear is not None:
+        _print_checks(console, "gearbox ratings (transmission)", gear.to_dict(), u)
     if result.candidates:
         _print_candidates(console, result, u)
     print_result_order(console, result, u)
@@ -126,7 +126,7 @@ def _print_checks(console: Any, title: str, block: dict[str, Any], u: TableUnits
 
 def _print_electrical(console: Any, result: Any, u: TableUnits) -> None:
     """The electrical half of a given motor: supply, envelope source, currents, winding, drive, regen."""
-    _print_electrical_blocks(console, result.motor, result.extras.get("drive"), result.extras.get("regen"), u)
+    _print_electrical_blocks(console, result.motor, result.drive, result.regen, u)
 
 
 def _drive_label(drive: DriveAnswer | None) -> str:

@@ -264,7 +264,78 @@ def first_move_torques(duty: DutyCycle, torque: Array) -> dict[str, float]:
     return out
 
 
-def load_metrics(duty: DutyCycle, torque: Array | None = None) -> dict[str, Any]:
+@dataclass
+class Demand:
+    """What the load demands of the motor over the cycle, at the motor shaft: ``SizingResult.metrics``, the
+    rotor excluded (:func:`demand_of`; with a torque that includes a rotor, that motor's own figures). Its
+    :meth:`to_dict` is the demand's keys at the top of the JSON (docs/axis-file.md).
+
+    Attributes
+    ----------
+    cycle_time_s : float
+        The cycle's period [s].
+    load_inertia_kgm2 : float
+        The load's inertia reflected to the motor shaft, every stage included [kg m^2].
+    peak_torque_Nm : float
+        The largest torque magnitude over the cycle [N m].
+    peak_torque_speed_rpm : float
+        The speed at that peak [rpm].
+    rms_torque_Nm : float
+        The RMS torque over the cycle [N m].
+    max_speed_rpm : float
+        The largest speed magnitude [rpm].
+    mean_speed_rpm : float
+        The time-weighted mean speed magnitude [rpm].
+    accel_torque_Nm : float
+        The signed torque of largest magnitude in the first move's acceleration [N m].
+    run_torque_Nm : float
+        The same in the first move's constant-speed run [N m].
+    decel_torque_Nm : float
+        The same in the first move's deceleration [N m].
+    holding_torque_Nm : float
+        The same in the dwells the motor holds [N m].
+    peak_power_W : float
+        The largest shaft power magnitude [W].
+    average_power_W : float
+        The mean shaft power over the cycle [W].
+    regen_energy_J : float
+        The energy the shaft returns per cycle [J].
+    operation_power_W : float
+        The lecture's operation power at top speed and run torque [W].
+    acceleration_power_W : float or None
+        The lecture's acceleration power over the first acceleration ramp [W]; None without one.
+    segments : list of dict
+        Every accel, run, decel and dwell in order (:func:`phase_table`): its span [s], largest signed
+        torque [N m] and top speed [rpm].
+    """
+
+    cycle_time_s: float
+    load_inertia_kgm2: float
+    peak_torque_Nm: float
+    peak_torque_speed_rpm: float
+    rms_torque_Nm: float
+    max_speed_rpm: float
+    mean_speed_rpm: float
+    accel_torque_Nm: float
+    run_torque_Nm: float
+    decel_torque_Nm: float
+    holding_torque_Nm: float
+    peak_power_W: float
+    average_power_W: float
+    regen_energy_J: float
+    operation_power_W: float
+    acceleration_power_W: float | None
+    segments: list[dict[str, Any]]
+
+    def to_dict(self) -> dict[str, Any]:
+        """The demand's keys of the JSON, in the order of the fields."""
+        return {f: getattr(self, f) for f in _DEMAND_KEYS}
+
+
+_DEMAND_KEYS = tuple(Demand.__dataclass_fields__)
+
+
+def demand_of(duty: DutyCycle, torque: Array | None = None) -> Demand:
     """The load's demand at the motor shaft (rotor excluded unless ``torque`` includes it)."""
     t = duty.torque if torque is None else torque
     w = duty.weights
@@ -273,22 +344,27 @@ def load_metrics(duty: DutyCycle, torque: Array | None = None) -> dict[str, Any]
     per = first_move_torques(duty, t)
     top = float(np.max(np.abs(duty.omega)))
     ramp = next((ph.t1 - ph.t0 for ph in duty.cycle.phases if ph.kind == "accel"), 0.0)
-    return {
-        "cycle_time_s": duty.period,
-        "load_inertia_kgm2": duty.load_inertia,
-        "peak_torque_Nm": float(abs(t[k_peak])),
-        "peak_torque_speed_rpm": float(to_rpm(abs(duty.omega[k_peak]))),
-        "rms_torque_Nm": rms(t, w, duty.period),
-        "max_speed_rpm": float(to_rpm(np.max(np.abs(duty.omega)))),
-        "mean_speed_rpm": float(to_rpm(np.sum(w * np.abs(duty.omega)) / duty.period)),
-        "accel_torque_Nm": per["accel"],
-        "run_torque_Nm": per["run"],
-        "decel_torque_Nm": per["decel"],
-        "holding_torque_Nm": per["holding"],
-        "peak_power_W": float(np.max(np.abs(power))),
-        "average_power_W": float(np.sum(w * power) / duty.period),
-        "regen_energy_J": float(-np.sum(w * np.minimum(power, 0.0))),
-        "operation_power_W": operation_power(top, abs(per["run"])),
-        "acceleration_power_W": acceleration_power(top, duty.load_inertia, ramp) if ramp > 0 else None,
-        "segments": phase_table(duty, t),
-    }
+    return Demand(
+        cycle_time_s=duty.period,
+        load_inertia_kgm2=duty.load_inertia,
+        peak_torque_Nm=float(abs(t[k_peak])),
+        peak_torque_speed_rpm=float(to_rpm(abs(duty.omega[k_peak]))),
+        rms_torque_Nm=rms(t, w, duty.period),
+        max_speed_rpm=float(to_rpm(np.max(np.abs(duty.omega)))),
+        mean_speed_rpm=float(to_rpm(np.sum(w * np.abs(duty.omega)) / duty.period)),
+        accel_torque_Nm=per["accel"],
+        run_torque_Nm=per["run"],
+        decel_torque_Nm=per["decel"],
+        holding_torque_Nm=per["holding"],
+        peak_power_W=float(np.max(np.abs(power))),
+        average_power_W=float(np.sum(w * power) / duty.period),
+        regen_energy_J=float(-np.sum(w * np.minimum(power, 0.0))),
+        operation_power_W=operation_power(top, abs(per["run"])),
+        acceleration_power_W=acceleration_power(top, duty.load_inertia, ramp) if ramp > 0 else None,
+        segments=phase_table(duty, t),
+    )
+
+
+def load_metrics(duty: DutyCycle, torque: Array | None = None) -> dict[str, Any]:
+    """:func:`demand_of` as the JSON's keys (the ``motor`` block's figures with its rotor)."""
+    return demand_of(duty, torque).to_dict()

@@ -23,6 +23,7 @@ from drivetrain.dynamics.axis_stiffness import mechanism_stiffness_of
 from drivetrain.dynamics.chain import model_from_stages
 from drivetrain.dynamics.linear import natural_frequencies
 from drivetrain.errors import InputError
+from drivetrain.sizing.axis_blocks import BandwidthCheck, ModeAtPosition, Modes
 
 BANDWIDTH_FACTOR = 2.0
 """k of the servo-bandwidth requirement f1 >= k f_v: the velocity-loop bandwidth may reach at most
@@ -35,7 +36,7 @@ SRC_BANDWIDTH = ("lecture, five requirements of a servo transmission, 2 'High Re
 
 
 def modes_across_stroke(axis: Axis, stages: tuple[Any, ...], motor_inertia: float,
-                        stiffness: ms.MechanismStiffness | None = None) -> dict[str, Any] | None:
+                        stiffness: ms.MechanismStiffness | None = None) -> Modes | None:
     """``modes`` of ``drivetrain modes``: f1 at each position, its minimum, where, and the weakest link.
 
     ``stages`` from the motor outward with the mechanism's stage last (``AxisDynamics.stages``),
@@ -59,19 +60,19 @@ def modes_across_stroke(axis: Axis, stages: tuple[Any, ...], motor_inertia: floa
     k_motor = [float(k) for k in chain.stiffness]
     weakest = names[int(np.argmin(k_motor))]
     bandwidth = servo_bandwidth_check(axis, chain, float(f1[worst]), weakest)
-    return {
-        "f1_min_Hz": float(f1[worst]),
-        "worst_position_m": float(stiff.position[worst]),
-        "weakest_link": weakest,
-        "springs_at_motor_Nm_per_rad": dict(zip(names, k_motor, strict=True)),
-        "natural_frequencies_at_worst_Hz": [float(f) for f in natural_frequencies(chain)],
-        "f1_by_position": [{"position_m": float(x), "f1_Hz": float(f), "axial_stiffness_N_per_m": float(k)}
-                           for x, f, k in zip(stiff.position, f1, stiff.axial, strict=True)],
-        "velocity_bandwidth_Hz": bandwidth["velocity_bandwidth_Hz"],
-        "bandwidth_source": bandwidth["bandwidth_source"],
-        "max_velocity_bandwidth_Hz": bandwidth["max_velocity_bandwidth_Hz"],
-        "checks": [bandwidth["check"]],
-    }
+    return Modes(
+        f1_min_Hz=float(f1[worst]),
+        worst_position_m=float(stiff.position[worst]),
+        weakest_link=weakest,
+        springs_at_motor_Nm_per_rad=dict(zip(names, k_motor, strict=True)),
+        natural_frequencies_at_worst_Hz=tuple(float(f) for f in natural_frequencies(chain)),
+        f1_by_position=tuple(ModeAtPosition(float(x), float(f), float(k))
+                             for x, f, k in zip(stiff.position, f1, stiff.axial, strict=True)),
+        velocity_bandwidth_Hz=bandwidth["velocity_bandwidth_Hz"],
+        bandwidth_source=bandwidth["bandwidth_source"],
+        max_velocity_bandwidth_Hz=bandwidth["max_velocity_bandwidth_Hz"],
+        checks=(bandwidth["check"],),
+    )
 
 
 def required_velocity_bandwidth(axis: Axis) -> tuple[float | None, str]:
@@ -117,34 +118,32 @@ def servo_bandwidth_check(axis: Axis, chain: Any, f1_min: float, weakest: str,
     ``chain`` at the worst position, ``f1_min`` [Hz] its first mode, ``weakest`` the weakest
     link's name; f_v [Hz] from :func:`required_velocity_bandwidth`; k :data:`BANDWIDTH_FACTOR`.
     Returns {"velocity_bandwidth_Hz", "bandwidth_source", "max_velocity_bandwidth_Hz", "check"},
-    the check shaped like ``mechanism_checks`` (name, required, available, margin, ok, status,
-    unit, source). ``max_velocity_bandwidth_Hz`` = f1 / k is the highest velocity bandwidth the
-    mechanism allows. Without a stated f_v the check is ``unknown`` (required and margin NaN,
-    ``ok`` None): the application's bandwidth is an input, and a default (the drive's rigid
-    tuning, given in the note) would judge the mechanism against a loop nobody asked for.
+    the check a ``sizing.axis_blocks.BandwidthCheck``. ``max_velocity_bandwidth_Hz`` = f1 / k is the
+    highest velocity bandwidth the mechanism allows. Without a stated f_v the check is ``unknown``
+    (required and margin NaN, ``ok`` None): the application's bandwidth is an input, and a default (the
+    drive's rigid tuning, given in the note) would judge the mechanism against a loop nobody asked for.
     """
     f_v, origin = required_velocity_bandwidth(axis)
     f_max = f1_min / factor
-    base = {"name": "servo_bandwidth", "available": f1_min, "unit": "Hz", "source": SRC_BANDWIDTH,
-            "approximate": False}
     if f_v is None:
         rigid = rigid_velocity_bandwidth(axis, chain)
-        check = {**base, "required": math.nan, "margin": math.nan, "ok": None, "status": "unknown",
-                 "note": f"no dynamics.loop.velocity_bandwidth given: the bandwidth the axis needs is unknown; "
-                         f"f1 allows a velocity loop up to f1 / {factor:g} = {f_max:.1f} Hz (the default tuning "
-                         f"would reach {rigid:.1f} Hz on the rigid inertia); weakest link: {weakest}"}
+        check = BandwidthCheck(
+            "servo_bandwidth", f1_min, "Hz", SRC_BANDWIDTH, False, math.nan, math.nan, None, "unknown",
+            f"no dynamics.loop.velocity_bandwidth given: the bandwidth the axis needs is unknown; "
+            f"f1 allows a velocity loop up to f1 / {factor:g} = {f_max:.1f} Hz (the default tuning "
+            f"would reach {rigid:.1f} Hz on the rigid inertia); weakest link: {weakest}")
         return {"velocity_bandwidth_Hz": None, "bandwidth_source": origin, "max_velocity_bandwidth_Hz": f_max,
                 "check": check}
     required = factor * f_v
     margin = f1_min / required - 1.0
-    check = {**base, "required": required, "margin": margin, "ok": bool(margin >= 0.0),
-             "status": "pass" if margin >= 0.0 else "fail",
-             "note": f"f1 >= {factor:g} x velocity bandwidth {f_v:.1f} Hz ({origin}); weakest link: {weakest}"}
+    check = BandwidthCheck("servo_bandwidth", f1_min, "Hz", SRC_BANDWIDTH, False, required, margin,
+                           bool(margin >= 0.0), "pass" if margin >= 0.0 else "fail",
+                           f"f1 >= {factor:g} x velocity bandwidth {f_v:.1f} Hz ({origin}); weakest link: {weakest}")
     return {"velocity_bandwidth_Hz": f_v, "bandwidth_source": origin, "max_velocity_bandwidth_Hz": f_max,
             "check": check}
 
 
-def modes_of_result(result: Any) -> dict[str, Any] | None:
+def modes_of_result(result: Any) -> Modes | None:
     """``modes`` for a sizing result (report, web app): the chain with its given or selected motor.
 
     None when the mechanism has no stiffness data, the axis gives an explicit
@@ -163,9 +162,7 @@ def modes_of_result(result: Any) -> dict[str, Any] | None:
         return None
     dyn = model(axis, result)
     out = modes_across_stroke(axis, dyn.stages, dyn.motor_inertia, stiff)
-    if out is not None:
-        out["motor"] = dyn.motor
-    return out
+    return None if out is None else replace(out, motor=dyn.motor)
 
 
 def size_many(axes: Any, points_per_phase: int = 64, all_pairs: bool = False, **kwargs: Any) -> list[Any]:

@@ -66,9 +66,7 @@ def scaled(duty: DutyCycle, share: float) -> DutyCycle:
 def size_share(full: SizingResult, share: float, context: Context | None = None) -> SizingResult:
     """Size one motor of a gantry for its ``share`` of the load: the sizing pipeline from the scaled duty
     cycle (``size_duty``), the full axis's own checks kept."""
-    own = {k: v for k, v in full.extras.items() if k not in ("drive", "regen")}
-    own["load_share"] = share
-    return size_duty(full.axis, scaled(full.duty, share), own_checks=own, context=context)
+    return size_duty(full.axis, scaled(full.duty, share), own_checks=full, load_share=share, context=context)
 
 
 def motor_power(res: SizingResult) -> tuple[Array, str, list[str]]:

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 from drivetrain.report.blocks import Cell, Table, Verdict
 from drivetrain.report.display import DisplayUnits, fmt_number, fmt_percent, pretty_unit
 from drivetrain.report.focus import Focus, candidate_label
+from drivetrain.sizing.axis_blocks import own_checks
 
 if TYPE_CHECKING:
     from drivetrain.sizing.result import SizingResult
@@ -40,7 +41,7 @@ CHECK_NAMES: dict[str, str] = {
 CHECK_QUANTITY: dict[str, str] = {"N*m": "torque", "Nm": "torque", "rpm": "angular_speed", "kg*m^2": "inertia",
                                    "W": "power", "N": "force", "s": "time", "J": "energy", "m/s^2": "acceleration"}
 EXTRA_CHECKS = ("slip_check", "brake_check", "guide", "gearbox_checks")
-"""Keys of ``SizingResult.extras`` that hold the axis's own checks (one check, or a report with ``checks``)."""
+"""The blocks of ``SizingResult`` that hold the axis's own checks (a ``RatingCheck``, or a block with ``checks``)."""
 
 
 def _check_quantity(unit: str) -> str | None:
@@ -113,17 +114,9 @@ def _rule(check: dict[str, Any], factors: dict[str, float]) -> str:
 
 
 def axis_checks(result: SizingResult) -> list[dict[str, Any]]:
-    """The axis's own checks (load slip, guide ratings, brake), from ``SizingResult.extras``."""
-    out: list[dict[str, Any]] = []
-    for key in EXTRA_CHECKS:
-        value = result.extras.get(key)
-        if not isinstance(value, dict):
-            continue
-        if isinstance(value.get("checks"), list):
-            out += [c for c in value["checks"] if isinstance(c, dict) and "ok" in c]
-        elif "ok" in value and "required" in value:
-            out.append(value)
-    return out
+    """The axis's own checks (load slip, brake, guide ratings, gearbox ratings) of the result,
+    as the JSON states them (read with the motor's checks)."""
+    return [c.to_dict() for _, c in own_checks(result, EXTRA_CHECKS)]
 
 
 def _tightest(checks: list[dict[str, Any]], du: DisplayUnits) -> str:
@@ -229,9 +222,9 @@ def _motor_verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) 
                            [*details, f"Not orderable: {sel['drive_advice']}."])
         return Verdict("fail", "No catalog motor passes every check", details)
     return Verdict("info", "Demand at the motor shaft (no motor given)", [
-        f"Peak {du.fmt(m['peak_torque_Nm'], 'torque')}, RMS {du.fmt(m['rms_torque_Nm'], 'torque')}, "
-        f"up to {du.fmt(speed_si(m['max_speed_rpm']), 'angular_speed')}, load inertia "
-        f"{du.fmt(m['load_inertia_kgm2'], 'inertia')} at the motor shaft (rotor excluded).",
+        f"Peak {du.fmt(m.peak_torque_Nm, 'torque')}, RMS {du.fmt(m.rms_torque_Nm, 'torque')}, "
+        f"up to {du.fmt(speed_si(m.max_speed_rpm), 'angular_speed')}, load inertia "
+        f"{du.fmt(m.load_inertia_kgm2, 'inertia')} at the motor shaft (rotor excluded).",
         "Add a motor (its ratings, or a catalog id) or motor: {select: ...} to the axis file to check one.",
         *unknown_lines(result),
     ])

@@ -1,7 +1,7 @@
 """The report's electrical part: the drive and electrical checks table, the regen/energy plot and the
 speed-torque curves at the supply voltage.
 
-The figures come from the result (a given motor: ``result.motor`` and ``result.extras['drive'|'regen']``;
+The figures come from the result (a given motor: ``result.motor`` and ``result.drive``, ``result.regen``;
 a selection: ``selection['selected']['drive'|'electrical'|'regen']``, drivetrain.sizing.drive_select).
 The plot recomputes the bus power over the cycle with the same model as the regen block
 (``drivetrain.physics.regen.regen_cycle``, copper loss from I = T / K_t where K_t and R are known).
@@ -31,7 +31,7 @@ def blocks(result: SizingResult) -> tuple[dict[str, Any], DriveAnswer | None, Re
     if result.motor is not None:
         elec = {k: v for k, v in result.motor.items() if k != "checks"}
         elec["checks"] = [c for c in result.motor.get("checks", []) if _electrical_check(c["name"])]
-        return elec, result.extras.get("drive"), result.extras.get("regen")
+        return elec, result.drive, result.regen
     sel = (result.selection or {}).get("selected")
     if not sel:
         return {}, None, None

@@ -316,8 +316,8 @@ def formulas_for(result: SizingResult, catalog_gearbox: bool = False) -> list[Fo
         keys.append("optimal_ratio")
     if isinstance(selection.get("optimal_ratio"), dict):
         keys.append("min_rms_ratio")
-    if "slip_check" in result.extras:
+    if result.slip_check is not None:
         keys.append("slip_limit")
-    if "guide" in result.extras:
+    if result.guide is not None:
         keys.append("guide")
     return [FORMULAS[k] for k in dict.fromkeys(keys)]

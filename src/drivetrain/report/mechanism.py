@@ -11,7 +11,7 @@ servo-bandwidth requirement (f1 >= 2 x velocity bandwidth).
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -21,6 +21,9 @@ from drivetrain.report.display import DisplayUnits, fmt_number, fmt_percent
 from drivetrain.report.plots import COLORS, Note, Panel, PlotSpec, Trace, VLine
 
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from drivetrain.sizing.axis_blocks import BandwidthCheck, MechanismCheck, Modes
     from drivetrain.sizing.result import SizingResult
 
 MECHANISM_CHECK_NAMES: dict[str, str] = {
@@ -40,23 +43,22 @@ MECHANISM_CHECK_NAMES: dict[str, str] = {
 """Readable names of the mechanism checks and the modes check."""
 
 
-def _rows(checks: list[dict[str, Any]], du: DisplayUnits) -> list[list[Cell]]:
+def _rows(checks: Sequence[MechanismCheck | BandwidthCheck], du: DisplayUnits) -> list[list[Cell]]:
     rows = []
     for c in checks:
-        status = c.get("status") or ("pass" if c["ok"] else "fail")
+        status = c.status or ("pass" if c.ok else "fail")
         style = {"pass": "pass", "fail": "fail"}.get(status, "muted")
-        avail = c.get("available")
-        finite = isinstance(avail, (int, float)) and math.isfinite(float(avail))
-        raw = c.get("required")
-        need = float(raw) if isinstance(raw, (int, float)) else math.nan
+        avail = c.available
+        finite = avail is not None and math.isfinite(float(avail))
+        need = math.nan if c.required is None else float(c.required)
         known = math.isfinite(need)
         rows.append([
-            Cell(MECHANISM_CHECK_NAMES.get(c["name"], c["name"].replace("_", " "))),
-            Cell(check_value(need, c["unit"], du) if known else "not stated"),
-            Cell(check_value(float(avail or 0.0), c["unit"], du) if finite else "no limit"),
-            Cell(fmt_percent(c.get("margin")) if known else "n/a", style),
+            Cell(MECHANISM_CHECK_NAMES.get(c.name, c.name.replace("_", " "))),
+            Cell(check_value(need, c.unit, du) if known else "not stated"),
+            Cell(check_value(float(avail or 0.0), c.unit, du) if finite else "no limit"),
+            Cell(fmt_percent(c.margin) if known else "n/a", style),
             Cell(status.upper(), style),
-            Cell(str(c.get("source", "")) + (f" ({c['note']})" if c.get("note") else ""), "muted"),
+            Cell(c.source + (f" ({c.note})" if c.note else ""), "muted"),
         ])
     return rows
 
@@ -68,7 +70,7 @@ def _table(key: str, title: str, rows: list[list[Cell]], note: str) -> Table:
 
 def mechanism_checks_table(result: SizingResult, du: DisplayUnits) -> Table | None:
     """The ``mechanism_checks`` of the result as a table, or None when the axis has none."""
-    checks = result.extras.get("mechanism_checks") or []
+    checks = result.mechanism_checks
     if not checks:
         return None
     return _table("mechanism-checks", "Checks of the mechanism", _rows(checks, du),
@@ -76,7 +78,7 @@ def mechanism_checks_table(result: SizingResult, du: DisplayUnits) -> Table | No
                   "required − 1; the source names the catalog procedure (docs/checks.md).")
 
 
-def mechanism_modes(result: SizingResult) -> dict[str, Any] | None:
+def mechanism_modes(result: SizingResult) -> Modes | None:
     """``modes`` across the stroke for the result's motor: the answer's, where the pipeline's modes stage
     attached them (``drivetrain.size``), else that stage run on the result (``sizing.pipeline.attach_modes``
     with ``dynamics.mechanism_modes.modes_of_result``)."""
@@ -88,41 +90,41 @@ def mechanism_modes(result: SizingResult) -> dict[str, Any] | None:
     return attach_modes(result, modes_of_result).modes
 
 
-def modes_table(modes: dict[str, Any], du: DisplayUnits) -> Table:
+def modes_table(modes: Modes, du: DisplayUnits) -> Table:
     """The servo-bandwidth check and the figures of the modes: f1 at the worst position, the weakest link."""
-    rows = _rows(modes.get("checks", []), du)
-    springs = ", ".join(f"{name} {fmt_number(k)} N·m/rad" for name, k in modes["springs_at_motor_Nm_per_rad"].items())
-    note = (f"Lowest first mode {fmt_number(modes['f1_min_Hz'])} Hz at load position "
-            f"{du.fmt(modes['worst_position_m'], 'length')} with motor {modes.get('motor', '')}; weakest link: "
-            f"{modes['weakest_link']} (springs at the motor shaft there: {springs}). " + _bandwidth_text(modes))
+    rows = _rows(modes.checks, du)
+    springs = ", ".join(f"{name} {fmt_number(k)} N·m/rad" for name, k in modes.springs_at_motor_Nm_per_rad.items())
+    note = (f"Lowest first mode {fmt_number(modes.f1_min_Hz)} Hz at load position "
+            f"{du.fmt(modes.worst_position_m, 'length')} with motor {modes.motor or ''}; weakest link: "
+            f"{modes.weakest_link} (springs at the motor shaft there: {springs}). " + _bandwidth_text(modes))
     return _table("modes", "First mode across the stroke", rows, note)
 
 
-def _bandwidth_text(modes: dict[str, Any]) -> str:
+def _bandwidth_text(modes: Modes) -> str:
     """The velocity bandwidth the check used, or that none was stated, and the most f1 allows."""
-    allows = f"f1 allows up to {fmt_number(modes['max_velocity_bandwidth_Hz'])} Hz."
-    if modes.get("velocity_bandwidth_Hz") is None:
+    allows = f"f1 allows up to {fmt_number(modes.max_velocity_bandwidth_Hz)} Hz."
+    if modes.velocity_bandwidth_Hz is None:
         return f"Velocity bandwidth not stated (dynamics.loop.velocity_bandwidth): {allows}"
-    return (f"Velocity bandwidth {fmt_number(modes['velocity_bandwidth_Hz'])} Hz from {modes['bandwidth_source']}; "
+    return (f"Velocity bandwidth {fmt_number(modes.velocity_bandwidth_Hz)} Hz from {modes.bandwidth_source}; "
             f"{allows}")
 
 
-def modes_plot(modes: dict[str, Any], du: DisplayUnits) -> PlotSpec:
+def modes_plot(modes: Modes, du: DisplayUnits) -> PlotSpec:
     """f1 against the load position, the worst position marked, the required f1 as a line."""
-    rows = modes["f1_by_position"]
-    x = du.array(np.array([r["position_m"] for r in rows], dtype=float), "length")
-    f1 = np.array([r["f1_Hz"] for r in rows], dtype=float)
+    rows = modes.f1_by_position
+    x = du.array(np.array([r.position_m for r in rows], dtype=float), "length")
+    f1 = np.array([r.f1_Hz for r in rows], dtype=float)
     label = du.label("length")
     traces = [Trace(x, f1, "first natural frequency f1", COLORS["position"], unit="Hz")]
-    checks = modes.get("checks") or []
-    need = float(checks[0]["required"]) if checks and checks[0]["required"] is not None else math.nan
+    checks = modes.checks
+    need = float(checks[0].required) if checks and checks[0].required is not None else math.nan
     if math.isfinite(need):
         traces.append(Trace(x, np.full_like(f1, need), "required: 2 × velocity bandwidth", COLORS["peak"],
                             dash="dash", unit="Hz"))
-    worst = float(du.array(np.array([modes["worst_position_m"]]), "length")[0])
+    worst = float(du.array(np.array([modes.worst_position_m]), "length")[0])
     panel = Panel("f1 [Hz]", traces, vlines=[VLine(worst, "worst position", COLORS["limit"])],
-                  notes=[Note(worst, float(modes["f1_min_Hz"]),
-                              [f"f1 = {fmt_number(modes['f1_min_Hz'])} Hz", modes["weakest_link"]],
+                  notes=[Note(worst, float(modes.f1_min_Hz),
+                              [f"f1 = {fmt_number(modes.f1_min_Hz)} Hz", modes.weakest_link],
                               COLORS["limit"], dx=-110.0, dy=30.0)], ymin=0.0)
     return PlotSpec("modes", "First natural frequency across the stroke", f"load position [{label}]", [panel],
                     "First natural frequency of the drive train with the mechanism's own spring, against the "

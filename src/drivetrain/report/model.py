@@ -115,7 +115,7 @@ def build_report(result: SizingResult, units: str = "si") -> ReportModel:
         notes.append(f"The motor's catalog data is unverified: {focus.motor.unverified_reason}. Check the ratings "
                      "against the vendor's datasheet before relying on this sizing.")
     # An answer out of all scale with its load (a unit slip) is said first (duty.sanity).
-    notes[:0] = [f"Warning: {w}" for w in result.extras.get("warnings", [])]
+    notes[:0] = [f"Warning: {w}" for w in result.warnings]
     notes.append(f"Efficiency model: {result.axis.efficiency_model.replace('_', ' ')}. Mechanical quantities at the "
                  "motor shaft, before motor and drive losses.")
     date = report_date()

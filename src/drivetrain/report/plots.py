@@ -181,7 +181,7 @@ def motor_shaft_plot(result: SizingResult, du: DisplayUnits, focus: Focus | None
     else:
         speed = du.array(duty.omega, "angular_speed")
         main = du.array(duty.torque, "torque")
-        rms = du.to(result.metrics["rms_torque_Nm"], "torque")
+        rms = du.to(result.metrics.rms_torque_Nm, "torque")
         torque_panel.traces.append(Trace(t, main, "load torque at motor shaft (rotor excluded)",
                                          COLORS["motor_torque"], unit=tq))
     span = np.array([0.0, float(duty.period)])
@@ -264,8 +264,8 @@ def speed_torque_plot(result: SizingResult, du: DisplayUnits, focus: Focus | Non
     else:
         n = du.array(np.abs(result.duty.omega), "angular_speed")
         main = du.array(np.abs(result.duty.torque), "torque")
-        rms = result.metrics["rms_torque_Nm"]
-        mean_rpm = result.metrics["mean_speed_rpm"]
+        rms = result.metrics.rms_torque_Nm
+        mean_rpm = result.metrics.mean_speed_rpm
         what = "load torque, rotor excluded"
         checks = {}
         caption += " No motor given: no envelope to compare with."

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from drivetrain.report.blocks import Cell, KeyFigure, Table
-from drivetrain.report.checks import CHECK_NAMES, EXTRA_CHECKS, failure_sentence, speed_si
+from drivetrain.report.checks import CHECK_NAMES, failure_sentence, speed_si
 from drivetrain.report.diagram import MECHANISM_NAMES, is_load_part
 from drivetrain.report.display import (
     DisplayUnits,
@@ -32,7 +32,7 @@ MAX_CANDIDATE_ROWS = 25
 
 
 def _extra_values(result: SizingResult, du: DisplayUnits) -> list[tuple[str, str]]:
-    """Scalar results in ``extras`` (e.g. the guide's peak forces), labelled and in display units."""
+    """The guide's peak forces and moments and a gantry share's load share, labelled and in display units."""
     rows: list[tuple[str, str]] = []
 
     def add(label: str, key: str, value: Any) -> None:
@@ -46,19 +46,16 @@ def _extra_values(result: SizingResult, du: DisplayUnits) -> list[tuple[str, str
             return
         rows.append((f"{label}{key.replace('_', ' ')}", fmt_number(float(value))))
 
-    for key, value in sorted(result.extras.items()):
-        if isinstance(value, dict):
-            if key in EXTRA_CHECKS and "required" in value:
-                continue
-            for sub, v in value.items():
-                add(f"{key.replace('_', ' ')}: ", sub, v)
-        else:
-            add("", key, value)
+    if result.guide is not None:  # its forces and moments; its checks are the checks table's
+        for sub, v in result.guide.to_dict().items():
+            add("guide: ", sub, v)
+    if result.load_share is not None:
+        add("", "load_share", result.load_share)
     return rows
 
 
 def key_figures(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> list[KeyFigure]:
-    m = result.metrics
+    m = result.metrics.to_dict()
     src = focus.metrics if focus is not None else m
     where = f"{focus.motor.name}, with rotor" if focus is not None else "at motor shaft, rotor excluded"
     figs = [
@@ -159,7 +156,7 @@ def steps_table(result: SizingResult, du: DisplayUnits) -> Table:
 
 
 def demand_table(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> Table:
-    m = snapped_metrics(result.metrics)
+    m = snapped_metrics(result.metrics.to_dict())
     mo = snapped_metrics(focus.metrics) if focus is not None else None
     rows: list[list[Cell]] = []
 
@@ -199,7 +196,7 @@ def demand_table(result: SizingResult, du: DisplayUnits, focus: Focus | None) ->
             if focus.metrics.get(key) is not None:
                 extra.append((label, "", du.fmt(focus.metrics[key], q)))
     slip = result.axis.mechanism.slip_limit
-    if slip is not None and "slip_check" not in result.extras:
+    if slip is not None and result.slip_check is None:
         a_max = float(np.max(np.abs(result.duty.samples.a)))
         extra.append(("Slip limit of the load a_max", f"{du.fmt(slip, 'acceleration')} (profile "
                       f"{du.fmt(a_max, 'acceleration')}{': SLIPS' if a_max > slip else ''})", ""))
@@ -218,7 +215,7 @@ def demand_table(result: SizingResult, du: DisplayUnits, focus: Focus | None) ->
 
 
 def segments_table(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> Table:
-    seg = result.metrics.get("segments", [])
+    seg = result.metrics.segments
     mseg = focus.metrics.get("segments", []) if focus is not None else []
     rows = []
     for k, s in enumerate(seg):

@@ -58,7 +58,7 @@ class Regen:
     """The regeneration block of the motor with its drive: the energy the cycle sends into the DC bus, what
     the bus capacitors absorb and what is left for a braking resistor (``physics.regen.regen_cycle``).
 
-    The given motor's sits in ``SizingResult.extras["regen"]``, the selected candidate's in
+    The given motor's sits in ``SizingResult.regen``, the selected candidate's in
     ``SizingResult.selection["selected"]["regen"]``; :meth:`to_dict` is the ``regen`` object of the JSON
     (docs/axis-file.md), its keys the fields in this order.
 
@@ -150,7 +150,7 @@ class DriveAnswer:
     """The drive block: the drive of a given motor (``drive:`` in the axis file, checked by its currents), or the
     drive a catalog candidate may be ordered with (``drive_select.pick_drive``; docs/checks.md, "Drive selection").
 
-    A given motor's sits in ``SizingResult.extras["drive"]``; a catalog selection's in each listed candidate's
+    A given motor's sits in ``SizingResult.drive``; a catalog selection's in each listed candidate's
     ``drive`` and in ``selection["selected"]["drive"]``. :meth:`to_dict` is the ``drive`` object of the JSON
     (docs/axis-file.md, "Result keys of the electrical half" and "Drives in a selection").
 

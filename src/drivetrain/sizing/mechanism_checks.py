@@ -1,9 +1,9 @@
 """The mechanism's own checks over the duty cycle: screw limits and nut life, guide life, belt tension, rack force.
 
 ``mechanism_checks(axis, duty)`` returns the ``mechanism_checks`` list of the sizing result, each
-entry shaped like the motor checks (name, required, available, margin, ok, unit) plus its
-``source``. A check runs only where the axis file gives the ratings it needs
-(docs/axis-file.md, "Mechanism limits"); the formulas live in ``drivetrain.physics``
+entry a ``sizing.axis_blocks.MechanismCheck`` (name, required, available, margin, ok, unit, its
+``source`` and note; its ``to_dict()`` the entry of the JSON). A check runs only where the axis file
+gives the ratings it needs (docs/axis-file.md, "Mechanism limits"); the formulas live in ``drivetrain.physics``
 (screw_limits, rolling_life, belt_rack) with their sources, and docs/checks.md lists them.
 """
 
@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -22,6 +23,7 @@ from drivetrain.errors import InputError
 from drivetrain.physics import belt_rack, rolling_life, screw_limits
 from drivetrain.physics.guides import carriage_moments
 from drivetrain.physics.mechanisms.base import LinearLoad
+from drivetrain.sizing.axis_blocks import MechanismCheck
 
 Array = NDArray[np.float64]
 RPM = 60.0 / (2.0 * math.pi)
@@ -35,21 +37,19 @@ SRC_BELT = "Gates Mectrol Timing Belt Theory 3.1-3.3; ELATECH catalog p. 54 (F_T
 SRC_RACK = "Shigley ch. 13 mesh forces; vendor permissible feed force with application factor K_A"
 
 
-def _check(name: str, required: float, available: float, unit: str, source: str, note: str = "") -> dict[str, Any]:
+def _check(name: str, required: float, available: float, unit: str, source: str, note: str = "",
+           status: str | None = None) -> MechanismCheck:
     margin = available / required - 1.0 if required > 0.0 else math.inf
-    return {"name": name, "required": float(required), "available": float(available), "margin": float(margin),
-            "ok": bool(margin >= 0.0), "unit": unit, "source": source, "approximate": False, "note": note}
+    return MechanismCheck(name, float(required), float(available), float(margin), bool(margin >= 0.0), unit, source,
+                          note=note, status=status)
 
 
-def _unjudged(name: str, required: float, bound: float | None, unit: str, source: str, note: str) -> dict[str, Any]:
+def _unjudged(name: str, required: float, bound: float | None, unit: str, source: str, note: str) -> MechanismCheck:
     """A check that cannot be judged from what is given: ``bound`` [unit] is an upper bound on what is
     available (None: none). Required above the bound fails with it; otherwise it is unknown (margin None)."""
     if bound is not None and required > bound:
-        c = _check(name, required, bound, unit, source, note)
-        c["status"] = "fail"
-        return c
-    return {"name": name, "required": float(required), "available": None, "margin": None, "ok": True,
-            "status": "unknown", "unit": unit, "source": source, "approximate": False, "note": note}
+        return _check(name, required, bound, unit, source, note, status="fail")
+    return MechanismCheck(name, float(required), None, None, True, unit, source, note=note, status="unknown")
 
 
 def screw_bounds(span: float | None, diameter: float | None, stroke: float, mounting: str = "fixed_supported",
@@ -77,7 +77,7 @@ def screw_bounds(span: float | None, diameter: float | None, stroke: float, moun
 
 
 def _screw_bound_rows(spec: Any, duty: DutyCycle, f_peak: Array, w_peak: Array,
-                      out: list[list[dict[str, Any]]]) -> None:
+                      out: list[list[MechanismCheck]]) -> None:
     """The screw checks of axes without ``mechanism.screw``, bounded from the nominal diameter (screw_bounds)."""
     lo, hi = _stroke(duty)
     mounting = "fixed_supported"  # ScrewLimitsSpec's default: no block, no stated mounting
@@ -102,7 +102,7 @@ def _screw_bound_rows(spec: Any, duty: DutyCycle, f_peak: Array, w_peak: Array,
             row.append(_unjudged(name, req, bound, unit, src, note))
 
 
-def belt_stiffness_note(axis: Axis) -> dict[str, Any] | None:
+def belt_stiffness_note(axis: Axis) -> MechanismCheck | None:
     """For a belt axis whose belt stiffness is not given: an unknown ``belt_stiffness`` entry saying that
     the modes treat the belt as rigid and what to give (dynamics/axis_stiffness.py needs
     ``mechanism.belt.specific_stiffness``, or ``permissible_tension``, and ``centre_distance``)."""
@@ -117,9 +117,8 @@ def belt_stiffness_note(axis: Axis) -> dict[str, Any] | None:
         gaps.append("mechanism.belt.centre_distance")
     if not gaps:
         return None
-    return {"name": "belt_stiffness", "required": None, "available": None, "margin": None, "ok": True,
-            "status": "unknown", "unit": "N", "source": SRC_BELT, "approximate": False,
-            "note": f"the modes treat the belt as rigid: give {' and '.join(gaps)} to include its stiffness"}
+    return MechanismCheck("belt_stiffness", None, None, None, True, "N", SRC_BELT, status="unknown",
+                          note=f"the modes treat the belt as rigid: give {' and '.join(gaps)} to include its stiffness")
 
 
 def output_loads(axis: Axis, duty: DutyCycle) -> tuple[float, float]:
@@ -213,7 +212,7 @@ def belt_positions(axis: Axis, duty: DutyCycle) -> Array:
     return np.asarray(belt.home_position + np.asarray(duty.samples.x, dtype=float), dtype=float)
 
 
-def _belt_checks(axis: Axis, duty: DutyCycle, force: Array) -> list[dict[str, Any]]:
+def _belt_checks(axis: Axis, duty: DutyCycle, force: Array) -> list[MechanismCheck]:
     belt = getattr(axis.spec.mechanism, "belt", None)
     if belt is None:
         return []
@@ -239,11 +238,11 @@ def _belt_checks(axis: Axis, duty: DutyCycle, force: Array) -> list[dict[str, An
         out.append(_check("belt_tension", float(tight.max()), permissible, "N", SRC_BELT,
                           f"pretension {pre:.4g} N" + ("" if belt.pretension is not None else " (default: peak pull)")))
     shaft = belt_rack.pulley_shaft_load(tight, slack, belt.wrap_angle)
-    out[-1]["note"] += f"; peak pulley shaft load {float(shaft.max()):.4g} N"
+    out[-1] = replace(out[-1], note=out[-1].note + f"; peak pulley shaft load {float(shaft.max()):.4g} N")
     return out
 
 
-def _rack_checks(axis: Axis, duty: DutyCycle, force: Array) -> list[dict[str, Any]]:
+def _rack_checks(axis: Axis, duty: DutyCycle, force: Array) -> list[MechanismCheck]:
     rack = getattr(axis.spec.mechanism, "rack", None)
     if rack is None or rack.permissible_force is None:
         return []
@@ -254,7 +253,7 @@ def _rack_checks(axis: Axis, duty: DutyCycle, force: Array) -> list[dict[str, An
     return [c]
 
 
-def mechanism_checks(axis: Axis, duty: DutyCycle) -> list[dict[str, Any]]:
+def mechanism_checks(axis: Axis, duty: DutyCycle) -> list[MechanismCheck]:
     """Every mechanism check the axis file has ratings for (empty if none, or for a rotary mechanism).
 
     :func:`prepare_many` gives the same entries for many axes, computed together.
@@ -274,7 +273,7 @@ PREPARE_SLICE = 256
 """Axes computed together at most (their arrays of samples stay a few MB)."""
 
 
-def prepare_many(pairs: Sequence[tuple[Axis, DutyCycle]]) -> list[list[dict[str, Any]] | None]:
+def prepare_many(pairs: Sequence[tuple[Axis, DutyCycle]]) -> list[list[MechanismCheck] | None]:
     """The mechanism checks of many (axis, duty cycle) pairs, computed together: for each pair its
     :func:`mechanism_checks`, or None where it was not computed here (then :func:`mechanism_checks`
     of that pair computes it, or raises its InputError).
@@ -289,7 +288,7 @@ def prepare_many(pairs: Sequence[tuple[Axis, DutyCycle]]) -> list[list[dict[str,
     :func:`mechanism_checks`, which raises it for its own axis.
     """
     groups: list[tuple[tuple[Any, ...], list[tuple[int, Axis, DutyCycle, Array]]]] = []
-    out: list[list[dict[str, Any]] | None] = [None] * len(pairs)
+    out: list[list[MechanismCheck] | None] = [None] * len(pairs)
     for index, (axis, duty) in enumerate(pairs):
         spec = axis.spec.mechanism
         if (axis.mechanism.motion != "linear" or not isinstance(axis.mechanism.load, LinearLoad)
@@ -320,7 +319,7 @@ def prepare_many(pairs: Sequence[tuple[Axis, DutyCycle]]) -> list[list[dict[str,
     return out
 
 
-def _checks_of_group(members: list[tuple[Axis, DutyCycle, Array]]) -> list[list[dict[str, Any]]]:
+def _checks_of_group(members: list[tuple[Axis, DutyCycle, Array]]) -> list[list[MechanismCheck]]:
     """The screw, nut and guide checks of axes that share their ratings and stroke (prepare_many)."""
     first, first_duty, _ = members[0]
     spec = first.spec.mechanism
@@ -333,7 +332,7 @@ def _checks_of_group(members: list[tuple[Axis, DutyCycle, Array]]) -> list[list[
     omega = v / lever[:, None]
     w_peak = np.max(np.abs(omega), axis=1)
     f_peak = np.max(np.abs(force), axis=1)
-    out: list[list[dict[str, Any]]] = [[] for _ in members]
+    out: list[list[MechanismCheck]] = [[] for _ in members]
     if limits is not None:  # the ratings and the stroke are the group's: the first axis's checks hold for all
         pos, span = nut_travel_positions(first, first_duty)
         d1 = limits.root_diameter
@@ -367,7 +366,7 @@ def _checks_of_group(members: list[tuple[Axis, DutyCycle, Array]]) -> list[list[
 
 
 def _nut_checks(members: list[tuple[Axis, DutyCycle, Array]], nut: Any, force: Array, omega: Array, weights: Array,
-                out: list[list[dict[str, Any]]]) -> None:
+                out: list[list[MechanismCheck]]) -> None:
     """nut_life and nut_static_safety of a group (screw_limits.nut_life row by row: its formulas, from the
     cubic-mean load of each row)."""
     try:
@@ -397,7 +396,7 @@ def _nut_checks(members: list[tuple[Axis, DutyCycle, Array]], nut: Any, force: A
 
 
 def _guide_rows(members: list[tuple[Axis, DutyCycle, Array]], force: Array, v: Array, weights: Array,
-                out: list[list[dict[str, Any]]]) -> None:
+                out: list[list[MechanismCheck]]) -> None:
     """guide_life and guide_static_safety of a group, row by row."""
     g = members[0][0].spec.guide
     assert g is not None and g.dynamic_rating is not None

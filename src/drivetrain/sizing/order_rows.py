@@ -22,6 +22,7 @@ from drivetrain.sizing.order_spec import (
 )
 
 if TYPE_CHECKING:
+    from drivetrain.sizing.axis_blocks import MechanismCheck
     from drivetrain.sizing.electrical import DriveAnswer, Regen
     from drivetrain.sizing.result import SizingResult
 
@@ -71,7 +72,7 @@ def context(result: SizingResult) -> _Ctx:
         spec = axis.spec.motor
         c.motor_id = spec.id if spec is not None and spec.id else None
         c.motor, c.elec = result.motor, dict(result.motor or {})
-        c.drive, c.regen = result.extras.get("drive"), result.extras.get("regen")
+        c.drive, c.regen = result.drive, result.regen
     elif result.selection is not None and result.ranking is not None and result.ranking.best is not None:
         pick = result.selection.get("selected") or {}
         c.motor_id, c.motor = pick.get("motor"), pick
@@ -159,13 +160,13 @@ def _brake_need(c: _Ctx) -> tuple[bool, float | None]:
         return False, None
     duty = c.result.duty
     braked = np.asarray(duty.samples.braked, dtype=bool)
-    hold = abs(float(c.result.metrics.get("holding_torque_Nm") or 0.0))
+    hold = abs(float(c.result.metrics.holding_torque_Nm or 0.0))
     if hold <= ZERO_TORQUE:
         # a dwell the motor holds with no torque: nothing pushes at rest, any holding torque does; where every
         # dwell is braked the static torque is not in the answer (None)
         t = np.asarray(duty.t)
         held_by_motor = False
-        for seg in c.result.metrics.get("segments", []):
+        for seg in c.result.metrics.segments:
             inside = (t > seg["t0_s"]) & (t < seg["t1_s"])
             held_by_motor |= seg["kind"] == "dwell" and bool(inside.any()) and not bool(braked[inside].any())
         return bool(braked.any()), (0.0 if braked.any() and held_by_motor else None)
@@ -191,8 +192,8 @@ def motor_row(c: _Ctx) -> OrderRow:
                               "static load torque at the motor, not in the answer (every dwell is braked)")
     if c.motor is None and axis.motor is None:
         m = result.metrics
-        spec = {"rms_torque_Nm": m["rms_torque_Nm"], "peak_torque_Nm": m["peak_torque_Nm"],
-                "max_speed_rpm": m["max_speed_rpm"], "load_inertia_kgm2": m["load_inertia_kgm2"], **brake_spec}
+        spec = {"rms_torque_Nm": m.rms_torque_Nm, "peak_torque_Nm": m.peak_torque_Nm,
+                "max_speed_rpm": m.max_speed_rpm, "load_inertia_kgm2": m.load_inertia_kgm2, **brake_spec}
         return OrderRow("motor", "specification", "specification", "servo motor (no catalog motor passes)",
                         spec=spec, element="motor", open_points=["no catalog motor passes: the demand at the axis "
                                                                  "input (rotor excluded) is the specification",
@@ -414,12 +415,12 @@ def gearbox_rows(c: _Ctx) -> list[OrderRow]:
     if c.gearbox_id is not None:
         rows.append(_gearbox_catalog_row(c, c.gearbox_id, c.ratio, c.gearbox_checks, "selection"))
     axis = c.result.axis
-    checks = (c.result.extras.get("gearbox_checks") or {}).get("checks", [])
+    checks = c.result.gearbox_checks.checks if c.result.gearbox_checks is not None else ()
     specs: list[Any] = list(axis.spec.transmission)  # each read by its type
     for k, (spec, st) in enumerate(zip(specs, axis.transmission, strict=False)):
         if getattr(spec, "type", None) != "gearbox":
             continue
-        own = [ch for ch in checks if ch.get("stage") == st.name]
+        own = [ch.to_dict() for ch in checks if ch.stage == st.name]  # read with the catalog gearbox's checks
         element = f"transmission[{k}]"
         if getattr(spec, "catalog", None):
             rows.append(_gearbox_catalog_row(c, str(spec.catalog), st.ratio, own, element))
@@ -509,8 +510,8 @@ def transmission_part_rows(c: _Ctx) -> list[OrderRow]:
             rows.append(OrderRow("coupling", "specification", "specification", "shaft coupling", spec=sp,
                                  element=element, open_points=["load-side bore: the driven shaft's diameter"]))
         elif st.kind == "brake":
-            check = c.result.extras.get("brake_check") or {}
-            static = check.get("required")
+            check = c.result.brake_check
+            static = None if check is None else check.required
             sp = {"static_torque_Nm": static, "holding_torque_min_Nm":
                   None if static is None else brake_holding_torque(float(static)),
                   "holding_torque_given_Nm": getattr(spec, "holding_torque", None)}
@@ -521,23 +522,23 @@ def transmission_part_rows(c: _Ctx) -> list[OrderRow]:
     return rows
 
 
-def _check_named(c: _Ctx, name: str) -> dict[str, Any] | None:
-    return next((ch for ch in c.result.extras.get("mechanism_checks", []) if ch["name"] == name), None)
+def _check_named(c: _Ctx, name: str) -> MechanismCheck | None:
+    return next((ch for ch in c.result.mechanism_checks if ch.name == name), None)
 
 
-def _rating_from_life(check: dict[str, Any] | None, rating: float | None, exponent: float) -> float | None:
+def _rating_from_life(check: MechanismCheck | None, rating: float | None, exponent: float) -> float | None:
     """The dynamic rating [N] that meets the life check's required life (``required_rating``)."""
-    if check is None or rating is None or check.get("available") in (None, 0.0):
+    if check is None or rating is None or check.available in (None, 0.0) or check.required is None:
         return None
-    life = float(check["available"])
-    return None if not math.isfinite(life) else required_rating(float(rating), float(check["required"]), life, exponent)
+    life = float(check.available)
+    return None if not math.isfinite(life) else required_rating(float(rating), float(check.required), life, exponent)
 
 
-def _rating_from_safety(check: dict[str, Any] | None, rating: float | None) -> float | None:
+def _rating_from_safety(check: MechanismCheck | None, rating: float | None) -> float | None:
     """The static rating [N] that meets the static-safety check: C0 f_s,req / f_s (f_s = C0 / P0, ISO 76)."""
-    if check is None or rating is None or not check.get("available"):
+    if check is None or rating is None or not check.available or check.required is None:
         return None
-    return float(rating) * float(check["required"]) / float(check["available"])
+    return float(rating) * float(check.required) / float(check.available)
 
 
 def mechanism_rows(c: _Ctx) -> list[OrderRow]:
@@ -552,21 +553,21 @@ def mechanism_rows(c: _Ctx) -> list[OrderRow]:
                               "diameter_mm": None if mech.diameter is None else mech.diameter * 1e3,
                               "length_mm": None if mech.length is None else mech.length * 1e3,
                               "max_speed_rpm": float(np.max(np.abs(v))) / mech.lead * 60.0}
-        guide = c.result.extras.get("guide") or {}
-        if guide.get("actuator_peak_force_N") is not None:
-            sp["axial_load_peak_N"] = guide["actuator_peak_force_N"]
+        guide = c.result.guide
+        if guide is not None:
+            sp["axial_load_peak_N"] = guide.actuator_peak_force_N
         if limits is not None:
             sp["root_diameter_mm"] = limits.root_diameter * 1e3
             sp["mounting"] = limits.mounting
         crit, buck = _check_named(c, "screw_critical_speed"), _check_named(c, "screw_buckling")
         # without the checks the screw must still turn at its peak speed and take the peak axial force
-        sp["critical_speed_min_rpm"] = crit["required"] if crit is not None else sp["max_speed_rpm"]
-        sp["buckling_load_min_N"] = buck["required"] if buck is not None else sp.get("axial_load_peak_N")
+        sp["critical_speed_min_rpm"] = crit.required if crit is not None else sp["max_speed_rpm"]
+        sp["buckling_load_min_N"] = buck.required if buck is not None else sp.get("axial_load_peak_N")
         if nut is not None:
             sp["nut_dynamic_rating_min_N"] = _rating_from_life(_check_named(c, "nut_life"), nut.C_a, 3.0)
             sp["nut_static_rating_min_N"] = _rating_from_safety(_check_named(c, "nut_static_safety"), nut.C_0a)
-        open_points = _checks_open([ch for ch in c.result.extras.get("mechanism_checks", [])
-                                    if ch["name"].startswith(("screw_", "nut_"))])
+        open_points = _checks_open([ch.to_dict() for ch in c.result.mechanism_checks
+                                    if ch.name.startswith(("screw_", "nut_"))])
         if limits is None:
             open_points.append("critical speed and buckling not judged: give mechanism.screw (root_diameter, "
                                "mounting)")
@@ -580,15 +581,16 @@ def mechanism_rows(c: _Ctx) -> list[OrderRow]:
     g = axis.spec.guide
     if g is not None:
         exponent = 3.0 if g.rolling == "ball" else 10.0 / 3.0
-        gb = c.result.extras.get("guide") or {}
+        gb = c.result.guide
         sp = {"carriages": g.carriages, "orientation": g.orientation, "rolling": g.rolling,
               "dynamic_rating_min_N": _rating_from_life(_check_named(c, "guide_life"), g.dynamic_rating, exponent),
               "static_rating_min_N": _rating_from_safety(_check_named(c, "guide_static_safety"), g.static_rating),
-              "required_life_h": g.required_life / 3600.0, "peak_normal_load_N": gb.get("peak_normal_N"),
-              "peak_pitch_moment_Nm": gb.get("peak_pitch_Nm"), "peak_roll_moment_Nm": gb.get("peak_roll_Nm"),
-              "peak_yaw_moment_Nm": gb.get("peak_yaw_Nm")}
-        open_points = _checks_open([ch for ch in c.result.extras.get("mechanism_checks", [])
-                                    if ch["name"].startswith("guide_")] + list(gb.get("checks", [])))
+              "required_life_h": g.required_life / 3600.0}
+        peaks = (gb.peak_normal_N, gb.peak_pitch_Nm, gb.peak_roll_Nm, gb.peak_yaw_Nm) if gb is not None else (None,) * 4
+        sp.update(zip(("peak_normal_load_N", "peak_pitch_moment_Nm", "peak_roll_moment_Nm", "peak_yaw_moment_Nm"),
+                      peaks, strict=True))
+        own = [ch for ch in c.result.mechanism_checks if ch.name.startswith("guide_")]
+        open_points = _checks_open([ch.to_dict() for ch in own] + [ch.to_dict() for ch in (gb.checks if gb else ())])
         if g.dynamic_rating is None:
             open_points.append("guide life not judged: give guide.dynamic_rating (C) and static_rating (C0)")
         rows.append(OrderRow("guide", "specification", "specification", f"linear guide, {g.carriages} carriage(s)",

@@ -44,18 +44,19 @@ from typing import TYPE_CHECKING, Any, Literal, overload
 import numpy as np
 
 from drivetrain.axis.model import Axis, load_axis, parse_axis
-from drivetrain.duty.cycle import DutyCycle, duty_from_samples, load_metrics
+from drivetrain.duty.cycle import DutyCycle, demand_of, duty_from_samples
 from drivetrain.errors import InputError
 from drivetrain.sizing.drive_select import DriveMemo
 from drivetrain.sizing.result import SizingResult, brake_check, gearbox_rating_checks, motor_result, selected_motor
 
 if TYPE_CHECKING:
     from drivetrain.motion.cycle import Cycle, Samples
+    from drivetrain.sizing.axis_blocks import AxisChecks, MechanismCheck, Modes
     from drivetrain.sizing.candidates import Selection
     from drivetrain.sizing.search import Prepared, Tables
 
 AxisInput = Axis | dict[str, Any] | str | Path
-ModesStage = Callable[[SizingResult], "dict[str, Any] | None"]
+ModesStage = Callable[[SizingResult], "Modes | None"]
 Listing = Literal["ranked", "selected"]
 
 
@@ -104,32 +105,25 @@ def read_axis(axis: AxisInput) -> Axis:
     return axis
 
 
-def axis_checks(axis: Axis, duty: DutyCycle, mechanism: list[dict[str, Any]] | None = None) -> dict[str, Any]:
+def axis_checks(axis: Axis, duty: DutyCycle, mechanism: list[MechanismCheck] | None = None) -> AxisChecks:
     """The axis-checks stage: the answer's ``warnings``, ``guide``, ``slip_check``, ``mechanism_checks``
-    and ``brake_check`` (those that apply), in that order. ``mechanism``: the axis's mechanism checks
-    where the caller computed them (``mechanism_checks.prepare_many``)."""
+    and ``brake_check`` (those that apply). ``mechanism``: the axis's mechanism checks where the caller
+    computed them (``mechanism_checks.prepare_many``)."""
     from drivetrain.duty.sanity import sanity_warnings
+    from drivetrain.sizing.axis_blocks import AxisChecks, guide_report, slip_check
 
-    out: dict[str, Any] = {"warnings": sanity_warnings(axis, duty)}
+    warnings = tuple(sanity_warnings(axis, duty))
+    guide = slip = None
     if axis.spec.guide is not None and axis.mechanism.motion == "linear":
-        from drivetrain.physics.guides import guide_report
-
-        out["guide"] = guide_report(axis, duty)
+        guide = guide_report(axis, duty)
     if axis.mechanism.slip_limit is not None:
-        from drivetrain.physics.guides import slip_check
-
         incline = getattr(axis.mechanism.load, "incline", 0.0)
-        out["slip_check"] = slip_check(np.asarray(duty.samples.a), axis.mechanism.slip_limit, incline, axis.gravity)
+        slip = slip_check(np.asarray(duty.samples.a), axis.mechanism.slip_limit, incline, axis.gravity)
     if mechanism is None:
         from drivetrain.sizing.mechanism_checks import mechanism_checks
 
         mechanism = mechanism_checks(axis, duty)
-    if mechanism:
-        out["mechanism_checks"] = mechanism
-    brake = brake_check(axis, duty)
-    if brake is not None:
-        out["brake_check"] = brake
-    return out
+    return AxisChecks(warnings, guide, slip, tuple(mechanism), brake_check(axis, duty))
 
 
 def select_motor(axis: Axis, duty: DutyCycle, *, all_pairs: bool = False, listing: Listing = "ranked",
@@ -235,24 +229,26 @@ def attach_modes(result: SizingResult, modes: ModesStage) -> SizingResult:
 
 
 def size_duty(axis: Axis, duty: DutyCycle, *, all_pairs: bool = False, listing: Listing = "ranked",
-              drives: bool = True, context: Context | None = None, mechanism: list[dict[str, Any]] | None = None,
-              prepared: Prepared | None = None, own_checks: dict[str, Any] | None = None,
-              modes: ModesStage | None = None) -> SizingResult:
+              drives: bool = True, context: Context | None = None, mechanism: list[MechanismCheck] | None = None,
+              prepared: Prepared | None = None, own_checks: SizingResult | None = None,
+              load_share: float | None = None, modes: ModesStage | None = None) -> SizingResult:
     """The pipeline from a duty cycle the caller has: axis checks, selection, drives, mechanism, modes.
 
     ``drives=False`` leaves out the drive blocks of a selection's candidates (``attach_drives``:
     the ``drive``, ``electrical`` and ``regen`` of its candidates), which changes no other key; the drive
-    rule holds either way. ``own_checks``: the axis's own checks (axis checks and gearbox ratings)
-    computed before, kept as they are (a gantry share keeps its whole axis's). ``mechanism``,
-    ``prepared``: what ``size_many`` computed for many axes together.
+    rule holds either way. ``own_checks``: an answer whose own checks (axis checks and gearbox ratings) are
+    kept as they are, and ``load_share`` the fraction of its load this one carries (a gantry share keeps its
+    whole axis's checks). ``mechanism``, ``prepared``: what ``size_many`` computed for many axes together.
     """
     context = context or Context()
-    result = SizingResult(axis=axis, duty=duty, metrics=load_metrics(duty))
-    result.extras = axis_checks(axis, duty, mechanism) if own_checks is None else dict(own_checks)
-    gear: dict[str, Any] | None = None
+    kept = axis_checks(axis, duty, mechanism) if own_checks is None else own_checks
+    result = SizingResult(axis=axis, duty=duty, metrics=demand_of(duty), warnings=list(kept.warnings),
+                          guide=kept.guide, slip_check=kept.slip_check, mechanism_checks=list(kept.mechanism_checks),
+                          brake_check=kept.brake_check, load_share=load_share)
+    gear = None if own_checks is None else own_checks.gearbox_checks
     if axis.motor is not None:
         result.motor, beside = motor_result(axis, duty, axis.motor)
-        result.extras.update(beside)  # the electrical half's drive and regen sit beside the motor
+        result.drive, result.regen = beside.get("drive"), beside.get("regen")  # the electrical half's
         if own_checks is None:
             gear = gearbox_rating_checks(axis, duty, axis.motor)
     elif axis.spec.motor is not None and axis.spec.motor.select is not None:
@@ -275,8 +271,7 @@ def size_duty(axis: Axis, duty: DutyCycle, *, all_pairs: bool = False, listing: 
                          "or motor: {select: ...}", has_value=False)
     elif own_checks is None:
         gear = gearbox_rating_checks(axis, duty, None)
-    if gear is not None:
-        result.extras["gearbox_checks"] = gear
+    result.gearbox_checks = gear
     if modes is not None:
         attach_modes(result, modes)
     return result
@@ -322,7 +317,7 @@ def size_many(axes: Sequence[AxisInput], points_per_phase: int = 64, all_pairs: 
                 raise
             read.append(exc)
     pairs = [x for x in read if not isinstance(x, InputError)]
-    mechanism: list[list[dict[str, Any]] | None] = [None] * len(pairs)
+    mechanism: list[list[MechanismCheck] | None] = [None] * len(pairs)
     prepared: list[Prepared | None] = [None] * len(pairs)
     if len(pairs) > 1:
         from drivetrain.sizing.mechanism_checks import prepare_many

@@ -11,8 +11,16 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from drivetrain.axis.model import Axis, MotorData
-from drivetrain.duty.cycle import DutyCycle, load_metrics
+from drivetrain.duty.cycle import Demand, DutyCycle, load_metrics
 from drivetrain.physics.acceleration import acceleration_power, minimum_accel_time, minimum_decel_time, operation_power
+from drivetrain.sizing.axis_blocks import (
+    GearboxCheck,
+    GearboxChecks,
+    GuideReport,
+    MechanismCheck,
+    Modes,
+    RatingCheck,
+)
 from drivetrain.sizing.checks import Check, running_torque
 from drivetrain.sizing.electrical import DriveAnswer, Regen
 from drivetrain.sizing.motor_fit import MotorArrays, demand, fit_motors
@@ -38,9 +46,10 @@ class SizingResult:
     duty : DutyCycle
         The duty cycle at the motor shaft (sampled load motion, motor-shaft speed [rad/s],
         acceleration [rad/s^2] and load torque [N m] through every stage, rotor excluded).
-    metrics : dict
-        The load's demand at the motor shaft, rotor excluded: RMS, peak, accel/run/decel torque [N m],
-        speeds [rpm], load inertia [kg m^2], power [W], energy [J] (keys carry their unit).
+    metrics : Demand
+        The load's demand at the motor shaft, rotor excluded (``duty.cycle.Demand``): RMS, peak,
+        accel/run/decel torque [N m], speeds [rpm], load inertia [kg m^2], power [W], energy [J] (fields carry
+        their unit).
     motor : dict or None
         A given motor: the demand with its rotor, the figures of the lecture and every check
         (required, available, margin). None for a catalog selection or no motor.
@@ -48,28 +57,51 @@ class SizingResult:
         A catalog selection's listed candidates, each with its checks (empty without a selection).
     selection : dict or None
         A catalog selection's summary: counts, the ``selected`` candidate, next smaller motor, advice.
-    extras : dict
-        The axis's own checks and notes, in the order of the answer: ``warnings``, ``guide``,
-        ``slip_check``, ``mechanism_checks``, ``brake_check``, a given motor's ``drive`` and ``regen``
-        (a ``sizing.electrical.DriveAnswer`` and a ``Regen``; the selected candidate's are in
-        ``selection["selected"]``, each listed candidate's drive in its ``drive``),
-        ``gearbox_checks`` (and a gantry share's ``load_share``).
+    warnings : list of str
+        What is implausible in the axis file, in words (empty when nothing is).
+    guide : GuideReport or None
+        The carriage's forces [N], moments [N m] and the guide's rating checks (``sizing.axis_blocks``), for a
+        linear axis with ``guide:``.
+    slip_check : RatingCheck or None
+        The load's slip on its carrier [m/s^2], for a mechanism with a slip limit.
+    mechanism_checks : list of MechanismCheck
+        The limits of the screw, nut, guide life, belt and rack the axis file has ratings for (empty if none).
+    brake_check : RatingCheck or None
+        A brake stage's holding torque against the braked dwells [N m].
+    drive : DriveAnswer or None
+        A given motor's drive (``sizing.electrical.DriveAnswer``); a catalog selection's are in
+        ``selection["selected"]`` and each listed candidate's ``drive``.
+    regen : Regen or None
+        A given motor's regeneration block (``sizing.electrical.Regen``); the selected candidate's is in
+        ``selection["selected"]``.
+    gearbox_checks : GearboxChecks or None
+        The ratings of the rated gearboxes of ``transmission:`` with the given or selected motor.
+    load_share : float or None
+        A gantry share's fraction of the load [-] (``machine.axes.size_share``); None for a whole axis.
     ranking : Ranking or None
         The evaluated candidates behind ``candidates`` and ``selection`` (not part of the JSON).
-    modes : dict or None
-        f1 across the stroke and the servo-bandwidth check (``modes``), where the modes stage ran and the
-        mechanism has stiffness data; reported, not part of ``ok``.
+    modes : Modes or None
+        f1 across the stroke and the servo-bandwidth check (``sizing.axis_blocks.Modes``), where the modes
+        stage ran and the mechanism has stiffness data; reported, not part of ``ok``.
     """
 
     axis: Axis
     duty: DutyCycle
-    metrics: dict[str, Any]
+    metrics: Demand
     motor: dict[str, Any] | None = None
     candidates: list[dict[str, Any]] = field(default_factory=list)
     selection: dict[str, Any] | None = None
-    extras: dict[str, Any] = field(default_factory=dict)
+    warnings: list[str] = field(default_factory=list)
+    guide: GuideReport | None = None
+    slip_check: RatingCheck | None = None
+    mechanism_checks: list[MechanismCheck] = field(default_factory=list)
+    brake_check: RatingCheck | None = None
+    drive: DriveAnswer | None = None
+    regen: Regen | None = None
+    gearbox_checks: GearboxChecks | None = None
+    load_share: float | None = None
     ranking: Ranking | None = None
-    modes: dict[str, Any] | None = None
+    modes: Modes | None = None
 
     @property
     def ok(self) -> bool:
@@ -122,15 +154,16 @@ class SizingResult:
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON result of docs/axis-file.md (keys carry their unit), from the fields in this order:
-        the axis, versions, ``metrics``, ``extras``, ``motor``, ``selection``, ``candidates``, ``modes``, the
+        the axis, versions, ``metrics``, the axis's own blocks (:meth:`own_blocks`), ``motor``, ``selection``,
+        ``candidates``, ``modes``, the
         order sheet (``order``: ``sizing.order.order_sheet``) and last the ``verdict`` (:attr:`status` and
         :attr:`unknowns`)."""
         from drivetrain.catalog import DATA_VERSION
 
         out: dict[str, Any] = {"axis": self.axis.name, "drivetrain_version": __version__,
                                "catalog_version": DATA_VERSION, "efficiency_model": self.axis.efficiency_model}
-        out.update(self.metrics)
-        out.update({k: plain_block(v) for k, v in self.extras.items()})
+        out.update(self.metrics.to_dict())
+        out.update(self.own_blocks())
         if self.motor is not None:
             out["motor"] = self.motor
         if self.selection is not None:
@@ -141,13 +174,37 @@ class SizingResult:
         if self.candidates:
             out["candidates"] = [{k: plain_block(v) for k, v in c.items()} for c in self.candidates]
         if self.modes is not None:
-            out["modes"] = self.modes
+            out["modes"] = self.modes.to_dict()
         import importlib  # the order sheet reads the result: looked up by name, so no circle of files
 
         sheet = importlib.import_module("drivetrain.sizing.order").order_sheet(self)
         out["order"] = sheet.to_dict()
         status, unknowns = self._verdict(sheet)  # the sheet built once, for the order block and the verdict
         out["verdict"] = {"status": status, "unknowns": [u.to_dict() for u in unknowns]}
+        return out
+
+    def own_blocks(self) -> dict[str, Any]:
+        """The JSON of the axis's own blocks and a given motor's drive, in the answer's order: ``warnings``,
+        ``guide``, ``slip_check``, ``mechanism_checks``, ``brake_check``, ``drive``, ``regen``,
+        ``gearbox_checks``; a gantry share (which keeps its whole axis's checks) puts its ``load_share`` after
+        them and its drive's blocks last. A block that does not apply is left out."""
+        out: dict[str, Any] = {"warnings": list(self.warnings)}
+        for key in ("guide", "slip_check"):
+            block = getattr(self, key)
+            if block is not None:
+                out[key] = block.to_dict()
+        if self.mechanism_checks:
+            out["mechanism_checks"] = [c.to_dict() for c in self.mechanism_checks]
+        if self.brake_check is not None:
+            out["brake_check"] = self.brake_check.to_dict()
+        drive = {k: b.to_dict() for k, b in (("drive", self.drive), ("regen", self.regen)) if b is not None}
+        if self.load_share is None:
+            out.update(drive)
+        if self.gearbox_checks is not None:
+            out["gearbox_checks"] = self.gearbox_checks.to_dict()
+        if self.load_share is not None:
+            out["load_share"] = self.load_share
+            out.update(drive)
         return out
 
     def _repr_html_(self) -> str:
@@ -207,7 +264,7 @@ class SizingResult:
         rows = ("peak_torque_Nm", "rms_torque_Nm", "accel_torque_Nm", "run_torque_Nm", "decel_torque_Nm",
                 "holding_torque_Nm", "max_speed_rpm", "peak_power_W", "regen_energy_J", "load_inertia_kgm2",
                 "rotor_inertia_kgm2")
-        demand = {k: self.metrics.get(k) for k in rows}
+        demand = {k: getattr(self.metrics, k, None) for k in rows}
         motor: dict[str, Any] = dict.fromkeys(rows)
         rating: dict[str, Any] = dict.fromkeys(rows)
         own = self.motor_cycle()
@@ -278,7 +335,7 @@ class SizingResult:
 
 
 TYPED_BLOCKS = (DriveAnswer, Regen)
-"""The typed blocks of the answer that sit in ``extras`` or in the selected candidate (their JSON: ``to_dict``)."""
+"""The typed blocks of the answer that sit in the selected candidate (their JSON: ``to_dict``)."""
 
 
 def plain_block(value: Any) -> Any:
@@ -389,7 +446,7 @@ def _gearbox_split(axis: Axis, motor: MotorData, duty: DutyCycle, run_torque: fl
 
 
 def gearbox_rating_checks(axis: Axis, duty: DutyCycle, motor: MotorData | None,
-                          strict: bool = False) -> dict[str, Any] | None:
+                          strict: bool = False) -> GearboxChecks | None:
     """Every rating of each gearbox in ``transmission:`` that has a rating or a catalog id, checked
     by ``checks.gearbox_ratings`` against the gearbox's own output torque and input speed over
     the cycle; the emergency-stop torque needs a motor (given, or the selected one). A rating
@@ -404,7 +461,7 @@ def gearbox_rating_checks(axis: Axis, duty: DutyCycle, motor: MotorData | None,
     margins = axis.spec.motor.margins if axis.spec.motor is not None else None
     tm, sm = (margins.torque, margins.speed) if margins is not None else (1.0, 1.0)
     shock = shock_factor(duty.period, margins.gearbox_shock_factor if margins is not None else None)
-    out: list[dict[str, Any]] = []
+    out: list[GearboxCheck] = []
     from drivetrain.axis.resolve import resolve_transmission
 
     specs = resolve_transmission(axis.spec.transmission)  # a catalog row brings its ratings
@@ -440,30 +497,29 @@ def gearbox_rating_checks(axis: Axis, duty: DutyCycle, motor: MotorData | None,
             rpm = name.endswith("speed")
             scale = 60.0 / (2.0 * math.pi) if rpm else 1.0
             status = "unknown" if math.isnan(mar) else ("pass" if mar >= 0.0 else "fail")
-            check = {"name": name, "stage": st.name, "required": req * scale,
-                     "available": None if math.isnan(av) else av * scale, "unit": "rpm" if rpm else "N*m",
-                     "margin": mar if math.isfinite(mar) else None, "status": status,
-                     "ok": status == "pass" or (status == "unknown" and not strict), "approximate": False}
+            note = None
             if status == "unknown":
                 if name == "gearbox_emergency_stop_torque" and motor is None:
-                    check["note"] = "needs the motor's peak torque: checked on the selected motor"
+                    note = "needs the motor's peak torque: checked on the selected motor"
                 elif name == "gearbox_peak_torque" and math.isnan(shock) and not math.isnan(av):
-                    check["note"] = (f"{3600.0 / duty.period:.0f} cycles/h exceed the 1000/h that T2B holds for: "
-                                     "set motor.margins.gearbox_shock_factor from the vendor's chart")
+                    note = (f"{3600.0 / duty.period:.0f} cycles/h exceed the 1000/h that T2B holds for: "
+                            "set motor.margins.gearbox_shock_factor from the vendor's chart")
                 else:
-                    check["note"] = f"transmission[{k}].{names[name]} not given"
-            out.append(check)
+                    note = f"transmission[{k}].{names[name]} not given"
+            out.append(GearboxCheck(name, st.name, req * scale, None if math.isnan(av) else av * scale,
+                                    "rpm" if rpm else "N*m", mar if math.isfinite(mar) else None, status,
+                                    status == "pass" or (status == "unknown" and not strict), note=note))
     if not out:
         return None
-    return {"checks": out, "ok": all(c["ok"] for c in out),
-            "unknown": [f"{c['stage']}: {c['name']}" for c in out if c["status"] == "unknown"]}
+    return GearboxChecks(tuple(out), all(c.ok for c in out),
+                         tuple(f"{c.stage}: {c.name}" for c in out if c.status == "unknown"))
 
 
 def _nan(x: float | None) -> float:
     return math.nan if x is None else float(x)
 
 
-def brake_check(axis: Axis, duty: DutyCycle) -> dict[str, Any] | None:
+def brake_check(axis: Axis, duty: DutyCycle) -> RatingCheck | None:
     """A brake's holding torque against the torque it must hold in braked dwells [N m].
 
     The brake holds what the load side applies at its shaft at standstill (gravity, springs):
@@ -475,8 +531,7 @@ def brake_check(axis: Axis, duty: DutyCycle) -> dict[str, Any] | None:
             continue
         need = float(np.max(np.abs(duty.stage_torque[k][braked]))) if braked.any() else 0.0
         margin = st.holding_torque / need - 1.0 if need > 0 else math.inf
-        return {"name": "brake_holding_torque", "required": need, "available": st.holding_torque, "unit": "N*m",
-                "margin": margin, "ok": margin >= 0.0, "approximate": False}
+        return RatingCheck("brake_holding_torque", need, st.holding_torque, "N*m", margin, margin >= 0.0)
     return None
 
 
@@ -491,12 +546,9 @@ def _first_move_ramp_times(duty: DutyCycle) -> float:
 def verdict(result: SizingResult) -> bool:
     """True when the axis's own checks (slip, guide, brake, gearbox ratings, mechanism, drive) and the
     given motor or the selected candidate pass (the pipeline's last stage; ``SizingResult.ok``)."""
-    own = [result.extras[k]["ok"] for k in ("slip_check", "guide", "brake_check", "gearbox_checks")
-           if k in result.extras]
-    drive = result.extras.get("drive")
-    if drive is not None:
-        own.append(drive.ok)
-    own += [c["ok"] for c in result.extras.get("mechanism_checks", [])]
+    blocks = (result.slip_check, result.guide, result.brake_check, result.gearbox_checks, result.drive)
+    own = [b.ok for b in blocks if b is not None]
+    own += [c.ok for c in result.mechanism_checks]
     if not all(own):
         return False
     if result.motor is not None:

@@ -8,8 +8,11 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal, Protocol
 
+from drivetrain.sizing.axis_blocks import GearboxCheck, own_checks
+
 if TYPE_CHECKING:
     from drivetrain.axis.model import Axis
+    from drivetrain.sizing.axis_blocks import GearboxChecks, GuideReport, MechanismCheck, RatingCheck
     from drivetrain.sizing.electrical import DriveAnswer
 
 
@@ -17,7 +20,12 @@ class Answer(Protocol):
     """What the verdict reads of an answer (``SizingResult``; named here without importing it, which
     imports this module)."""
 
-    extras: dict[str, Any]
+    guide: GuideReport | None
+    slip_check: RatingCheck | None
+    mechanism_checks: list[MechanismCheck]
+    brake_check: RatingCheck | None
+    gearbox_checks: GearboxChecks | None
+    drive: DriveAnswer | None
     motor: dict[str, Any] | None
     selection: dict[str, Any] | None
     ranking: Any
@@ -75,6 +83,14 @@ def _check_list(block: Any) -> list[dict[str, Any]]:
     return [block] if "name" in block and ("ok" in block or "status" in block) else []
 
 
+_OWN_PARTS: dict[str, tuple[str, str]] = {
+    "slip_check": ("mechanism", "a rating it needs is not given"), "guide": ("guide", "a rating it needs is not given"),
+    "brake_check": ("brake", "a rating it needs is not given"),
+    "mechanism_checks": ("mechanism", "a dimension or rating it needs is not given"),
+    "gearbox_checks": ("gearbox", "a rating of the gearbox is not given")}
+"""The part of the answer each block of the axis's own checks concerns, and what decides a check of it that
+could not be judged where the check does not say."""
+
 _MOTOR_CHECKS = frozenset({"peak_torque", "rms_torque", "max_speed", "inertia_ratio", "speed_torque_envelope"})
 
 
@@ -105,20 +121,20 @@ def collect_unknowns(result: Answer, sheet: Any = True) -> list[Unknown]:
     the question either way (docs/checks.md, "The verdict"). The modes' ``servo_bandwidth`` is reported,
     not judged: it is not part of the verdict."""
     out: list[Unknown] = []
-    ex = result.extras
-    for key, part in (("slip_check", "mechanism"), ("guide", "guide"), ("brake_check", "brake")):
-        out += [Unknown(c["name"], part, _decide(c, "a rating it needs is not given"))
-                for c in _check_list(ex.get(key)) if _not_judged(c)]
-    out += [Unknown(c["name"], "mechanism", _decide(c, "a dimension or rating it needs is not given"))
-            for c in _check_list(ex.get("mechanism_checks")) if _not_judged(c)]
-    out += [Unknown(c["name"], f"gearbox stage ({c['stage']})" if c.get("stage") else "gearbox stage",
-                    _decide(c, "a rating of the gearbox is not given"))
-            for c in _check_list(ex.get("gearbox_checks")) if _not_judged(c)]
+    for key, own in own_checks(result):
+        if not own.unknown:
+            continue
+        if isinstance(own, GearboxCheck):
+            out.append(Unknown(own.name, f"gearbox stage ({own.stage})" if own.stage else "gearbox stage",
+                               own.note or "a rating of the gearbox is not given"))
+        else:
+            part, default = _OWN_PARTS[key]
+            out.append(Unknown(own.name, part, own.note or default))
     if result.motor is not None:
         out += [Unknown(c["name"], "motor" if c["name"] in _MOTOR_CHECKS else "electrical",
                         _decide(c, "a rating of the motor is not given"))
                 for c in _check_list(result.motor) if _not_judged(c)]
-        drive = ex.get("drive")
+        drive = result.drive
         out += _drive_unknowns(drive)
     elif result.selection is not None and result.selection.get("selected"):
         pick = result.selection["selected"]
@@ -186,14 +202,13 @@ def failures(result: Answer) -> list[str]:
     """What fails in the answer, one short phrase each (``part: check``), in the order of
     :func:`collect_unknowns`; empty where nothing fails."""
     out: list[str] = []
-    ex = result.extras
-    for key, part in (("slip_check", "mechanism"), ("guide", "guide"), ("brake_check", "brake"),
-                      ("mechanism_checks", "mechanism"), ("gearbox_checks", "gearbox")):
-        out += [f"{part}: {c['name']}" + (f" [{c['stage']}]" if c.get("stage") else "")
-                for c in _check_list(ex.get(key)) if _failed(c)]
+    for key, own in own_checks(result):
+        if own.failed:
+            stage = own.stage if isinstance(own, GearboxCheck) else ""
+            out.append(f"{_OWN_PARTS[key][0]}: {own.name}" + (f" [{stage}]" if stage else ""))
     if result.motor is not None:
         out += [f"motor: {c['name']}" for c in _check_list(result.motor) if _failed(c)]
-        drive = ex.get("drive")
+        drive = result.drive
         if drive is not None and (drive.status == "fails" or drive.ok is False):
             bad = ", ".join(c["name"] for c in drive.checks or () if _failed(c))
             out.append(f"drive: {drive.reason or bad}")

@@ -209,7 +209,7 @@ def size_payload(axis: dict[str, Any]) -> dict[str, Any]:
             selected = selected_payload(parsed, result, envelopes)
     return {"result": result.to_dict(), "motion": parsed.mechanism.motion, "series": series,
             "envelopes": envelopes, "selected": selected, "notes": notes,
-            "modes": None if result.modes is None else dict(plain(result.modes)),
+            "modes": None if result.modes is None else dict(plain(result.modes.to_dict())),
             "electrical": electrical_payload(result), "elapsed_ms": (time.perf_counter() - t0) * 1e3}
 
 
@@ -225,7 +225,7 @@ def electrical_payload(result: Any) -> dict[str, Any] | None:
         electrical = {k: v for k, v in m.items() if k not in ("checks", "supply_curve")}
         electrical["checks"] = [c for c in m.get("checks", []) if str(c.get("name", "")).startswith(
             ("motor_rms_current", "motor_peak_current", "peak_torque_at_supply", "winding_"))]
-        out = {"drive": result.extras.get("drive"), "electrical": electrical, "regen": result.extras.get("regen")}
+        out = {"drive": result.drive, "electrical": electrical, "regen": result.regen}
     else:
         sel = (result.selection or {}).get("selected")
         if not sel:
