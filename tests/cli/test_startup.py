@@ -70,10 +70,12 @@ def test_the_tables_without_highlighting_are_the_same_characters(capsys: pytest.
                                                                  monkeypatch: pytest.MonkeyPatch) -> None:
     import rich.console
 
+    from drivetrain import terminal
     from drivetrain.cli import sizing
     from drivetrain.cli.quantities import TableUnits
     from drivetrain.sizing.pipeline import size
 
+    monkeypatch.setattr(terminal, "_plain_pipe", lambda: False)  # rich's console (the plain one: test_terminal)
     result = size(ROOT / "examples" / "ball_screw.yaml")
     assert sizing.table_console().color_system is None  # captured: no colour, no highlighting
     sizing.print_sizing(result, TableUnits("si", result.axis.raw))
