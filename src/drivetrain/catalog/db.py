@@ -24,7 +24,6 @@ import re
 import sys
 import time
 from collections.abc import Iterator, Sequence
-from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -103,6 +102,8 @@ def build_stamp() -> str:
                                                          MOTOR_DOCUMENTS_FILE, BRAKES_FILE]:
         digest.update(name.encode())
         digest.update(shipped_text(name).encode())
+    from importlib import resources  # only at a build check: its import brings tempfile and shutil
+
     for module in RULE_MODULES:  # the derived values and voltage classes are computed at the build
         digest.update(module.encode() + resources.files("drivetrain.catalog").joinpath(module).read_bytes())
     return f"{DATA_VERSION}/schema-{SCHEMA_VERSION}/{digest.hexdigest()[:16]}"
