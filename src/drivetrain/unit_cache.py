@@ -12,7 +12,6 @@ The folder is ``$DRIVETRAIN_CACHE_DIR``, else the platform's user cache folder.
 
 from __future__ import annotations
 
-import _thread
 import contextlib
 import hashlib
 import importlib.util
@@ -20,6 +19,7 @@ import json
 import math
 import os
 import sys
+import threading
 from pathlib import Path
 
 from drivetrain.files import write_atomic
@@ -28,7 +28,7 @@ ENV_CACHE_DIR = "DRIVETRAIN_CACHE_DIR"
 
 _factors: dict[str, tuple[float, float]] | None = None
 _path: Path | None = None
-_lock = _thread.allocate_lock()  # the web app parses in threads (``_thread``: threading's lock, without its import)
+_lock = threading.Lock()  # the web app parses in threads
 
 
 def cache_dir() -> Path:
