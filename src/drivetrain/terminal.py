@@ -195,10 +195,14 @@ def _lines(cell: str) -> list[str]:
     return cell.split("\n") if cell else [""]
 
 
+ONE_CELL = frozenset("†…°µ±×·–—²³≤≥Ωηωα")
+"""Characters beyond ASCII the tables print that take one cell each (as rich counts them: a test compares)."""
+
+
 def _cell_len(text: str) -> int:
-    """Cells a text takes on a terminal, as rich counts them (wide and zero-width characters); an ASCII text
-    takes one cell a character, without importing rich."""
-    if text.isascii():
+    """Cells a text takes on a terminal, as rich counts them (wide and zero-width characters); printable ASCII
+    and ``ONE_CELL`` take one cell a character, counted without importing rich."""
+    if text.isprintable() and (text.isascii() or ONE_CELL.issuperset(c for c in text if not c.isascii())):
         return len(text)
     from rich.cells import cell_len
 

@@ -102,3 +102,10 @@ def test_the_lines_the_cli_colours_are_written_without_rich(capsys: pytest.Captu
     console.print("f1 375.6 Hz, [yellow]unknown[/]; [green]ok[/] [bold red]FAIL: [1, 2][/]")
     assert capsys.readouterr().out == "f1 375.6 Hz, unknown; ok FAIL: [1, 2]\n"
     assert console._rich is None
+
+
+def test_the_characters_counted_as_one_cell_are_one_cell_for_rich() -> None:
+    from rich.cells import cell_len
+
+    assert all(cell_len(c) == 1 for c in terminal.ONE_CELL)
+    assert all(terminal._cell_len(t) == cell_len(t) for t in ("a†b", "中文", "x\ty", "\x1b[0m", "é", "…", ""))
