@@ -58,6 +58,24 @@ def test_a_size_loads_no_study_web_report_or_unit_registry(tmp_path: Path) -> No
     assert out["modules"] == []
 
 
+TEXT_PROBE = """
+import contextlib, io, json, sys
+from drivetrain.cli import main
+with contextlib.redirect_stdout(io.StringIO()):  # a pipe: the tables without rich (test_terminal.py)
+    code = main(["size", sys.argv[1]])
+print(json.dumps({"code": code, "rich": sorted(m for m in sys.modules if m.split(".")[0] == "rich")}))
+"""
+
+
+def test_a_size_in_a_pipe_imports_no_rich(tmp_path: Path) -> None:
+    env = {k: v for k, v in os.environ.items() if k not in ("FORCE_COLOR", "TTY_COMPATIBLE", "COLUMNS")}
+    env.update({"PYTHONPATH": str(ROOT / "src"), "DRIVETRAIN_CACHE_DIR": str(tmp_path)})
+    run = [sys.executable, "-c", TEXT_PROBE, str(ROOT / "examples" / "ball_screw.yaml")]
+    out = json.loads(subprocess.run(run, env=env, capture_output=True, text=True, check=True).stdout.splitlines()[-1])
+    assert out["code"] in (0, 1)
+    assert out["rich"] == []
+
+
 def test_a_catalog_record_is_the_callers_own_copy() -> None:
     first = catalog.get("SGM7J-04A")
     first["rated_torque_Nm"] = -1.0
