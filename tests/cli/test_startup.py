@@ -102,3 +102,26 @@ def test_the_tables_without_highlighting_are_the_same_characters(capsys: pytest.
     monkeypatch.setattr(rich.console, "Console", lambda **kw: default(**{**kw, "highlight": True}))
     sizing.print_sizing(result, TableUnits("si", result.axis.raw))
     assert capsys.readouterr().out == plain
+
+
+@pytest.mark.parametrize("columns", [None, "100", "37", "0", "-5", "wide", " 90 "])
+def test_the_help_is_as_wide_as_argparse_makes_it(columns: str | None, monkeypatch: pytest.MonkeyPatch) -> None:
+    import shutil
+
+    from drivetrain.cli import _help_width, build_parser
+
+    if columns is None:
+        monkeypatch.delenv("COLUMNS", raising=False)
+    else:
+        monkeypatch.setenv("COLUMNS", columns)
+    assert _help_width() == shutil.get_terminal_size().columns - 2
+    parser = build_parser()
+    assert parser._get_formatter()._width == argparse_width()  # the sub-parsers are of the same class
+    assert all(type(p) is type(parser) for p in parser._subparsers._group_actions[0].choices.values())
+
+
+def argparse_width() -> int:
+    """What argparse's own formatter takes."""
+    import argparse
+
+    return argparse.HelpFormatter("drivetrain")._width
