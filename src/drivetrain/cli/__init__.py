@@ -109,7 +109,8 @@ class _Parser(argparse.ArgumentParser):
     4 ms of a ``size``. The sub-parsers are of this class too (``add_subparsers`` makes its parser's own)."""
 
     def _get_formatter(self) -> argparse.HelpFormatter:
-        return self.formatter_class(prog=self.prog, width=_help_width())
+        # every argparse formatter class takes the width (HelpFormatter.__init__); typeshed's protocol names prog only
+        return self.formatter_class(prog=self.prog, width=_help_width())  # type: ignore[call-arg]
 
 
 def _help_width() -> int:
@@ -122,9 +123,10 @@ def _help_width() -> int:
     except (KeyError, ValueError):
         columns = 0
     if columns <= 0:
+        out = sys.__stdout__
         try:
-            columns = os.get_terminal_size(sys.__stdout__.fileno()).columns or 80
-        except (AttributeError, ValueError, OSError):  # no standard output, closed, or not a terminal
+            columns = (os.get_terminal_size(out.fileno()).columns if out is not None else 0) or 80
+        except (AttributeError, ValueError, OSError):  # closed, detached, or not a terminal
             columns = 80
     return columns - 2
 
