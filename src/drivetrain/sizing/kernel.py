@@ -407,8 +407,19 @@ def closest_failing(worst: NDArray[np.float64], failed: NDArray[Any], n: int) ->
     failing = np.flatnonzero(failed != 0)
     key = np.where(np.isnan(worst[failing]), -np.inf, worst[failing])
     if len(failing) > n:
+        # first a lower bound of the n-th largest key: the n-th largest of the maxima of blocks of keys (at least
+        # n blocks, so n distinct keys reach it); only the keys at or above it can be among the n largest, and
+        # numpy's partition of all of them is slow where many are equal (3-12 ms for ball_screw's 180,000)
+        step = max(1, min(256, len(key) // n))
+        tops = np.maximum.reduceat(key, np.arange(0, len(key), step))
+        keep = key >= np.partition(tops, len(tops) - n)[len(tops) - n]
+        failing, key = failing[keep], key[keep]
+    if len(failing) > n:
         nth = np.partition(key, len(key) - n)[len(key) - n]  # the n-th largest key: no later one can be better
-        keep = key >= nth
+        # every key above it, and of those equal to it the first ones in index order (a stable sort puts them
+        # so): n in all, however many candidates share the n-th key (thousands may, e.g. -inf)
+        keep = key > nth
+        keep[np.flatnonzero(key == nth)[:n - int(np.count_nonzero(keep))]] = True
         failing, key = failing[keep], key[keep]
     return failing[np.argsort(-key, kind="stable")[:n]].astype(np.int64)
 
