@@ -117,9 +117,11 @@ def _plain_pipe() -> bool:
     return (getattr(sys.stdout, "encoding", None) or "utf-8").lower().startswith("utf")
 
 
+_CONTROL = re.compile(r"[\x00-\x09\x0b-\x1f\x7f-\x9f]")
+"""What rich would change in a table's cell: a control character or a tab (removed or expanded)."""
 _RICH_LINE = re.compile(r"[\x00-\x09\x0b-\x1f\x7f-\x9f]|:\S*?:")
-"""What rich would change in a printed line: a control character or a tab (removed or expanded) and a
-``:name:`` emoji code; a line with one is printed by rich itself."""
+"""What rich would change in a printed line: a control character or a tab, and a ``:name:`` emoji code; a
+line with one is printed by rich itself."""
 _TAG = re.compile(r"\[([a-z#/@][^[]*?)]")
 """A tag of rich's markup (``rich.markup.RE_TAGS`` without its escapes, which :func:`_markup_free` leaves
 to rich)."""
@@ -302,8 +304,8 @@ def _plain_table(title: str | None, cols: Sequence[Col], rows: Sequence[Sequence
                  show_header: bool) -> str | None:
     """The characters rich prints for this table in a pipe without colour (heavy-head box, a space of padding
     each side of a cell, every cell as wide as its column, none wrapped), or None where rich would change a
-    text (markup or an emoji code in the title or a header, a control character or a tab): rich prints
-    those. The title is printed as it is, as rich does in a pipe (its soft wrap: neither justified nor
+    text (markup or an emoji code in the title or a header, a control character or a tab anywhere): rich
+    prints those. The title is printed as it is, as rich does in a pipe (its soft wrap: neither justified nor
     wrapped), so ``title_justify`` is not needed."""
     if not cols or min(widths) < 1:
         return None
@@ -323,7 +325,7 @@ def _plain_table(title: str | None, cols: Sequence[Col], rows: Sequence[Sequence
         body.append((names, box[1]))
     body += [(tuple(r), box[3] if show_header or k else box[1]) for k, r in enumerate(rows)]
     for k, (cells, edges) in enumerate(body):
-        if any(_RICH_LINE.search(c.replace("\n", " ")) for c in cells):
+        if any(_CONTROL.search(c.replace("\n", " ")) for c in cells):  # a cell is rich text: no markup, no emoji
             return None
         parts = [_plain_cell(c, w, col.right) for c, w, col in zip(cells, widths, cols, strict=True)]
         for line in range(max(len(p) for p in parts)):
