@@ -149,9 +149,10 @@ def _summarise(mar: list[Array], slow: NDArray[np.bool_], k: NDArray[np.int64], 
         gap = np.isnan(x)
         if c == PEAK:
             gap &= ~slow  # a motor too slow for the top bin is not judged on peak torque: max_speed fails
-        bits |= (x < 0.0).astype(np.uint16) << np.uint16(c)
-        gaps |= gap.astype(np.uint16) << np.uint16(c)
-        w = np.fmin(w, x)  # the smallest known margin, NaN if none is known
+        bit = np.uint16(1 << c)
+        bits |= np.less(x, 0.0) * bit
+        gaps |= gap * bit
+        np.fmin(w, x, out=w)  # the smallest known margin, NaN if none is known
     zero = np.flatnonzero(w.ravel() == 0.0)
     if len(zero):  # the first of the checks at zero gives the sign (0.0 or -0.0), as a loop over them would
         flat = np.stack([np.broadcast_to(x, k.shape).ravel()[zero] for x in mar])
