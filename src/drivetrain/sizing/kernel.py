@@ -322,7 +322,7 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     else:
         assert fits is not None
         table, at_motor, at_row = fits
-        mar_f = table[at_motor[m[:, 0]][:, None], at_row[q[0]][None, :]]
+        mar_f = table.take(at_motor[m[:, 0]], axis=0).take(at_row[q[0]], axis=1)  # rows, then columns: faster
     # gearbox: what passes at the motor's peak against the emergency-stop torque
     req_ge = np.where(direct, 0.0, ((1.0 - j / (j + j_l)) * (t_pk - t_l) + t_l) * i * g_eff[g])
     mar_ge = np.where(np.isnan(r_t2not), _NAN, np.where(direct, _INF, _over(r_t2not, req_ge)))
