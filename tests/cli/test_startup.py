@@ -58,6 +58,24 @@ def test_a_size_loads_no_study_web_report_or_unit_registry(tmp_path: Path) -> No
     assert out["modules"] == []
 
 
+TEXT_PROBE = """
+import contextlib, io, json, sys
+from drivetrain.cli import main
+with contextlib.redirect_stdout(io.StringIO()):  # a pipe: the tables without rich (test_terminal.py)
+    code = main(["size", sys.argv[1]])
+print(json.dumps({"code": code, "rich": sorted(m for m in sys.modules if m.split(".")[0] == "rich")}))
+"""
+
+
+def test_a_size_in_a_pipe_imports_no_rich(tmp_path: Path) -> None:
+    env = {k: v for k, v in os.environ.items() if k not in ("FORCE_COLOR", "TTY_COMPATIBLE", "COLUMNS")}
+    env.update({"PYTHONPATH": str(ROOT / "src"), "DRIVETRAIN_CACHE_DIR": str(tmp_path)})
+    run = [sys.executable, "-c", TEXT_PROBE, str(ROOT / "examples" / "ball_screw.yaml")]
+    out = json.loads(subprocess.run(run, env=env, capture_output=True, text=True, check=True).stdout.splitlines()[-1])
+    assert out["code"] in (0, 1)
+    assert out["rich"] == []
+
+
 def test_a_catalog_record_is_the_callers_own_copy() -> None:
     first = catalog.get("SGM7J-04A")
     first["rated_torque_Nm"] = -1.0
@@ -70,10 +88,12 @@ def test_the_tables_without_highlighting_are_the_same_characters(capsys: pytest.
                                                                  monkeypatch: pytest.MonkeyPatch) -> None:
     import rich.console
 
+    from drivetrain import terminal
     from drivetrain.cli import sizing
     from drivetrain.cli.quantities import TableUnits
     from drivetrain.sizing.pipeline import size
 
+    monkeypatch.setattr(terminal, "_plain_pipe", lambda: False)  # rich's console (the plain one: test_terminal)
     result = size(ROOT / "examples" / "ball_screw.yaml")
     assert sizing.table_console().color_system is None  # captured: no colour, no highlighting
     sizing.print_sizing(result, TableUnits("si", result.axis.raw))
@@ -82,3 +102,26 @@ def test_the_tables_without_highlighting_are_the_same_characters(capsys: pytest.
     monkeypatch.setattr(rich.console, "Console", lambda **kw: default(**{**kw, "highlight": True}))
     sizing.print_sizing(result, TableUnits("si", result.axis.raw))
     assert capsys.readouterr().out == plain
+
+
+@pytest.mark.parametrize("columns", [None, "100", "37", "0", "-5", "wide", " 90 "])
+def test_the_help_is_as_wide_as_argparse_makes_it(columns: str | None, monkeypatch: pytest.MonkeyPatch) -> None:
+    import shutil
+
+    from drivetrain.cli import _help_width, build_parser
+
+    if columns is None:
+        monkeypatch.delenv("COLUMNS", raising=False)
+    else:
+        monkeypatch.setenv("COLUMNS", columns)
+    assert _help_width() == shutil.get_terminal_size().columns - 2
+    parser = build_parser()
+    assert parser._get_formatter()._width == argparse_width()  # the sub-parsers are of the same class
+    assert all(type(p) is type(parser) for p in parser._subparsers._group_actions[0].choices.values())
+
+
+def argparse_width() -> int:
+    """What argparse's own formatter takes."""
+    import argparse
+
+    return argparse.HelpFormatter("drivetrain")._width

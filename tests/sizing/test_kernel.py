@@ -380,6 +380,19 @@ def test_no_closest_failing_when_none_is_asked_for() -> None:
     assert closest_failing(np.array([-1.0, np.nan, -0.5]), np.array([1, 1, 1], dtype=np.uint8), 5).tolist() == [2, 0, 1]
 
 
+@given(st.lists(st.sampled_from([-0.5, -0.25, -0.2, -0.1, 0.0, 0.3, -np.inf, np.nan]), min_size=1, max_size=3000),
+       st.integers(1, 60), st.integers(0, 2**32 - 1))
+@settings(max_examples=200, deadline=None)
+def test_closest_failing_is_the_stable_sort_with_many_ties(worst: list[float], n: int, seed: int) -> None:
+    """The block bound and the ties at the n-th key give the first n of a stable sort of every failure."""
+    w = np.array(worst)
+    failed = np.random.default_rng(seed).integers(0, 2, len(w)).astype(np.uint16)
+    failing = np.flatnonzero(failed)
+    key = np.where(np.isnan(w[failing]), -np.inf, w[failing])
+    want = failing[np.argsort(-key, kind="stable")][:n]
+    assert closest_failing(w, failed, n).tolist() == want.tolist()
+
+
 OWN_PROCESS = textwrap.dedent("""
     import json, sys
     from drivetrain.cli import main

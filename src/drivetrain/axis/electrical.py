@@ -21,7 +21,6 @@ import io
 import math
 from dataclasses import asdict, dataclass, field, replace
 from functools import lru_cache
-from importlib import resources
 from typing import Annotated, Any, Literal
 
 from pydantic import Field, model_validator
@@ -360,6 +359,7 @@ ELECTRICAL_FILE = "motors_ac_servo_electrical.csv"
 @lru_cache(maxsize=1)
 def _shipped_rows() -> dict[str, dict[str, str]]:
     import csv  # only where the shipped electrical table is read
+    from importlib import resources
 
     text = resources.files("drivetrain.catalog").joinpath("data", ELECTRICAL_FILE).read_text(encoding="utf-8")
     return {row["id"]: row for row in csv.DictReader(io.StringIO(text))}

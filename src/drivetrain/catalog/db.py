@@ -24,7 +24,6 @@ import re
 import sys
 import time
 from collections.abc import Iterator, Sequence
-from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -74,7 +73,7 @@ def data_dir() -> Path:
     """The folder holding both databases: $DRIVETRAIN_DATA_DIR, else the platform's user data folder."""
     env = os.environ.get(ENV_DATA_DIR)
     if env:
-        return Path(env).expanduser().resolve()
+        return _resolved(Path(env).expanduser())
     home = Path.home()
     if sys.platform == "win32":
         base = Path(os.environ.get("LOCALAPPDATA") or home / "AppData" / "Local")
@@ -82,7 +81,21 @@ def data_dir() -> Path:
         base = home / "Library" / "Application Support"
     else:
         base = Path(os.environ.get("XDG_DATA_HOME") or home / ".local" / "share")
-    return (base / "drivetrain").resolve()
+    return _resolved(base / "drivetrain")
+
+
+_RESOLVED: dict[Path, Path] = {}
+
+
+def _resolved(path: Path) -> Path:
+    """``path.resolve()``, once per path in a process: every catalog query asks for the data folder (a
+    sizing makes about 50), and resolving reads each component's link status from the file system."""
+    hit = _RESOLVED.get(path)
+    if hit is None:
+        if len(_RESOLVED) > 64:
+            _RESOLVED.clear()
+        hit = _RESOLVED[path] = path.resolve()
+    return hit
 
 
 def user_db_path(directory: Path | None = None) -> Path:
@@ -103,6 +116,8 @@ def build_stamp() -> str:
                                                          MOTOR_DOCUMENTS_FILE, BRAKES_FILE]:
         digest.update(name.encode())
         digest.update(shipped_text(name).encode())
+    from importlib import resources  # only at a build check: its import brings tempfile and shutil
+
     for module in RULE_MODULES:  # the derived values and voltage classes are computed at the build
         digest.update(module.encode() + resources.files("drivetrain.catalog").joinpath(module).read_bytes())
     return f"{DATA_VERSION}/schema-{SCHEMA_VERSION}/{digest.hexdigest()[:16]}"

@@ -6,7 +6,6 @@ documents of re-sourced rows; and the reading of every shipped data file.
 from __future__ import annotations
 
 import math
-from importlib import resources
 from typing import Any
 
 from drivetrain.catalog.derive import DERIVED_KT
@@ -20,7 +19,10 @@ from drivetrain.catalog.schema import (
 
 
 def shipped_text(filename: str) -> str:
-    """Text of a file shipped in drivetrain/catalog/data (read through importlib.resources)."""
+    """Text of a file shipped in drivetrain/catalog/data (read through importlib.resources, imported here: a
+    warm sizing reads none, and its import brings tempfile and shutil)."""
+    from importlib import resources
+
     return resources.files("drivetrain.catalog").joinpath("data", filename).read_text(encoding="utf-8")
 
 

@@ -61,7 +61,11 @@ class _Table:
 
     @classmethod
     def _column(cls, name: str) -> str:
-        return next((f.column for f in cls.SPEC.fields if f.name == name), name)
+        key = (cls, name)
+        column = _COLUMNS.get(key)
+        if column is None:  # looked up once per table class and field: ``row`` asks for every field of each row
+            column = _COLUMNS[key] = next((f.column for f in cls.SPEC.fields if f.name == name), name)
+        return column
 
     @classmethod
     def from_rows(cls, rows: Sequence[dict[str, Any]], **extra: Any) -> Self:
@@ -89,6 +93,8 @@ class _Table:
 
 
 _KEYS = {"ids": "id"}
+_COLUMNS: dict[tuple[type, str], str] = {}
+"""The database column of each table class's field (``_column``)."""
 
 
 def _take(value: Any, idx: NDArray[Any]) -> Any:

@@ -37,7 +37,7 @@ CORE_COMMANDS = ("size", "select", "modes", "simulate", "machine")
 def build_parser(optional: bool = True) -> argparse.ArgumentParser:
     """The argument parser with every sub-command (``optional=False``: only ``CORE_COMMANDS``, so a
     ``size`` does not import the study, web and catalog command modules to build its parser)."""
-    parser = argparse.ArgumentParser(prog="drivetrain", description="Size and analyse servo axes.")
+    parser = _Parser(prog="drivetrain", description="Size and analyse servo axes.")
     parser.add_argument("--version", action="store_true", help="print the version and exit")
     parser.add_argument("--catalog", dest="user_catalog", metavar="FILE.sqlite",
                         help="your catalog file, e.g. one a team shares (default: $DRIVETRAIN_CATALOG, else "
@@ -101,6 +101,34 @@ def build_parser(optional: bool = True) -> argparse.ArgumentParser:
         _optional_parser(sub, "drivetrain.web.cli")
         _optional_parser(sub, "drivetrain.study.cli")
     return parser
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse's parser whose help formatters are told the width (:func:`_help_width`): argparse makes one
+    for every argument added, and one left to find the width imports shutil (with bz2 and lzma) for it,
+    4 ms of a ``size``. The sub-parsers are of this class too (``add_subparsers`` makes its parser's own)."""
+
+    def _get_formatter(self) -> argparse.HelpFormatter:
+        # every argparse formatter class takes the width (HelpFormatter.__init__); typeshed's protocol names prog only
+        return self.formatter_class(prog=self.prog, width=_help_width())  # type: ignore[call-arg]
+
+
+def _help_width() -> int:
+    """The width argparse's help formatter takes when not told: ``shutil.get_terminal_size().columns - 2``
+    (``COLUMNS`` when a positive number, else the terminal's width, else 80), read as shutil reads it."""
+    import os
+
+    try:
+        columns = int(os.environ["COLUMNS"])
+    except (KeyError, ValueError):
+        columns = 0
+    if columns <= 0:
+        out = sys.__stdout__
+        try:
+            columns = (os.get_terminal_size(out.fileno()).columns if out is not None else 0) or 80
+        except (AttributeError, ValueError, OSError):  # closed, detached, or not a terminal
+            columns = 80
+    return columns - 2
 
 
 def _command(argv: Sequence[str]) -> str | None:

@@ -128,9 +128,10 @@ def check(model: tuple[Any, ...], row_start: NDArray[np.int64], rows: NDArray[np
         g = group[None, :]
         at_slot = (first[group] + q[0] - row_start[group])[None, :]
         step = max(1, BLOCK // max(n_slots, 1))
+        fits = _fit_table(model, rows, np.arange(n_motors)[:, None], q)  # the same for every block of motors
         for lo in range(0, n_motors, step):
             m = np.arange(lo, min(lo + step, n_motors))[:, None]
-            mar, slow = _block(model, rows, m, g, q, False)
+            mar, slow = _block(model, rows, m, g, q, False, fits)
             k = at_slot + m * width[group][None, :]
             _summarise(mar, slow, k, m, q, motor, slot, worst, failed, unknown)
 
@@ -148,9 +149,10 @@ def _summarise(mar: list[Array], slow: NDArray[np.bool_], k: NDArray[np.int64], 
         gap = np.isnan(x)
         if c == PEAK:
             gap &= ~slow  # a motor too slow for the top bin is not judged on peak torque: max_speed fails
-        bits |= (x < 0.0).astype(np.uint16) << np.uint16(c)
-        gaps |= gap.astype(np.uint16) << np.uint16(c)
-        w = np.fmin(w, x)  # the smallest known margin, NaN if none is known
+        bit = np.uint16(1 << c)
+        bits |= np.less(x, 0.0) * bit
+        gaps |= gap * bit
+        np.fmin(w, x, out=w)  # the smallest known margin, NaN if none is known
     zero = np.flatnonzero(w.ravel() == 0.0)
     if len(zero):  # the first of the checks at zero gives the sign (0.0 or -0.0), as a loop over them would
         flat = np.stack([np.broadcast_to(x, k.shape).ravel()[zero] for x in mar])
@@ -240,10 +242,13 @@ def _over(num: Array, den: Array) -> Array:
 
 
 def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64], g: NDArray[np.int64],
-           q: NDArray[np.int64], listed: bool) -> tuple[Any, Any]:
+           q: NDArray[np.int64], listed: bool,
+           fits: tuple[Array, NDArray[np.intp], NDArray[np.intp]] | None = None) -> tuple[Any, Any]:
     """Candidates (motor m, group g, slot q; listed: 1-D, grid: motors as a column, slots as a row):
     listed, their margins (N_CHECKS, n) and detail vectors (N_DETAIL, n); grid, each check's margins
-    (broadcast over motors and slots) and whether each motor is too slow for the cycle's top bin."""
+    (broadcast over motors and slots) and whether each motor is too slow for the cycle's top bin.
+    ``fits`` (grid): the mechanical fit of every motor and slot (:func:`_fit_table`), computed once for
+    all blocks."""
     (j_rotor, t_peak, w_max, m_shaft, m_flange, m_pilot, m_bolt, m_brake, cont_mean, full_row, env_full, g_ratio,
      g_eff, hull_speed, hull_t, hull_a, all_t, all_a, sums, g_speed, g_j_load, gb_j, gb_nmax, gb_nmean, gb_t2n, gb_t2b,
      gb_t2not, gb_bore_max, gb_bore_min, gb_flange, gb_pilot, gb_adapters, gb_f2r, gb_f2a, par) = model
@@ -310,15 +315,14 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     # inertia ratio, the gearbox's input inertia on the load side
     ir = (j_l + r_j) / j_m
     mar_i = np.where(ir > 0.0, limit / ir - 1.0, _INF)
-    # mechanical fit: once per distinct motor (shaft, flange, pilot, bolt circle) and gearbox input (bores,
-    # flange, pilot, drawn adapters), then looked up: it depends on nothing else
-    motor_dims, at_motor = _distinct(np.stack([x.ravel() for x in (sh, fl_m, pi_m, bc_m)], axis=1))
-    flat = [x.ravel() for x in (r_bmax, r_bmin, r_fl, r_pi, direct)]
-    row_dims, at_row = _distinct(np.concatenate([np.stack(flat, axis=1), r_ad.reshape(len(flat[0]), -1)], axis=1))
-    md, rd = motor_dims.T[:, :, None], row_dims.T[:5, None, :]
-    fits = _fit(md[0], md[1], md[2], md[3], rd[0], rd[1], rd[2], rd[3], rd[4],
-                row_dims[None, :, 5:].reshape(1, len(row_dims), -1, 3))
-    mar_f = fits[at_motor.reshape(sh.shape), at_row.reshape(r_bmax.shape)]
+    # mechanical fit: it depends on the motor's and the gearbox input's dimensions alone. Listed candidates
+    # (few) each get theirs; the grid looks it up in the table of every motor and slot (``fits``)
+    if listed:
+        mar_f = _fit(sh, fl_m, pi_m, bc_m, r_bmax, r_bmin, r_fl, r_pi, direct, r_ad.reshape(*shape, -1, 3))
+    else:
+        assert fits is not None
+        table, at_motor, at_row = fits
+        mar_f = table.take(at_motor[m[:, 0]], axis=0).take(at_row[q[0]], axis=1)  # rows, then columns: faster
     # gearbox: what passes at the motor's peak against the emergency-stop torque
     req_ge = np.where(direct, 0.0, ((1.0 - j / (j + j_l)) * (t_pk - t_l) + t_l) * i * g_eff[g])
     mar_ge = np.where(np.isnan(r_t2not), _NAN, np.where(direct, _INF, _over(r_t2not, req_ge)))
@@ -346,6 +350,29 @@ def _block(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64]
     out[2 * N_CHECKS:3 * N_CHECKS] = mar
     out[D_RMS], out[D_PEAK], out[D_INERTIA] = rms, peak_all, ir
     return mar, out
+
+
+def _fit_table(model: tuple[Any, ...], rows: NDArray[np.int64], m: NDArray[np.int64],
+               q: NDArray[np.int64]) -> tuple[Array, NDArray[np.intp], NDArray[np.intp]]:
+    """The mechanical fit of motors ``m`` (a column) onto slots ``q`` (a row) as a table: its values once per
+    distinct motor (shaft, flange, pilot, bolt circle) and distinct gearbox input (bores, flange, pilot,
+    drawn adapters), and each motor's and slot's index into it."""
+    m_shaft, m_flange, m_pilot, m_bolt = model[3], model[4], model[5], model[6]
+    gb_bore_max, gb_bore_min, gb_flange, gb_pilot, gb_adapters = model[27], model[28], model[29], model[30], model[31]
+    r = rows[q[0]] + 1  # the gearbox row of each slot, the direct drive's (index 0) first, as in _block
+
+    def row(col: Array, none: float) -> Array:
+        return np.concatenate([[none], col])[r]
+
+    flat = [row(gb_bore_max, _INF), row(gb_bore_min, _NAN), row(gb_flange, _NAN), row(gb_pilot, _NAN), r == 0]
+    r_ad = np.concatenate([np.full((1, gb_adapters.shape[1]), _NAN), gb_adapters])[r]
+    mm = m[:, 0]
+    motor_dims, at_motor = _distinct(np.stack([m_shaft[mm], m_flange[mm], m_pilot[mm], m_bolt[mm]], axis=1))
+    row_dims, at_row = _distinct(np.concatenate([np.stack(flat, axis=1), r_ad.reshape(len(r), -1)], axis=1))
+    md, rd = motor_dims.T[:, :, None], row_dims.T[:5, None, :]
+    table = _fit(md[0], md[1], md[2], md[3], rd[0], rd[1], rd[2], rd[3], rd[4],
+                 row_dims[None, :, 5:].reshape(1, len(row_dims), -1, 3))
+    return table, at_motor, at_row
 
 
 _SENTINEL = -1.0
@@ -381,8 +408,19 @@ def closest_failing(worst: NDArray[np.float64], failed: NDArray[Any], n: int) ->
     failing = np.flatnonzero(failed != 0)
     key = np.where(np.isnan(worst[failing]), -np.inf, worst[failing])
     if len(failing) > n:
+        # first a lower bound of the n-th largest key: the n-th largest of the maxima of blocks of keys (at least
+        # n blocks, so n distinct keys reach it); only the keys at or above it can be among the n largest, and
+        # numpy's partition of all of them is slow where many are equal (3-12 ms for ball_screw's 180,000)
+        step = max(1, min(256, len(key) // n))
+        tops = np.maximum.reduceat(key, np.arange(0, len(key), step))
+        keep = key >= np.partition(tops, len(tops) - n)[len(tops) - n]
+        failing, key = failing[keep], key[keep]
+    if len(failing) > n:
         nth = np.partition(key, len(key) - n)[len(key) - n]  # the n-th largest key: no later one can be better
-        keep = key >= nth
+        # every key above it, and of those equal to it the first ones in index order (a stable sort puts them
+        # so): n in all, however many candidates share the n-th key (thousands may, e.g. -inf)
+        keep = key > nth
+        keep[np.flatnonzero(key == nth)[:n - int(np.count_nonzero(keep))]] = True
         failing, key = failing[keep], key[keep]
     return failing[np.argsort(-key, kind="stable")[:n]].astype(np.int64)
 
