@@ -23,6 +23,7 @@ from drivetrain.dynamics import (
     two_mass_chain,
 )
 from drivetrain.dynamics.friction import friction_torque_exponential, friction_torque_tanh
+from drivetrain.dynamics.kernel_io import default_step
 from drivetrain.dynamics.linear import second_order_step
 from drivetrain.dynamics.simulation import simulate_linear_exact
 from drivetrain.dynamics.simulation_result import chain_energy
@@ -286,8 +287,9 @@ def test_sweep_of_a_three_mass_chain_matches_single_runs() -> None:
     ref = move_reference(2.0, 50.0, 1000.0, dwell=0.05)
     kk = np.array([[500.0, 800.0], [400.0, 900.0]])
     out = sweep(chain, loop, ref, stiffness=kk)
+    h = default_step(chain.with_(stiffness=kk.max(axis=0)), loop)  # sweep's step (simulate's own is refined)
     for s in range(2):
-        single = simulate(chain.with_(stiffness=kk[s]), loop, ref, check_stability=False)
+        single = simulate(chain.with_(stiffness=kk[s]), loop, ref, step=h, check_stability=False)
         assert out["max_load_error_rad"][s] == pytest.approx(single.max_load_error, rel=1e-9)
         assert out["peak_shaft_torque_Nm"][s] == pytest.approx(single.peak_shaft_torque, rel=1e-9)
         assert out["energy_J"][s] == pytest.approx(single.energy, rel=1e-9)
