@@ -337,3 +337,17 @@ def test_a_given_step_is_kept_and_reported() -> None:
     assert given.to_dict()["step_s"] == h0 / 2
     auto = simulate(chain, loop, ref)
     assert auto.step_converged is True and auto.step in {h0 / 2**k for k in range(1, 6)}
+
+
+def test_a_step_refined_as_far_as_allowed_without_agreeing_says_so(monkeypatch: pytest.MonkeyPatch) -> None:
+    from drivetrain.dynamics import simulation
+
+    fr = Friction(coulomb=0.02, static=0.03, viscous=1e-5, stribeck_speed=1.0)
+    chain = two_mass_chain(1e-4, 5e-4, 2000.0, damping=0.002, backlash=1e-3).with_(friction=(None, fr))
+    loop = tune(chain)
+    ref = move_reference(2.0, 50.0, 1000.0, dwell=0.15, repeat=2)
+    monkeypatch.setattr(simulation, "MAX_REFINEMENT", 2)  # this case needs default_step / 4
+    res = simulate(chain, loop, ref, settle_tolerance=3e-4)
+    assert res.step == default_step(chain, loop) / 2
+    assert res.step_converged is False
+    assert res.to_dict()["step_converged"] is False
