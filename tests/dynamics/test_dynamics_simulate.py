@@ -23,6 +23,7 @@ from drivetrain.dynamics import (
     two_mass_chain,
 )
 from drivetrain.dynamics.friction import friction_torque_exponential, friction_torque_tanh
+from drivetrain.dynamics.kernel_io import default_step
 from drivetrain.dynamics.linear import second_order_step
 from drivetrain.dynamics.simulation import simulate_linear_exact
 from drivetrain.dynamics.simulation_result import chain_energy
@@ -286,8 +287,67 @@ def test_sweep_of_a_three_mass_chain_matches_single_runs() -> None:
     ref = move_reference(2.0, 50.0, 1000.0, dwell=0.05)
     kk = np.array([[500.0, 800.0], [400.0, 900.0]])
     out = sweep(chain, loop, ref, stiffness=kk)
+    h = default_step(chain.with_(stiffness=kk.max(axis=0)), loop)  # sweep's step (simulate's own is refined)
     for s in range(2):
-        single = simulate(chain.with_(stiffness=kk[s]), loop, ref, check_stability=False)
+        single = simulate(chain.with_(stiffness=kk[s]), loop, ref, step=h, check_stability=False)
         assert out["max_load_error_rad"][s] == pytest.approx(single.max_load_error, rel=1e-9)
         assert out["peak_shaft_torque_Nm"][s] == pytest.approx(single.peak_shaft_torque, rel=1e-9)
         assert out["energy_J"][s] == pytest.approx(single.energy, rel=1e-9)
+
+
+def _settling_agrees(a: np.ndarray, b: np.ndarray, sample: float) -> bool:
+    """Settling times agree within simulate's stated tolerance: 2 % or one position-loop sample."""
+    if a.shape != b.shape or np.any(np.isnan(a) != np.isnan(b)):
+        return False
+    ok = ~np.isnan(b)
+    return bool(np.all(np.abs(a[ok] - b[ok]) <= np.maximum(0.02 * b[ok], sample)))
+
+
+def test_automatic_step_settling_agrees_with_a_four_times_finer_run() -> None:
+    # a compliant chain with backlash and load friction, settling into a window a third of the play:
+    # at default_step (step x omega_max <= 0.2) the second stop never settles, at a 4x finer step it does
+    fr = Friction(coulomb=0.02, static=0.03, viscous=1e-5, stribeck_speed=1.0)
+    chain = two_mass_chain(1e-4, 5e-4, 2000.0, damping=0.002, backlash=1e-3).with_(friction=(None, fr))
+    loop = tune(chain)
+    ref = move_reference(2.0, 50.0, 1000.0, dwell=0.15, repeat=2)
+    window = 3e-4
+    h0 = default_step(chain, loop)
+    plain = simulate(chain, loop, ref, step=h0, settle_tolerance=window)
+    plain_fine = simulate(chain, loop, ref, step=h0 / 4, settle_tolerance=window)
+    assert not _settling_agrees(plain.settling_time, plain_fine.settling_time, loop.position_sample_time)
+
+    auto = simulate(chain, loop, ref, settle_tolerance=window)
+    assert auto.step_converged is True
+    assert auto.step < h0
+    finer = simulate(chain, loop, ref, step=auto.step / 4, settle_tolerance=window)
+    assert np.all(~np.isnan(finer.settling_time))
+    assert _settling_agrees(auto.settling_time, finer.settling_time, loop.position_sample_time)
+    for got, want in ((auto.max_following_error, finer.max_following_error),
+                      (auto.max_load_error, finer.max_load_error)):
+        assert abs(got - want) <= max(0.02 * want, 0.02 * window)
+
+
+def test_a_given_step_is_kept_and_reported() -> None:
+    chain = two_mass_chain(1e-4, 5e-4, 500.0, damping=0.002)
+    loop = tune(chain)
+    ref = move_reference(1.0, 50.0, 1000.0, dwell=0.05)
+    h0 = default_step(chain, loop)
+    given = simulate(chain, loop, ref, step=h0 / 2)
+    assert given.step == h0 / 2 and given.step_converged is None
+    assert given.to_dict()["step_s"] == h0 / 2
+    auto = simulate(chain, loop, ref)
+    assert auto.step_converged is True and auto.step in {h0 / 2**k for k in range(1, 6)}
+
+
+def test_a_step_refined_as_far_as_allowed_without_agreeing_says_so(monkeypatch: pytest.MonkeyPatch) -> None:
+    from drivetrain.dynamics import simulation
+
+    fr = Friction(coulomb=0.02, static=0.03, viscous=1e-5, stribeck_speed=1.0)
+    chain = two_mass_chain(1e-4, 5e-4, 2000.0, damping=0.002, backlash=1e-3).with_(friction=(None, fr))
+    loop = tune(chain)
+    ref = move_reference(2.0, 50.0, 1000.0, dwell=0.15, repeat=2)
+    monkeypatch.setattr(simulation, "MAX_REFINEMENT", 2)  # this case needs default_step / 4
+    res = simulate(chain, loop, ref, settle_tolerance=3e-4)
+    assert res.step == default_step(chain, loop) / 2
+    assert res.step_converged is False
+    assert res.to_dict()["step_converged"] is False

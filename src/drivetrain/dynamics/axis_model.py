@@ -359,7 +359,10 @@ def simulate_axis(axis: Axis, *, cycles: int | None = None, step: float | None =
     # settling is judged at the load against its window (requirements.settling.window or the default)
     window = settling_window(axis.spec.requirements, axis.mechanism.motion) * ratio
     try:
-        return simulate(chain, loop, ref, load_torque=load_torque, step=h, settle_tolerance=window)
+        # the automatic step is simulate's own: refined until settling and errors converge
+        automatic = step is None and "step" not in block
+        return simulate(chain, loop, ref, load_torque=load_torque, step=None if automatic else h,
+                        settle_tolerance=window)
     except InputError as exc:
         # The step is the user's dynamics.step (or the automatic one): name the key of the file.
         if "step" in block and step is None and exc.field == "simulation.step":

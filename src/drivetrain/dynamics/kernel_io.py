@@ -225,4 +225,6 @@ def result(chain: Chain, loop: ServoLoop, h: float, rec_every: int, rec: FloatAr
         states[f"shaft_torque_{k}"] = rec[2 * n + k]
     states["following_error"] = rec[3 * n + 1]
     states["load_error"] = ref_pos - rec[n - 1]
-    return SimulationResult(time, states, chain, loop, tol, metrics)
+    res = SimulationResult(time, states, chain, loop, tol, metrics)
+    res.step = h
+    return res

@@ -62,6 +62,12 @@ __all__ = ["simulate", "simulate_linear_exact", "simulate_open_loop", "sweep"]
 FloatArray = NDArray[np.float64]
 
 
+STEP_TOLERANCE = 0.02
+"""The automatic step's convergence test: relative agreement of settling times and largest errors."""
+MAX_REFINEMENT = 32
+"""The automatic step is refined at most to ``default_step`` / this."""
+
+
 def simulate(
     chain: Chain,
     loop: ServoLoop,
@@ -77,18 +83,75 @@ def simulate(
 ) -> SimulationResult:
     """Closed-loop nonlinear simulation of ``chain`` under ``loop`` following ``reference``.
 
-    step [s] (default ``default_step``), duration [s] (default: the reference's end), load_torque
-    [N m at the motor shaft] on the last inertia (gravity, process force), ``record_every`` keeps
-    one sample in so many steps, settle_tolerance [rad] for settling times (an in-position
-    window; default 0.1 % of the largest move, at least 10 encoder counts), speed_limit [rad/s]
-    beyond which the run counts as diverged (default 100 x the reference's peak speed, at least
-    1e4). The loop is checked for
-    linear stability first (``check_stable``; InputError with a clear message); a run that still
-    diverges raises ``SimulationDivergedError`` instead of returning NaN.
+    step [s] (default: chosen by a convergence test, ``converged_step`` below), duration [s]
+    (default: the reference's end), load_torque [N m at the motor shaft] on the last inertia
+    (gravity, process force), ``record_every`` keeps one sample in so many steps (of the
+    ``default_step``'s grid when the step is automatic), settle_tolerance [rad] for settling times
+    (an in-position window; default 0.1 % of the largest move, at least 10 encoder counts),
+    speed_limit [rad/s] beyond which the run counts as diverged (default 100 x the reference's peak
+    speed, at least 1e4). The loop is checked for linear stability first (``check_stable``;
+    InputError with a clear message); a run that still diverges raises ``SimulationDivergedError``
+    instead of returning NaN.
+
+    Automatic step: semi-implicit Euler is first order in h for the figures read here (Hairer,
+    Lubich, Wanner, *Geometric Numerical Integration*, 2nd ed. (2006), sec. II.1, Theorem 1.1 with
+    order 1; sec. VI.3 for the scheme), so a figure F(h) = F* + C h + O(h^2) and
+    |F(h) - F(h/2)| estimates the error of F(h/2) (Richardson's estimate; Hairer, Norsett, Wanner,
+    *Solving Ordinary Differential Equations I*, 2nd ed. (1993), sec. II.4, "Richardson
+    extrapolation"). The run starts at ``default_step`` (step x omega_max <= 0.2, well inside the
+    stability bound 2) and halves the step until two successive runs agree (``_agree``): every
+    settling time within ``STEP_TOLERANCE`` or one position-loop sample, whichever is larger (both
+    "never settles" also agree), and the largest following and load errors within
+    ``STEP_TOLERANCE`` or ``STEP_TOLERANCE`` x the settling window. The finer run is returned;
+    ``result.step`` is its step and ``result.step_converged`` says whether the test passed (False:
+    ``MAX_REFINEMENT`` or the memory limit was reached first; the figures are the finest run's).
+    Refined runs record on the first run's grid, so their memory grows only by the reference.
+    Measured on the shipped examples: bench/RESULTS.md, "Simulation step".
     """
     if check_stability and chain.n >= 1:
         check_stable(chain, loop)
-    h = default_step(chain, loop) if step is None else float(step)
+    if step is not None:
+        res = _simulate_at(chain, loop, reference, float(step), duration, load_torque, record_every,
+                           settle_tolerance, speed_limit)
+        res.step, res.step_converged = float(step), None
+        return res
+    h0 = default_step(chain, loop)
+    coarse = _simulate_at(chain, loop, reference, h0, duration, load_torque, record_every, settle_tolerance,
+                          speed_limit)
+    tol = coarse.settle_tolerance
+    coarse.step, coarse.step_converged = h0, False
+    k = 2
+    while k <= MAX_REFINEMENT:
+        t_end = float(reference.time[-1]) if duration is None else float(duration)
+        if round(t_end / (h0 / k)) > max_steps(chain.n, record_every * k):
+            break  # the finer run would not fit in memory: keep the finest that did, not converged
+        fine = _simulate_at(chain, loop, reference, h0 / k, duration, load_torque, record_every * k, tol,
+                            speed_limit)
+        fine.step, fine.step_converged = h0 / k, _agree(coarse, fine, loop)
+        if fine.step_converged:
+            return fine
+        coarse, k = fine, 2 * k
+    return coarse
+
+
+def _agree(coarse: SimulationResult, fine: SimulationResult, loop: ServoLoop) -> bool:
+    """The figures of two runs at h and h/2 agree (``simulate``'s automatic step)."""
+    a, b = np.asarray(coarse.settling_time, dtype=float), np.asarray(fine.settling_time, dtype=float)
+    if a.shape != b.shape or np.any(np.isnan(a) != np.isnan(b)):
+        return False
+    both = ~np.isnan(b)
+    if np.any(np.abs(a[both] - b[both]) > np.maximum(STEP_TOLERANCE * b[both], loop.position_sample_time)):
+        return False
+    floor = STEP_TOLERANCE * fine.settle_tolerance
+    return all(abs(x - y) <= max(STEP_TOLERANCE * abs(y), floor)
+               for x, y in ((coarse.max_following_error, fine.max_following_error),
+                            (coarse.max_load_error, fine.max_load_error)))
+
+
+def _simulate_at(chain: Chain, loop: ServoLoop, reference: Reference, h: float, duration: float | None,
+                 load_torque: float, record_every: int, settle_tolerance: float | None,
+                 speed_limit: float | None) -> SimulationResult:
+    """One closed-loop run at step ``h`` [s] (``simulate``'s arguments)."""
     check_step(chain, h)
     n_cur, n_vel, n_pos = loop_periods(loop, h)
     t_end = float(reference.time[-1]) if duration is None else float(duration)

@@ -53,6 +53,9 @@ class SimulationResult:
         load_vibration_amplitude: the largest, over the stops, half peak-to-peak of the load error
             in the dwell after a stop [rad].
         peak_shaft_torque: per spring, max |shaft torque| [N m]; compare with the rigid sizing peak.
+        step: the integration step [s].
+        step_converged: the automatic step passed ``simulate``'s convergence test (False: it was
+            refined as far as allowed without passing; None: the step was given).
         energy: mechanical work the motor did on the chain, integral of T w_m dt [J].
         chain, loop: the models simulated.
     """
@@ -64,6 +67,8 @@ class SimulationResult:
         self.chain = chain
         self.loop = loop
         self.settle_tolerance = settle_tolerance
+        self.step = math.nan
+        self.step_converged: bool | None = None
         self.following_error = states["following_error"]
         self.load_error = states["load_error"]
         self.torque = states["torque"]
@@ -124,6 +129,8 @@ class SimulationResult:
             "peak_shaft_torque_Nm": [float(v) for v in self.peak_shaft_torque],
             "energy_J": self.energy,
             "settle_tolerance_rad": self.settle_tolerance,
+            "step_s": self.step,
+            "step_converged": self.step_converged,
         }
         if series:
             out["series"] = {"time_s": self.time.tolist(), **{k: v.tolist() for k, v in self.states.items()}}
