@@ -44,10 +44,10 @@ def test_the_shipped_example_answers_a_400_v_chain_on_its_400_v_supply() -> None
     with the reason, and motors of unknown class too (``unknown: fail``); the answer is the 400 V Siemens chain."""
     r = size(EXAMPLE)
     assert r.ok
-    sel = r.selection["selected"]
+    sel = r.selection.selected
     assert sel["motor"] == "1FT7044-5AK7" and sel["drive"].status == "ok"
     assert sel["voltage_class"]["status"] == "pass" and sel["voltage_class"]["required"] == 400.0
-    over = {p["motor"]: p["reason"] for p in r.selection["drive_passed_over"]}
+    over = {p.motor: p.reason for p in r.selection.drive_passed_over}
     assert over["SGM7J-04A"].startswith("voltage_class: a 200 V class motor on a 400 V supply")
     assert over["SGMP-03B"].startswith("voltage_class: a 100 V class motor on a 400 V supply")
     assert "voltage class is not known" in over["APM-FC04A"]
@@ -61,13 +61,13 @@ def test_a_200_v_motor_named_on_a_400_v_supply_is_passed_over_by_its_class(tmp_p
     path.write_text(text, encoding="utf-8")
     r = size(path)
     assert not r.ok  # every shipped Yaskawa servo is a 100 V or 200 V class motor
-    assert all(p["reason"].startswith("voltage_class:") for p in r.selection["drive_passed_over"])
+    assert all(p.reason.startswith("voltage_class:") for p in r.selection.drive_passed_over)
     assert "drive_advice" in r.selection
 
 
 def test_the_answer_is_a_motor_and_its_drive_with_every_electrical_check(result) -> None:  # type: ignore[no-untyped-def]
     assert result.ok
-    sel = result.selection["selected"]
+    sel = result.selection.selected
     assert sel["motor"] == "1FT7044-5AK7"
     d = sel["drive"]
     assert d.status == "ok" and d.id == "6SL312x-xTE21-0AAx" and d.basis == "vendor pairing table"
@@ -145,7 +145,7 @@ def test_without_the_supply_the_envelope_is_the_derived_one(tmp_path: Path) -> N
     text = SIEMENS_TEXT.replace("  supply_voltage: 400 V\n", "")
     path = tmp_path / "z.yaml"
     path.write_text(text, encoding="utf-8")
-    e = size(path).selection["selected"]["electrical"]
+    e = size(path).selection.selected.electrical
     # the 1FT7 rows print no voltage class; the catalog gives them the SINAMICS S120 400 V class (the series
     # rule of catalog.voltage_class), so without a supply the motor's class sets the bus and the envelope
     assert e["supply_voltage_V"] == 400.0 and e["envelope_source"] == "electrical"
@@ -154,7 +154,7 @@ def test_without_the_supply_the_envelope_is_the_derived_one(tmp_path: Path) -> N
 def test_rms_torque_is_judged_on_the_motors_own_continuous_curve(result) -> None:  # type: ignore[no-untyped-def]
     # 1FT7044-5AK7: the printed stall torque M_0 = 5 N m (Table 4-8, 100 K) now reaches the envelope; before,
     # the row had none and the 2 N m rated torque at 6000 rpm stood for the continuous torque at every speed
-    sel = result.selection["selected"]
+    sel = result.selection.selected
     rms = next(c for c in sel["checks"] if c["name"] == "rms_torque")
     mean_rpm = result.to_dict()["mean_speed_rpm"]
     t0, tn, nn = 5.0, 2.0, 6000.0  # continuous envelope: T_0 falling linearly to T_N at n_N (sizing.envelope)

@@ -127,7 +127,7 @@ def test_html_report_in_chromium_shows_numbers_checks_and_plots(ball: Any, brows
     page, seen = _open(browser, path)
     try:
         text = page.inner_text("body")
-        selected = ball.selection["selected"]
+        selected = ball.selection.selected
         assert selected["motor"] in text
         # Key numbers, formatted independently of the report code (4 significant digits).
         for value in (selected["peak_torque_Nm"], selected["rms_torque_Nm"], ball.metrics["peak_torque_Nm"],
@@ -166,7 +166,7 @@ def test_html_report_escapes_user_strings_in_the_browser(weak: Any, browser: Any
         assert seen["dialogs"] == [] and seen["errors"] == []
         assert "FAIL" in page.inner_text("#dt-verdict")
         rows = _check_rows(page)
-        for check in weak.motor["checks"]:
+        for check in weak.motor.checks:
             assert rows[CHECK_NAMES[check["name"]]] == _verdict(check)
         assert {"PASS", "FAIL"} <= set(rows.values())
         assert page.locator("#dt-axis-name b, .dt-report b:text('motor')").count() == 0
@@ -212,7 +212,7 @@ def test_pdf_report_pages_are_drawn_and_carry_the_numbers(ball: Any, tmp_path: P
         assert gray.var() > 50.0 and inked > 0.01, (page.name, gray.var(), inked)
     text = subprocess.run(["pdftotext", "-layout", str(path), "-"], capture_output=True, text=True, check=True,
                           timeout=60).stdout
-    selected = ball.selection["selected"]
+    selected = ball.selection.selected
     assert selected["motor"] in text and "Z lift" in text
     for value in (selected["peak_torque_Nm"], selected["rms_torque_Nm"], ball.metrics["peak_torque_Nm"]):
         assert f"{value:.4g}" in text, value
@@ -260,7 +260,7 @@ def test_imperial_units_switch_every_torque_and_inertia(ball: Any) -> None:
     si = render_html(ball, "si")
     imp = render_html(ball, "imperial")
     imp_body = imp[: imp.index("<script")]
-    peak = ball.selection["selected"]["peak_torque_Nm"]
+    peak = ball.selection.selected.peak_torque_Nm
     assert f"{peak * 8.850745791327187:.4g} lbf·in" in imp_body
     assert f"{peak:.4g} N·m" in si
     kpis = re.search(r'<section class="dt-kpis".*?</section>', imp_body, re.S)
