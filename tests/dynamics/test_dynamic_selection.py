@@ -36,14 +36,14 @@ def test_the_static_pick_is_passed_over_for_how_it_moves(dynamic: Any, static: A
     """The smallest motor passes torque, speed and inertia ratio, but its tuned loop on the belt has too
     little phase margin for the 45 deg asked: the next one, with more rotor inertia, is the answer."""
     pick, first = dynamic.selection.selected, static.selection.selected
-    assert pick["motor"] != first["motor"]
+    assert pick.motor != first.motor
     over = {p.motor: p for p in dynamic.selection.drive_passed_over}
-    assert over[first["motor"]]["drive_status"] == "dynamics"
-    assert over[first["motor"]]["reason"].startswith("stability_margin: velocity loop phase margin")
+    assert over[first.motor].drive_status == "dynamics"
+    assert over[first.motor].reason.startswith("stability_margin: velocity loop phase margin")
     dyn = dynamic.selection.dynamics
-    assert dyn["chosen"]["motor"] == pick["motor"] and dyn["chosen"]["status"] == "pass"
+    assert dyn["chosen"]["motor"] == pick.motor and dyn["chosen"]["status"] == "pass"
     judged = {c["motor"]: c for c in dyn["candidates"]}
-    assert judged[first["motor"]]["phase_margin_deg"] < 45.0 <= judged[pick["motor"]]["phase_margin_deg"]
+    assert judged[first.motor]["phase_margin_deg"] < 45.0 <= judged[pick.motor]["phase_margin_deg"]
     assert dyn["requirements"]["phase_margin_deg"] == pytest.approx(45.0)
     assert dynamic.ok
 
@@ -51,7 +51,7 @@ def test_the_static_pick_is_passed_over_for_how_it_moves(dynamic: Any, static: A
 def test_the_cli_names_the_static_pick_and_why(capsys: pytest.CaptureFixture[str], static: Any) -> None:
     assert cli.main(["size", str(EXAMPLE)]) == 0
     out = capsys.readouterr().out
-    assert f"passed over for how it moves: {static.selection['selected']['motor']}: stability_margin" in out
+    assert f"passed over for how it moves: {static.selection.selected.motor}: stability_margin" in out
     assert "dynamics of " in out and "settling_time pass" in out
     assert cli.main(["size", str(EXAMPLE), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["selection"]["dynamics"]["judged"] >= 2
@@ -67,7 +67,7 @@ def test_requirements_no_candidate_meets_fail_the_answer(tmp_path: Path) -> None
 
 
 def test_without_requirements_the_answer_has_no_dynamics_block(static: Any) -> None:
-    assert "dynamics" not in static.selection
+    assert static.selection.dynamics is None
 
 
 def test_linear_checks_decide_before_the_simulation(dynamic: Any) -> None:
@@ -114,7 +114,7 @@ def test_fastest_settling_answers_the_candidate_that_settles_fastest() -> None:
     before = order[: order.index(best)]
     assert [p.motor for p in r.selection.drive_passed_over] == before
     for p in r.selection.drive_passed_over:
-        assert p["reason"].startswith("fastest_settling: settles in") and f"{best} in" in p["reason"]
+        assert p.reason.startswith("fastest_settling: settles in") and f"{best} in" in p.reason
     assert r.ok
 
 
@@ -191,8 +191,8 @@ def test_the_dynamic_checks_count_and_explain(dynamic: Any, static: Any,
                                               capsys: pytest.CaptureFixture[str]) -> None:
     """failures_by_check counts the dynamic checks of the candidates judged; --explain MODEL lists them."""
     sel = dynamic.selection
-    assert sel["failures_by_check"]["stability_margin"] == 1 and sel["failures_by_check"]["settling_time"] == 0
-    assert sel["unknown_by_check"]["settling_time"] == 0  # not simulated is not a gap in the data
+    assert sel.failures_by_check["stability_margin"] == 1 and sel.failures_by_check["settling_time"] == 0
+    assert sel.unknown_by_check["settling_time"] == 0  # not simulated is not a gap in the data
     assert "stability_margin" not in static.selection.failures_by_check
     first = static.selection.selected.motor
     assert cli.main(["size", str(EXAMPLE), "--explain", first]) == 0
@@ -200,7 +200,7 @@ def test_the_dynamic_checks_count_and_explain(dynamic: Any, static: Any,
     assert "dynamics (its best configuration): passed over for how it moves: stability_margin" in out
     assert "FAIL stability_margin: required 45, available 40.7" in out
     assert "??   settling_time: required 0.02, available n/a s (n/a): not simulated" in out
-    assert "dynamics (its best configuration): the answer" in dynamic.explain(sel["selected"]["motor"])
+    assert "dynamics (its best configuration): the answer" in dynamic.explain(sel.selected.motor)
 
 
 def test_the_settling_optimal_ratio_is_the_fastest_of_the_scan() -> None:
