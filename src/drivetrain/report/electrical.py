@@ -2,7 +2,7 @@
 speed-torque curves at the supply voltage.
 
 The figures come from the result (a given motor: ``result.motor`` and ``result.extras['drive'|'regen']``;
-a selection: ``selection['selected']['drive'|'electrical'|'regen']``, drivetrain.sizing.drive_select).
+a selection: ``selection.selected.drive``, ``.electrical``, ``.regen``, drivetrain.sizing.drive_select).
 The plot recomputes the bus power over the cycle with the same model as the regen block
 (``drivetrain.physics.regen.regen_cycle``, copper loss from I = T / K_t where K_t and R are known).
 """

@@ -1,7 +1,7 @@
 """The motor the report is about: the axis's own motor, or the catalog selection's choice.
 
 A sizing names a motor in the axis file (``SizingResult.motor``), or selects one from the
-catalog (``SizingResult.selection['selected']``, possibly behind a catalog gearbox), or gives
+catalog (``SizingResult.selection.selected``, possibly behind a catalog gearbox), or gives
 only the demand. The report plots and tabulates one motor: :func:`focus_of` finds it, reads its
 ratings (from the catalog for a selection) and takes the cycle at its shaft through the selected
 gearbox from the selection (``selection.candidate_cycle``, as its checks saw it).
