@@ -72,18 +72,16 @@ def context(result: SizingResult) -> _Ctx:
     if axis.motor is not None:
         spec = axis.spec.motor
         c.motor_id = spec.id if spec is not None and spec.id else None
-        c.motor = result.motor
-        if result.motor is not None:
-            c.elec, c.checks = dict(result.motor.electrical), [ch.to_dict() for ch in result.motor.checks]
-        c.drive, c.regen = result.extras.get("drive"), result.extras.get("regen")
-    elif (result.selection is not None and result.selection.selected is not None and result.ranking is not None
-          and result.ranking.best is not None):
-        pick = result.selection.selected
-        c.motor_id, c.motor, c.checks = pick.motor, pick, [ch.to_dict() for ch in pick.checks]
-        c.drive, c.regen, c.elec = pick.drive, pick.regen, dict(pick.electrical or {})
+        c.motor, c.drive, c.regen = result.motor, result.extras.get("drive"), result.extras.get("regen")
+        c.elec = {} if result.motor is None else dict(result.motor.electrical)
+    elif result.selection is not None and result.selection.selected is not None and result.ranking is not None \
+            and result.ranking.best is not None:
+        pick = c.motor = result.selection.selected
+        c.motor_id, c.drive, c.regen, c.elec = pick.motor, pick.drive, pick.regen, dict(pick.electrical or {})
         if pick.gearbox:
             c.gearbox_id, c.ratio = pick.gearbox, float(pick.ratio or 1.0)
-            c.gearbox_checks = [ch for ch in c.checks if ch["name"].startswith("gearbox_")]
+            c.gearbox_checks = [ch.to_dict() for ch in pick.checks if ch.name.startswith("gearbox_")]
+    c.checks = [] if c.motor is None else [ch.to_dict() for ch in c.motor.checks]
     c.motor_row = c.catalog(c.motor_id)
     return c
 
