@@ -96,7 +96,7 @@ def test_the_brake_variants_rotor_inertia_is_in_its_duty_cycle() -> None:
     listed = next(x for x in sel.listed if x.motor.startswith("SGM7J")) if any(
         x.motor.startswith("SGM7J") for x in sel.listed) else None
     if listed is not None:
-        assert listed.brake is not None and listed.brake["rotor_inertia_kgm2"] is not None
+        assert listed.brake is not None and listed.brake.rotor_inertia_kgm2 is not None
 
 
 def test_a_brake_too_weak_for_the_load_fails_the_candidate_with_the_reason() -> None:

@@ -17,14 +17,22 @@ import pytest
 
 from drivetrain.cli.commands import jsonable
 from drivetrain.dynamics.mechanism_modes import size as size_with_modes
-from drivetrain.sizing.answer import Candidate, CheckRow, MotorAnswer, OptimalRatio, PassedOver, SelectionSummary
+from drivetrain.sizing.answer import (
+    BrakeVariant,
+    Candidate,
+    CheckRow,
+    MotorAnswer,
+    OptimalRatio,
+    PassedOver,
+    SelectionSummary,
+)
 from drivetrain.sizing.checks import Check
 from drivetrain.sizing.pipeline import size
 from tests.sizing.test_typed_blocks import attributes
 
 ROOT = Path(__file__).resolve().parents[2]
 JSON_DATA = ROOT / "tests" / "data" / "json"
-TYPED = (Candidate, CheckRow, SelectionSummary, OptimalRatio, PassedOver, MotorAnswer)
+TYPED = (Candidate, CheckRow, BrakeVariant, SelectionSummary, OptimalRatio, PassedOver, MotorAnswer)
 SAVED = ("ball_screw", "z_axis", "hoist", "belt_gantry_3m", "belt_dynamic", "lead_screw", "rack_pinion")
 """Examples whose ``--json`` of the code before the blocks were typed is in tests/data/json/ (see
 scripts/example_json.py): selections with a brake, voltage classes, drives passed over, the dynamic rule, a
@@ -93,6 +101,11 @@ def test_the_answer_reads_like_its_json(example: tuple[Any, dict[str, Any]]) -> 
     assert isinstance(rms, CheckRow)
     assert rms.margin == next(c for c in want["selected"]["checks"] if c["name"] == "rms_torque")["margin"]
     assert pick.check("no such check") is None
+    if "brake" in want["selected"]:  # a vertical axis: the brake variant, typed
+        assert isinstance(pick.brake, BrakeVariant)
+        assert pick.brake.holding_torque_Nm == want["selected"]["brake"]["holding_torque_Nm"]
+    else:
+        assert pick.brake is None
     assert isinstance(sel.optimal_ratio, OptimalRatio)
     assert sel.optimal_ratio.min_rms_ratio == want["optimal_ratio"]["min_rms_ratio"]
     assert (sel.next_smaller is None) == (want["next_smaller"] is None)

@@ -67,6 +67,36 @@ class CheckRow:
 
 
 @dataclass
+class BrakeVariant:
+    """A candidate motor's brake variant, where the axis needs a holding brake (``motor_brake.brake_variant``).
+
+    Attributes
+    ----------
+    order_code : str or None
+        The brake variant's order code; None where the catalog lacks it.
+    holding_torque_Nm : float or None
+        The brake's holding torque [N m]; None where the catalog lacks it.
+    rotor_inertia_kgm2 : float or None
+        The with-brake rotor inertia [kg m^2]; None where the catalog lacks it (the plain rotor's is used).
+    note : str or None
+        What the catalog lacks of the variant, to ask the vendor; None (left out of the JSON) when it has all.
+    """
+
+    order_code: str | None
+    holding_torque_Nm: float | None
+    rotor_inertia_kgm2: float | None
+    note: str | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON block: the fields in order, ``note`` only where there is one."""
+        out: dict[str, Any] = {"order_code": self.order_code, "holding_torque_Nm": self.holding_torque_Nm,
+                               "rotor_inertia_kgm2": self.rotor_inertia_kgm2}
+        if self.note is not None:
+            out["note"] = self.note
+        return out
+
+
+@dataclass
 class Candidate:
     """A catalog candidate as the answer lists it (JSON ``candidates`` and ``selection.selected``): a motor in
     one configuration, direct or behind one catalog gearbox, with every check.
@@ -122,9 +152,9 @@ class Candidate:
         Why, per part; None when traced.
     checks : list of CheckRow
         Every check that applies to it, in ``candidates.CHECK_UNITS`` order.
-    brake : dict or None
-        The motor's brake variant (order code, holding torque [N m], with-brake rotor inertia [kg m^2])
-        where the axis needs a holding brake (``motor_brake.brake_variant``); None (left out) otherwise.
+    brake : BrakeVariant or None
+        The motor's brake variant (order code, holding torque, with-brake rotor inertia) where the axis
+        needs a holding brake (``motor_brake.brake_variant``); None (left out) otherwise.
     drive : DriveAnswer or None
         Its drive (``drive_select.attach_drives``); None (left out) where drives were not attached.
     voltage_class : dict or None
@@ -162,7 +192,7 @@ class Candidate:
     unverified: bool
     unverified_reason: str | None
     checks: list[CheckRow]
-    brake: dict[str, Any] | None = None
+    brake: BrakeVariant | None = None
     drive: DriveAnswer | None = None
     voltage_class: dict[str, Any] | None = None
     electrical: dict[str, Any] | None = None
@@ -189,7 +219,7 @@ class Candidate:
         out.update({"unverified": self.unverified, "unverified_reason": self.unverified_reason,
                     "checks": [ch.to_dict() for ch in self.checks]})
         if self.brake is not None:
-            out["brake"] = self.brake
+            out["brake"] = self.brake.to_dict()
         if self.drive is not None:
             out["drive"] = self.drive.to_dict()
         if self.voltage_class is not None:
@@ -484,4 +514,4 @@ class MotorAnswer:
         return out
 
 
-__all__ = ["Candidate", "CheckRow", "MotorAnswer", "OptimalRatio", "PassedOver", "SelectionSummary"]
+__all__ = ["BrakeVariant", "Candidate", "CheckRow", "MotorAnswer", "OptimalRatio", "PassedOver", "SelectionSummary"]
