@@ -96,7 +96,7 @@ def main() -> None:
           f"{(n_cand / t_ours) * t_naive:,.0f}x |")
     print(f"| time for {n_cand:,} candidates | {t_ours * 1e3:.0f} ms | {t_naive * n_cand:.0f} s (extrapolated from "
           f"{n_naive}) | |")
-    print(f"| whole `size` of examples/ball_screw.yaml with selection ({res.selection['evaluated']:,} candidates) "
+    print(f"| whole `size` of examples/ball_screw.yaml with selection ({res.selection.evaluated:,} candidates) "
           f"| {t_full * 1e3:.0f} ms | | target < 500 ms |")
 
 

@@ -60,14 +60,14 @@ def run(data: dict[str, Any], policy: str) -> None:
         with_drives.append(time.perf_counter() - t0)
     a, b = statistics.median(without), statistics.median(with_drives)
     sel = chosen.summary
-    print(f"unknown: {policy}; samples per cycle: {len(duty.t)}; candidates evaluated: {sel['evaluated']}; "
+    print(f"unknown: {policy}; samples per cycle: {len(duty.t)}; candidates evaluated: {sel.evaluated}; "
           f"listed with a drive block: {len(chosen.listed)}; "
-          f"passed over for the drive: {sel.get('drive_passed_over_count', 0)}")
+          f"passed over for the drive: {sel.drive_passed_over_count or 0}")
     print(f"  selection without drives: {a * 1e3:.1f} ms (median of {RUNS})")
     print(f"  selection with drives:    {b * 1e3:.1f} ms (median of {RUNS})")
     print(f"  ratio with / without drives: {b / a:.2f} (target <= 2)")
-    d = sel.get("selected", {}).get("drive")
-    print(f"  selected: {sel.get('selected', {}).get('motor')} drive: {getattr(d, 'id', None)} "
+    d = None if sel.selected is None else sel.selected.drive
+    print(f"  selected: {None if sel.selected is None else sel.selected.motor} drive: {getattr(d, 'id', None)} "
           f"({getattr(d, 'status', None)})")
 
 

@@ -1,5 +1,5 @@
-"""Save the ``--json`` of the examples that tests/sizing/test_typed_blocks.py compares byte for byte:
-``python scripts/example_json.py [FOLDER]`` (default tests/data/json).
+"""Save the ``--json`` of the examples that tests/sizing/test_typed_blocks.py and tests/sizing/test_typed_answer.py
+compare byte for byte: ``python scripts/example_json.py [FOLDER]`` (default tests/data/json).
 
 Each file is ``drivetrain size examples/NAME.yaml --json`` less the two version lines (``drivetrain_version``,
 ``catalog_version``), run with a temporary data folder, so no user catalog is read. Run it with the code whose
@@ -18,7 +18,7 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-EXAMPLES = ("ball_screw", "z_axis", "hoist", "conveyor", "belt_gantry_3m")
+EXAMPLES = ("ball_screw", "z_axis", "hoist", "conveyor", "belt_gantry_3m", "belt_dynamic", "lead_screw", "rack_pinion")
 VOLATILE = re.compile(r'^  "(drivetrain_version|catalog_version)": .*\n', re.MULTILINE)
 
 

@@ -62,7 +62,7 @@ def figures() -> dict[str, str]:
 
     from drivetrain.sizing.pipeline import size
 
-    selection = size(ROOT / "examples" / "ball_screw.yaml").selection or {}
+    selection = size(ROOT / "examples" / "ball_screw.yaml").selection
     out = {
         "data_version": DATA_VERSION,
         "ac_servo_motors": _n(len(servo)),
@@ -78,9 +78,9 @@ def figures() -> dict[str, str]:
         "traced_rows": _n(total - flagged),
         "unverified_rows": _n(flagged),
         "derived_rated_torques": _n(int(np.sum(shipped & (motors.rated_torque_basis == "derived P/omega")))),
-        "ball_screw_candidates": _n(int(selection.get("evaluated", 0))),
-        "ball_screw_passing": _n(int(selection.get("passing", 0))),
-        "ball_screw_selected": str((selection.get("selected") or {}).get("motor", "none")),
+        "ball_screw_candidates": _n(0 if selection is None else selection.evaluated or 0),
+        "ball_screw_passing": _n(0 if selection is None else selection.passing or 0),
+        "ball_screw_selected": "none" if selection is None or selection.selected is None else selection.selected.motor,
     }
     return out
 

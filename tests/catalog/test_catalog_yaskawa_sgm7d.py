@@ -110,7 +110,7 @@ def test_a_direct_drive_motor_too_slow_for_the_cycle_is_not_judged_on_torque() -
 
     from drivetrain.axis.model import load_axis
     from drivetrain.sizing.pipeline import size
-    from drivetrain.sizing.reasons import candidate_dict
+    from drivetrain.sizing.reasons import candidate_answer
 
     res = size(load_axis(Path(__file__).parents[2] / "examples" / "belt_gantry.yaml"))
     c = res.ranking.candidates
@@ -120,12 +120,12 @@ def test_a_direct_drive_motor_too_slow_for_the_cycle_is_not_judged_on_torque() -
     assert direct
     judged = []
     for k in direct:
-        d = candidate_dict(c, k, motors, gb, None)
-        assert d["failures"][0].startswith("max_speed: the cycle needs"), d["failures"]
-        rms = {ch["name"]: ch for ch in d["checks"]}["rms_torque"]
-        assert rms["status"] in ("not_judged", "pass", "fail") and rms["available"] != 0.0
-        if rms["status"] == "not_judged":
-            assert rms["note"].startswith("not judged: the cycle's mean speed") and rms["margin"] is None
-        judged.append(rms["status"])
-        assert all("available 0 N*m" not in f for f in d["failures"])
+        d = candidate_answer(c, k, motors, gb, None)
+        assert d.failures[0].startswith("max_speed: the cycle needs"), d.failures
+        rms = {ch.name: ch for ch in d.checks}["rms_torque"]
+        assert rms.status in ("not_judged", "pass", "fail") and rms.available != 0.0
+        if rms.status == "not_judged":
+            assert rms.note.startswith("not judged: the cycle's mean speed") and rms.margin is None
+        judged.append(rms.status)
+        assert all("available 0 N*m" not in f for f in d.failures)
     assert "not_judged" in judged  # the case this guards: without the rule, RMS shows "available 0 N*m"

@@ -86,8 +86,10 @@ def test_failure_sentence_is_rebuilt_in_imperial_units() -> None:
     0.5723 N*m / 0.112985 = 5.065 lbf*in, 0.48 N*m / 0.112985 = 4.248 lbf*in; the margin stays as it is."""
     from drivetrain.cli.quantities import TableUnits
     from drivetrain.cli.sizing import _failure
+    from drivetrain.sizing.answer import CheckRow
 
-    ch = {"name": "rms_torque", "required": 0.5723, "available": 0.48, "unit": "N*m", "margin": 0.48 / 0.5723 - 1}
+    ch = CheckRow(name="rms_torque", required=0.5723, available=0.48, unit="N*m", margin=0.48 / 0.5723 - 1, ok=False,
+                  status="fail", approximate=False)
     line = _failure("rms_torque: required 0.5723 N*m > available 0.48 N*m (-16.1 %)", {"rms_torque": ch},
                     TableUnits("imperial"))
     found = re.search(r"rms_torque: required ([\d.]+) lbf\*in > available ([\d.]+) lbf\*in \(-16.1 %\)", line)

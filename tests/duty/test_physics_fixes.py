@@ -45,17 +45,17 @@ def test_gearbox_split_reflects_what_turns_before_the_gearbox() -> None:
     k = 1.025e-3 / 6.025e-3
     assert res.duty.load_inertia == pytest.approx(5.525e-3, rel=1e-12)
     assert res.motor is not None
-    assert res.motor["gearbox_torque_split_k"] == pytest.approx(k, rel=1e-12)
-    assert res.motor["gearbox_output_torque_at_motor_peak_Nm"] == pytest.approx((1 - k) * 10.0 * 20.0, rel=1e-12)
-    assert res.motor["gearbox_output_torque_at_motor_peak_Nm"] == pytest.approx(2.0 * 10.0 / 6.025e-3 / 20.0,
+    assert res.motor.gearbox_torque_split_k == pytest.approx(k, rel=1e-12)
+    assert res.motor.gearbox_output_torque_at_motor_peak_Nm == pytest.approx((1 - k) * 10.0 * 20.0, rel=1e-12)
+    assert res.motor.gearbox_output_torque_at_motor_peak_Nm == pytest.approx(2.0 * 10.0 / 6.025e-3 / 20.0,
                                                                                 rel=1e-12)
 
 
 def test_gearbox_torque_at_motor_peak_bounds_the_cycles_own_output_peak() -> None:
     """The cycle needs less than the motor's peak, so its own gearbox output peak is below the one at motor peak."""
     res = size(belt_then_gearbox())
-    assert res.motor is not None and res.motor["peak_torque_Nm"] < 10.0
-    assert res.motor["gearbox_output_peak_torque_Nm"] < res.motor["gearbox_output_torque_at_motor_peak_Nm"]
+    assert res.motor is not None and res.motor.peak_torque_Nm < 10.0
+    assert res.motor.gearbox_output_peak_torque_Nm < res.motor.gearbox_output_torque_at_motor_peak_Nm
 
 
 # --------------------------------------------------------------------------- (2) breakaway

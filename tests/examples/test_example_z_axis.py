@@ -44,10 +44,10 @@ def test_the_shipped_example_answers_a_400_v_chain_on_its_400_v_supply() -> None
     with the reason, and motors of unknown class too (``unknown: fail``); the answer is the 400 V Siemens chain."""
     r = size(EXAMPLE)
     assert r.ok
-    sel = r.selection["selected"]
-    assert sel["motor"] == "1FT7044-5AK7" and sel["drive"].status == "ok"
-    assert sel["voltage_class"]["status"] == "pass" and sel["voltage_class"]["required"] == 400.0
-    over = {p["motor"]: p["reason"] for p in r.selection["drive_passed_over"]}
+    sel = r.selection.selected
+    assert sel.motor == "1FT7044-5AK7" and sel.drive.status == "ok"
+    assert sel.voltage_class["status"] == "pass" and sel.voltage_class["required"] == 400.0
+    over = {p.motor: p.reason for p in r.selection.drive_passed_over}
     assert over["SGM7J-04A"].startswith("voltage_class: a 200 V class motor on a 400 V supply")
     assert over["SGMP-03B"].startswith("voltage_class: a 100 V class motor on a 400 V supply")
     assert "voltage class is not known" in over["APM-FC04A"]
@@ -61,19 +61,19 @@ def test_a_200_v_motor_named_on_a_400_v_supply_is_passed_over_by_its_class(tmp_p
     path.write_text(text, encoding="utf-8")
     r = size(path)
     assert not r.ok  # every shipped Yaskawa servo is a 100 V or 200 V class motor
-    assert all(p["reason"].startswith("voltage_class:") for p in r.selection["drive_passed_over"])
-    assert "drive_advice" in r.selection
+    assert all(p.reason.startswith("voltage_class:") for p in r.selection.drive_passed_over)
+    assert r.selection.drive_advice is not None
 
 
 def test_the_answer_is_a_motor_and_its_drive_with_every_electrical_check(result) -> None:  # type: ignore[no-untyped-def]
     assert result.ok
-    sel = result.selection["selected"]
-    assert sel["motor"] == "1FT7044-5AK7"
-    d = sel["drive"]
+    sel = result.selection.selected
+    assert sel.motor == "1FT7044-5AK7"
+    d = sel.drive
     assert d.status == "ok" and d.id == "6SL312x-xTE21-0AAx" and d.basis == "vendor pairing table"
     assert d.continuous_current_A == 9.0 and d.peak_current_A == 18.0
     assert {c["name"] for c in d.checks} == {"drive_rms_current", "drive_peak_current"}
-    e = sel["electrical"]
+    e = sel.electrical
     assert e["supply_voltage_V"] == 400.0 and e["dc_bus_voltage_V"] == pytest.approx(400.0 * math.sqrt(2))
     assert e["envelope_source"] == "electrical"  # Ke, R, L at the machine's 400 V supply
     assert 0 < e["rms_current_A"] < e["peak_current_A"] < 18.0
@@ -82,7 +82,7 @@ def test_the_answer_is_a_motor_and_its_drive_with_every_electrical_check(result)
     names = {c["name"] for c in e["checks"]}
     assert {"motor_rms_current", "motor_peak_current", "peak_torque_at_supply_voltage",
             "winding_temperature_rise"} <= names
-    rg = sel["regen"]
+    rg = sel.regen
     # the load is lowered every cycle: energy flows back, and none of it is created
     assert 0 < rg.energy_per_cycle_J <= rg.shaft_energy_per_cycle_J
     assert rg.resistor_energy_per_cycle_J == pytest.approx(rg.energy_per_cycle_J - rg.capacitor_absorbed_J)
@@ -91,10 +91,10 @@ def test_the_answer_is_a_motor_and_its_drive_with_every_electrical_check(result)
 
 def test_the_motors_passed_over_are_named_with_the_reason(result) -> None:  # type: ignore[no-untyped-def]
     sel = result.selection
-    over = sel["drive_passed_over"]
-    assert sel["drive_passed_over_count"] >= len(over) > 0
-    assert all(p["drive_status"] in ("unknown", "none") and p["reason"] for p in over)
-    assert sel["next_smaller"]["failed"].startswith("drive: ")
+    over = sel.drive_passed_over
+    assert sel.drive_passed_over_count >= len(over) > 0
+    assert all(p.drive_status in ("unknown", "none") and p.reason for p in over)
+    assert sel.next_smaller.failed.startswith("drive: ")
 
 
 def test_table_json_and_exit_code(siemens: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -145,7 +145,7 @@ def test_without_the_supply_the_envelope_is_the_derived_one(tmp_path: Path) -> N
     text = SIEMENS_TEXT.replace("  supply_voltage: 400 V\n", "")
     path = tmp_path / "z.yaml"
     path.write_text(text, encoding="utf-8")
-    e = size(path).selection["selected"]["electrical"]
+    e = size(path).selection.selected.electrical
     # the 1FT7 rows print no voltage class; the catalog gives them the SINAMICS S120 400 V class (the series
     # rule of catalog.voltage_class), so without a supply the motor's class sets the bus and the envelope
     assert e["supply_voltage_V"] == 400.0 and e["envelope_source"] == "electrical"
@@ -154,10 +154,10 @@ def test_without_the_supply_the_envelope_is_the_derived_one(tmp_path: Path) -> N
 def test_rms_torque_is_judged_on_the_motors_own_continuous_curve(result) -> None:  # type: ignore[no-untyped-def]
     # 1FT7044-5AK7: the printed stall torque M_0 = 5 N m (Table 4-8, 100 K) now reaches the envelope; before,
     # the row had none and the 2 N m rated torque at 6000 rpm stood for the continuous torque at every speed
-    sel = result.selection["selected"]
-    rms = next(c for c in sel["checks"] if c["name"] == "rms_torque")
+    sel = result.selection.selected
+    rms = next(c for c in sel.checks if c.name == "rms_torque")
     mean_rpm = result.to_dict()["mean_speed_rpm"]
     t0, tn, nn = 5.0, 2.0, 6000.0  # continuous envelope: T_0 falling linearly to T_N at n_N (sizing.envelope)
-    assert rms["available"] == pytest.approx(t0 - (t0 - tn) * mean_rpm / nn)
-    assert rms["available"] == pytest.approx(4.25) and rms["ok"]
-    assert "voltage" in sel["derived"] and "stall_torque" not in sel["derived"]
+    assert rms.available == pytest.approx(t0 - (t0 - tn) * mean_rpm / nn)
+    assert rms.available == pytest.approx(4.25) and rms.ok
+    assert "voltage" in sel.derived and "stall_torque" not in sel.derived

@@ -138,7 +138,7 @@ def test_gantry_split_sizes_each_motor_for_its_share() -> None:
         assert r.duty.load_inertia == pytest.approx(s * full.duty.load_inertia)
         # each motor: its share of the load plus its own rotor
         t_m = r.duty.motor_torque(J_M)
-        assert r.motor["peak_torque_Nm"] == pytest.approx(float(np.max(np.abs(t_m))), rel=1e-9)
+        assert r.motor.peak_torque_Nm == pytest.approx(float(np.max(np.abs(t_m))), rel=1e-9)
     # the two motors together: the whole load and both rotors
     p_full = full.duty.torque * full.duty.omega + 2 * J_M * full.duty.alpha * full.duty.omega
     np.testing.assert_allclose(ap.power, p_full, rtol=1e-9, atol=1e-9)

@@ -32,7 +32,7 @@ def test_the_readmes_figures_are_the_ones_the_script_computes() -> None:
 def test_the_candidate_count_is_the_one_a_sizing_answers() -> None:
     from drivetrain.sizing.pipeline import size
 
-    evaluated = size(ROOT / "examples" / "ball_screw.yaml").selection["evaluated"]
+    evaluated = size(ROOT / "examples" / "ball_screw.yaml").selection.evaluated
     assert f"<!--fig:ball_screw_candidates-->{evaluated:,}<!--/fig-->" in README
 
 

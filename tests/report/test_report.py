@@ -31,9 +31,10 @@ from drivetrain.report.formulas import FORMULAS, docstring_of
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
-def _verdict(check: dict[str, Any]) -> str:
-    """The result cell of a check: its status (a check the catalog cannot judge reads UNKNOWN)."""
-    status = check.get("status") or ("pass" if check["ok"] else "fail")
+def _verdict(check: Any) -> str:
+    """The result cell of a check (a ``CheckRow`` or a given motor's ``Check``): its status (a check the catalog
+    cannot judge reads UNKNOWN)."""
+    status = getattr(check, "status", None) or ("pass" if check.ok else "fail")
     return {"pass": "PASS", "fail": "FAIL"}.get(status, status.upper())
 CHROMIUM = "/usr/bin/chromium"
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
@@ -127,18 +128,18 @@ def test_html_report_in_chromium_shows_numbers_checks_and_plots(ball: Any, brows
     page, seen = _open(browser, path)
     try:
         text = page.inner_text("body")
-        selected = ball.selection["selected"]
-        assert selected["motor"] in text
+        selected = ball.selection.selected
+        assert selected.motor in text
         # Key numbers, formatted independently of the report code (4 significant digits).
-        for value in (selected["peak_torque_Nm"], selected["rms_torque_Nm"], ball.metrics.peak_torque_Nm,
+        for value in (selected.peak_torque_Nm, selected.rms_torque_Nm, ball.metrics.peak_torque_Nm,
                       ball.metrics.rms_torque_Nm):
             assert f"{value:.4g}" in text, value
         assert "PASS" in page.inner_text("#dt-verdict")
         # Every check of the selected motor, with its own verdict.
         rows = _check_rows(page)
-        assert len(rows) == len(selected["checks"])
-        for check in selected["checks"]:
-            assert rows[CHECK_NAMES[check["name"]]] == _verdict(check)
+        assert len(rows) == len(selected.checks)
+        for check in selected.checks:
+            assert rows[CHECK_NAMES[check.name]] == _verdict(check)
         # Every plot drew: plotly's SVG with non-empty line paths, and the phase bands where there are phases.
         plots = page.eval_on_selector_all(".dt-plot", """divs => divs.map(d => ({
             key: d.dataset.plot,
@@ -166,8 +167,8 @@ def test_html_report_escapes_user_strings_in_the_browser(weak: Any, browser: Any
         assert seen["dialogs"] == [] and seen["errors"] == []
         assert "FAIL" in page.inner_text("#dt-verdict")
         rows = _check_rows(page)
-        for check in weak.motor["checks"]:
-            assert rows[CHECK_NAMES[check["name"]]] == _verdict(check)
+        for check in weak.motor.checks:
+            assert rows[CHECK_NAMES[check.name]] == _verdict(check)
         assert {"PASS", "FAIL"} <= set(rows.values())
         assert page.locator("#dt-axis-name b, .dt-report b:text('motor')").count() == 0
     finally:
@@ -212,13 +213,13 @@ def test_pdf_report_pages_are_drawn_and_carry_the_numbers(ball: Any, tmp_path: P
         assert gray.var() > 50.0 and inked > 0.01, (page.name, gray.var(), inked)
     text = subprocess.run(["pdftotext", "-layout", str(path), "-"], capture_output=True, text=True, check=True,
                           timeout=60).stdout
-    selected = ball.selection["selected"]
-    assert selected["motor"] in text and "Z lift" in text
-    for value in (selected["peak_torque_Nm"], selected["rms_torque_Nm"], ball.metrics.peak_torque_Nm):
+    selected = ball.selection.selected
+    assert selected.motor in text and "Z lift" in text
+    for value in (selected.peak_torque_Nm, selected.rms_torque_Nm, ball.metrics.peak_torque_Nm):
         assert f"{value:.4g}" in text, value
     lines = text.splitlines()
-    for check in selected["checks"]:
-        name = CHECK_NAMES[check["name"]].split(" J_L")[0]
+    for check in selected.checks:
+        name = CHECK_NAMES[check.name].split(" J_L")[0]
         verdict = _verdict(check)
         assert any(name in line and verdict in line for line in lines), name
     assert f"page {len(pages)} of {len(pages)}" in text
@@ -260,7 +261,7 @@ def test_imperial_units_switch_every_torque_and_inertia(ball: Any) -> None:
     si = render_html(ball, "si")
     imp = render_html(ball, "imperial")
     imp_body = imp[: imp.index("<script")]
-    peak = ball.selection["selected"]["peak_torque_Nm"]
+    peak = ball.selection.selected.peak_torque_Nm
     assert f"{peak * 8.850745791327187:.4g} lbf·in" in imp_body
     assert f"{peak:.4g} N·m" in si
     kpis = re.search(r'<section class="dt-kpis".*?</section>', imp_body, re.S)
@@ -280,7 +281,7 @@ def test_as_given_units_follow_the_axis_file() -> None:
     assert du.unit("torque") == "lbf*in" and du.unit("inertia") == "oz*in*s^2" and du.unit("length") == "in"
     body = render_html(result, "as-given")
     body = body[: body.index("<script")]
-    assert f"{result.motor['peak_torque_Nm'] * 8.850745791327187:.4g} lbf·in" in body
+    assert f"{result.motor.peak_torque_Nm * 8.850745791327187:.4g} lbf·in" in body
     assert "oz·in·s²" in body and "7.874 in" in body
 
 
@@ -355,7 +356,7 @@ def test_notebook_view_is_static_and_complete(weak: Any) -> None:
     text = repr_html(weak)
     assert "<script" not in text and text.count("<svg") >= 4  # diagram + three plots
     assert html.escape(EVIL) in text and EVIL not in text
-    assert f"{weak.motor['peak_torque_Nm']:.4g}" in text
+    assert f"{weak.motor.peak_torque_Nm:.4g}" in text
 
 
 def test_report_without_a_motor_states_the_demand() -> None:

@@ -71,11 +71,11 @@ def test_every_candidate_of_a_vertical_axis_is_checked_on_its_brake() -> None:
     assert known.any() and (~known).any()
     assert np.array_equal(np.isnan(d.margin["motor_brake"]), ~known)  # unknown, never a pass
     assert np.allclose(d.available["motor_brake"][known], held[known])
-    assert "motor_brake" in sel.summary["unknown_by_check"]
+    assert "motor_brake" in sel.summary.unknown_by_check
     # the listed candidates say so, with the variant's order code
     first = sel.listed[0]
-    names = [ch["name"] for ch in first["checks"]]
-    assert "motor_brake" in names and "brake" in first
+    names = [ch.name for ch in first.checks]
+    assert "motor_brake" in names and first.brake is not None
 
 
 def test_the_brake_variants_rotor_inertia_is_in_its_duty_cycle() -> None:
@@ -93,10 +93,10 @@ def test_the_brake_variants_rotor_inertia_is_in_its_duty_cycle() -> None:
     k = int(np.flatnonzero(motors.ids[c.motor] == "SGM7J-02A")[0])
     assert sel.ranking.candidates.details([k]).inertia_ratio[0] == pytest.approx(
         ax.load_inertia / float(j_b[list(cat.ids).index("SGM7J-02A")]), rel=1e-12)
-    listed = next(x for x in sel.listed if x["motor"].startswith("SGM7J")) if any(
-        x["motor"].startswith("SGM7J") for x in sel.listed) else None
+    listed = next(x for x in sel.listed if x.motor.startswith("SGM7J")) if any(
+        x.motor.startswith("SGM7J") for x in sel.listed) else None
     if listed is not None:
-        assert listed["brake"]["rotor_inertia_kgm2"] is not None
+        assert listed.brake is not None and listed.brake.rotor_inertia_kgm2 is not None
 
 
 def test_a_brake_too_weak_for_the_load_fails_the_candidate_with_the_reason() -> None:
@@ -119,13 +119,14 @@ def test_the_hoist_selects_a_brake_variant_and_says_what_its_brake_must_hold() -
     brake (required 50 g 0.1 x 0.95 (hoist) / 15 x 0.98 (the helical default) x 1.5) and never passes an
     unknown brake as a pass."""
     result = size(load_axis(ROOT / "examples" / "hoist.yaml"))
-    sel = result.selection["selected"]
-    brake = next(ch for ch in sel["checks"] if ch["name"] == "motor_brake")
-    assert brake["required"] == pytest.approx(50 * 9.80665 * 0.1 * 0.95 / 15 * 0.98 * 1.5, rel=1e-6)
-    assert brake["status"] in ("pass", "unknown")
-    if brake["status"] == "unknown":
-        assert "motor_brake" in sel["unknown"] and sel["status"] == "unknown" and "holding torque" in brake["note"]
-    assert "brake" in sel
+    sel = result.selection.selected
+    brake = sel.check("motor_brake")
+    assert brake is not None
+    assert brake.required == pytest.approx(50 * 9.80665 * 0.1 * 0.95 / 15 * 0.98 * 1.5, rel=1e-6)
+    assert brake.status in ("pass", "unknown")
+    if brake.status == "unknown":
+        assert "motor_brake" in sel.unknown and sel.status == "unknown" and "holding torque" in str(brake.note)
+    assert sel.brake is not None
 
 
 def test_a_horizontal_axis_has_no_brake_check() -> None:
@@ -134,8 +135,8 @@ def test_a_horizontal_axis_has_no_brake_check() -> None:
     flat["mechanism"]["incline"] = "0 deg"
     ax = parse_axis(flat)
     sel = selection.select(ax, duty_cycle(ax), ax.spec.motor.select, ax.spec.motor.margins)
-    assert "motor_brake" not in sel.summary["failures_by_check"]
-    assert all(ch["name"] != "motor_brake" for ch in sel.listed[0]["checks"]) and "brake" not in sel.listed[0]
+    assert "motor_brake" not in sel.summary.failures_by_check
+    assert all(ch.name != "motor_brake" for ch in sel.listed[0].checks) and sel.listed[0].brake is None
     cat = catalog.motors(vendor="Mitsubishi Electric")
     assert np.array_equal(sel.ranking.motors.rotor_inertia, cat.rotor_inertia)
 
@@ -148,5 +149,5 @@ def test_an_axis_with_its_own_brake_needs_no_motor_brake() -> None:
     ax = parse_axis(d)
     assert not holding_need(ax, duty_cycle(ax)).needed
     res = size(ax)
-    assert all(ch["name"] != "motor_brake" for ch in res.selection["selected"]["checks"])
+    assert all(ch.name != "motor_brake" for ch in res.selection.selected.checks)
     assert res.brake_check.ok

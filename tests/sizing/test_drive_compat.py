@@ -31,7 +31,7 @@ ANY_DRIVE = "TD-ANY,Testco,5,15,3,200,,test fixture\n"
 
 def blocks(result: Any) -> dict[str, dict[str, Any]]:
     """The drive block of each listed candidate, by motor."""
-    return {c["motor"]: c["drive"] for c in result.candidates}
+    return {c.motor: c.drive for c in result.candidates}
 
 
 def select_testco() -> Any:
@@ -196,4 +196,4 @@ def test_a_given_drive_runs_only_its_series_in_a_selection(tmp_path: Path, monke
     assert other.status == "fails" and other.ok is False and other.id == "TD-L"
     assert "runs only the motor series T" in other.reason and "not QZ" in other.reason
     assert by_motor["TC-04"].status == "ok"
-    assert r.selection["selected"]["motor"] == "TC-04" and r.ok
+    assert r.selection.selected.motor == "TC-04" and r.ok

@@ -60,8 +60,8 @@ def siemens() -> Any:
 
 
 def test_pairing_table_names_the_drive_and_its_current_checks_pass(siemens: Any) -> None:
-    cand = next(c for c in siemens.candidates if c["motor"] == PAIRED_MOTOR)
-    d = cand["drive"]
+    cand = next(c for c in siemens.candidates if c.motor == PAIRED_MOTOR)
+    d = cand.drive
     assert d.basis == "vendor pairing table" and list(d.candidates) == [PAIRED_DRIVE]
     # Siemens 1FT7 configuration manual Table 4-8 p. 90: the recommended Motor Module, 9 A / 18 A
     assert d.id == PAIRED_DRIVE and d.continuous_current_A == 9.0 and d.peak_current_A == 18.0
@@ -70,17 +70,17 @@ def test_pairing_table_names_the_drive_and_its_current_checks_pass(siemens: Any)
     assert checks["drive_rms_current"]["required"] == pytest.approx(d.motor_rms_current_A)
     # I = T / Kt below the rated torque, more above it (saturation): never less than T_rms / Kt
     kt = 0.88  # Table 4-8, k_T
-    assert d.motor_rms_current_A >= cand["rms_torque_Nm"] / kt * (1 - 1e-9)
-    assert d.motor_rms_current_A <= cand["rms_torque_Nm"] / kt * 1.2
+    assert d.motor_rms_current_A >= cand.rms_torque_Nm / kt * (1 - 1e-9)
+    assert d.motor_rms_current_A <= cand.rms_torque_Nm / kt * 1.2
 
 
 def test_motor_without_torque_constant_leaves_the_drive_unknown_and_says_why(siemens: Any) -> None:
     for cand in siemens.candidates:
-        if cand["motor"] == PAIRED_MOTOR:
+        if cand.motor == PAIRED_MOTOR:
             continue
-        d = cand["drive"]
+        d = cand.drive
         assert d.status == "unknown" and d.ok is None
-        assert "torque constant" in d.reason and cand["motor"] in d.reason
+        assert "torque constant" in d.reason and cand.motor in d.reason
 
 
 def test_drives_without_current_ratings_answer_unknown() -> None:
@@ -88,8 +88,8 @@ def test_drives_without_current_ratings_answer_unknown() -> None:
     r = size(axis(motor={"select": {"vendor": "teco", "gearbox": "none"}}))
     assert r.candidates, "the TECO JSMA-P motors are candidates"
     for cand in r.candidates:
-        assert catalog.get(cand["motor"])["torque_constant_Nm_per_A"] is not None
-        d = cand["drive"]
+        assert catalog.get(cand.motor)["torque_constant_Nm_per_A"] is not None
+        d = cand.drive
         assert d.status == "unknown" and "current ratings" in d.reason
         assert d.motor_rms_current_A > 0 and d.candidates
         assert all(x.startswith("JSDG2S-") for x in d.candidates)
@@ -100,13 +100,13 @@ def test_sigma_7_motors_get_their_paired_servopack_with_its_currents_checked() -
     hdauto-chatbot transcription) and gets the drive's current checks, flagged as third-party."""
     r = size(axis(motor={"select": {"vendor": "yaskawa", "gearbox": "none"}}))
     pairs = catalog.drive_pairs()
-    sigma7 = [c for c in r.candidates if catalog.get(c["motor"])["series"].startswith("SGM7")
-              and catalog.get(c["motor"])["torque_constant_Nm_per_A"] is not None]
+    sigma7 = [c for c in r.candidates if catalog.get(c.motor)["series"].startswith("SGM7")
+              and catalog.get(c.motor)["torque_constant_Nm_per_A"] is not None]
     assert sigma7, "the Sigma-7 motors with currents are among the candidates"
     for cand in sigma7:
-        d = cand["drive"]
-        assert d.basis == "vendor pairing table" and list(d.candidates) == pairs[cand["motor"]]
-        assert d.status in ("ok", "fails") and d.id in pairs[cand["motor"]]
+        d = cand.drive
+        assert d.basis == "vendor pairing table" and list(d.candidates) == pairs[cand.motor]
+        assert d.status in ("ok", "fails") and d.id in pairs[cand.motor]
         assert {c["name"] for c in d.checks} >= {"drive_rms_current", "drive_peak_current"}
         assert d.unverified is True and "hdauto-chatbot" in d.unverified_reason
         if d.status == "ok":
@@ -128,7 +128,7 @@ def test_a_catalog_drive_by_id_is_checked_like_a_given_motor() -> None:
     r = size(axis(motor={"id": PAIRED_MOTOR}, drive={"id": PAIRED_DRIVE}))
     d = r.drive
     assert d.id == PAIRED_DRIVE and d.continuous_current_A == 9.0 and d.ok is True
-    assert r.motor["winding_temperature_rise_K"] is not None
+    assert r.motor.electrical["winding_temperature_rise_K"] is not None
 
 
 def test_a_catalog_drive_without_currents_is_an_input_error_naming_the_field(tmp_path: Path,
@@ -188,23 +188,23 @@ def user_catalog(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
 
 def test_selection_answers_motor_drive_resistor_and_winding_temperature(user_catalog: None) -> None:
     r = size(axis(motor={"select": {"vendor": "testco", "gearbox": "none"}}))
-    sel = r.selection["selected"]
-    assert sel["motor"] == "TC-04"
-    d = sel["drive"]
+    sel = r.selection.selected
+    assert sel.motor == "TC-04"
+    d = sel.drive
     # the smallest passing drive of the vendor at 200 V: TD-S is too small, TD-400 is another voltage
     assert d.status == "ok" and d.id == "TD-M" and d.basis == "vendor and supply voltage"
     assert "TD-400" not in d.candidates and d.candidates[0] == "TD-S"
     assert {c["name"] for c in d.checks} >= {"drive_rms_current", "drive_peak_current", "drive_i2t"}
-    elec = sel["electrical"]
+    elec = sel.electrical
     assert elec["envelope_source"] == "electrical" and elec["supply_voltage_V"] == 200.0
     assert elec["winding_temperature_rise_K"] is not None and 0 < elec["winding_temperature_rise_K"] < 100
     assert elec["rms_current_A"] == pytest.approx(d.motor_rms_current_A)
-    rg = sel["regen"]
+    rg = sel.regen
     assert rg.capacitor_basis == "published" and rg.resistor_min_ohm == 40.0
     assert rg.energy_per_cycle_J <= rg.shaft_energy_per_cycle_J + 1e-9
     assert isinstance(rg.builtin_resistor_sufficient, bool)
     # every listed candidate carries a drive block
-    assert all("drive" in c for c in r.candidates)
+    assert all(c.drive is not None for c in r.candidates)
 
 
 def test_selection_drive_in_json_and_table(user_catalog: None, tmp_path: Path,
@@ -224,7 +224,7 @@ def test_selection_drive_in_json_and_table(user_catalog: None, tmp_path: Path,
 
 def test_given_drive_is_checked_for_every_candidate(user_catalog: None) -> None:
     r = size(axis(motor={"select": {"vendor": "testco", "gearbox": "none"}}, drive={"id": "TD-S"}))
-    d = r.selection["selected"]["drive"]
+    d = r.selection.selected.drive
     assert d.id == "TD-S" and d.basis == "given in the axis file"
     assert d.status == "fails" and not all(c["ok"] for c in d.checks)
 
@@ -235,7 +235,8 @@ def test_drive_pick_is_monotone_in_load(user_catalog: None) -> None:
     for mass in (5, 15, 25, 35):
         a = axis(motor={"select": {"vendor": "testco", "gearbox": "none", "max_inertia_ratio": 100}})
         a["mechanism"]["load"]["mass"] = f"{mass} kg"
-        d = size(a).selection.get("selected", {}).get("drive")
+        pick = size(a).selection.selected
+        d = None if pick is None else pick.drive
         if d and d.status == "ok":
             sizes.append(d.continuous_current_A)
     assert sizes and all(b >= a for a, b in itertools.pairwise(sizes))
@@ -253,7 +254,7 @@ def test_report_shows_the_drive_regen_plot_and_supply_curve(user_catalog: None, 
     assert "to the braking resistor (cumulative)" in names
     # the plot's resistor energy ends at the regen block's figure (same model, same cycle)
     res = next(t for p in m.regen.panels for t in p.traces if t.name.startswith("to the braking resistor"))
-    assert float(res.y[-1]) == pytest.approx(r.selection["selected"]["regen"].resistor_energy_per_cycle_J,
+    assert float(res.y[-1]) == pytest.approx(r.selection.selected.regen.resistor_energy_per_cycle_J,
                                              rel=1e-6, abs=1e-9)
     assert any("DC bus" in t.name for p in m.speed_torque.panels for t in p.traces)
     labels = [row[0].text for row in m.electrical.rows]
@@ -321,7 +322,7 @@ def test_results_panel_renders_the_electrical_block() -> None:
 def test_a_vendor_without_drives_answers_none() -> None:
     r = size(axis(motor={"select": {"vendor": "panasonic", "gearbox": "none"}}))
     for cand in r.candidates:
-        d = cand["drive"]
+        d = cand.drive
         assert d.status in ("none", "unknown") and d.ok is None and list(d.candidates) == []
 
 
@@ -343,18 +344,18 @@ def walk_catalog(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
 
 def test_a_motor_no_drive_can_feed_is_passed_over_for_the_next(walk_catalog: None) -> None:
     r = size(axis(motor={"select": {"vendor": "testco", "gearbox": "none", "max_inertia_ratio": 100}}))
-    ranked = [c["motor"] for c in r.candidates if c["rank"] is not None]
+    ranked = [c.motor for c in r.candidates if c.rank is not None]
     assert ranked[0] == "TC-02"  # the smallest passes mechanically ...
-    assert r.candidates[0]["drive"].status == "fails"  # ... but the largest Testco drive cannot feed it
+    assert r.candidates[0].drive.status == "fails"  # ... but the largest Testco drive cannot feed it
     sel = r.selection
-    assert sel["selected"]["motor"] == "TC-08" and sel["selected"]["drive"].status == "ok"
-    assert sel["selected"]["drive"].id == "TD-M"  # k_T 0.6: about 1 A rms, 4 A peak
-    assert [p["motor"] for p in sel["drive_passed_over"]] == ["TC-02"]
-    why = sel["drive_passed_over"][0]["reason"]
+    assert sel.selected.motor == "TC-08" and sel.selected.drive.status == "ok"
+    assert sel.selected.drive.id == "TD-M"  # k_T 0.6: about 1 A rms, 4 A peak
+    assert [p.motor for p in sel.drive_passed_over] == ["TC-02"]
+    why = sel.drive_passed_over[0].reason
     assert "TD-L" in why and "drive_peak_current" in why
     # the next smaller motor is the one passed over, with the drive as its reason
-    assert sel["next_smaller"]["motor"] == "TC-02" and sel["next_smaller"]["failed"].startswith("drive: ")
-    assert sel["optimal_ratio"]["motor"] == "TC-08"
+    assert sel.next_smaller.motor == "TC-02" and sel.next_smaller.failed.startswith("drive: ")
+    assert sel.optimal_ratio.motor == "TC-08"
     assert r.ok
 
 
@@ -369,10 +370,10 @@ def test_unknown_fail_passes_over_a_motor_whose_drive_cannot_be_checked(walk_cat
     balanced["profile"] = [{k: v for k, v in p.items() if k != "holding"} for p in balanced["profile"]]
     strict = size(balanced)
     # flag: TC-NK (as small as TC-02) is an answer, its drive marked unknown; TC-02's drive fails either way
-    assert flag.selection["selected"]["motor"] == "TC-NK" and flag.selection["selected"]["drive"].status == "unknown"
+    assert flag.selection.selected.motor == "TC-NK" and flag.selection.selected.drive.status == "unknown"
     assert flag.ok
-    assert strict.selection["selected"]["motor"] == "TC-08" and strict.selection["selected"]["drive"].status == "ok"
-    over = {p["motor"]: p["drive_status"] for p in strict.selection["drive_passed_over"]}
+    assert strict.selection.selected.motor == "TC-08" and strict.selection.selected.drive.status == "ok"
+    over = {p.motor: p.drive_status for p in strict.selection.drive_passed_over}
     assert over == {"TC-NK": "unknown", "TC-02": "fails"} and strict.ok
 
 
@@ -380,8 +381,8 @@ def test_no_orderable_drive_fails_the_answer_and_says_why(walk_catalog: None, tm
                                                         capsys: pytest.CaptureFixture[str]) -> None:
     a = axis(motor={"select": {"vendor": "testco", "gearbox": "none", "max_inertia_ratio": 100}}, drive={"id": "TD-S"})
     r = size(a)
-    assert not r.ok and "none of the" in r.selection["drive_advice"]
-    assert r.selection["selected"]["drive"].status == "fails"  # the best-ranked, with the checks that fail
+    assert not r.ok and "none of the" in r.selection.drive_advice
+    assert r.selection.selected.drive.status == "fails"  # the best-ranked, with the checks that fail
     path = tmp_path / "z.yaml"
     path.write_text(yaml.safe_dump(a), encoding="utf-8")
     assert cli.main(["size", str(path)]) == 1
@@ -421,10 +422,10 @@ def test_each_gantry_share_obeys_the_drive_rule(walk_catalog: None) -> None:
     assert len(shares) == 2
     for share in shares:
         assert share.selection is not None
-        assert next(c["motor"] for c in share.candidates if c["rank"] is not None) == "TC-02"
-        assert share.selection["selected"]["motor"] == "TC-08"
-        assert share.selection["selected"]["drive"].status == "ok"
-        assert [p["motor"] for p in share.selection["drive_passed_over"]] == ["TC-02"]
+        assert next(c.motor for c in share.candidates if c.rank is not None) == "TC-02"
+        assert share.selection.selected.motor == "TC-08"
+        assert share.selection.selected.drive.status == "ok"
+        assert [p.motor for p in share.selection.drive_passed_over] == ["TC-02"]
         assert share.ok
 
 
@@ -450,10 +451,10 @@ def test_roll_example_answers_its_motor_with_the_paired_drive_by_pairing() -> No
     d0 = yaml.safe_load((Path(__file__).parents[2] / "examples" / "roll.yaml").read_text(encoding="utf-8"))
     d0["motor"]["select"] = {"objective": "smallest", "vendor": "Mitsubishi Electric"}
     r = size(d0)
-    pick = r.selection["selected"]
-    motor = pick["motor"]
+    pick = r.selection.selected
+    motor = pick.motor
     assert motor.startswith("HG-KR")
-    d = pick["drive"]
+    d = pick.drive
     assert catalog.get(motor)["torque_constant_Nm_per_A"] is None
     assert d.status == "ok" and d.ok is True and d.judged_by == "vendor pairing"
     assert d.id.startswith("MR-J4-") and list(d.candidates) == catalog.drive_pairs()[motor]

@@ -64,9 +64,9 @@ def test_a_catalog_pair_without_the_adapter_is_unknown_and_says_what_to_give() -
     bit = 1 << list(selection.CHECK_UNITS).index("mechanical_fit")
     fails = (c.failed & bit) != 0
     assert np.all(((c.unknown & bit) != 0)[geared & ~fails])
-    row = next(r for r in sel.listed if r["gearbox"] is not None and "mechanical_fit" in r["unknown"])
-    fit = next(ch for ch in row["checks"] if ch["name"] == "mechanical_fit")
-    assert "motor adapter" in fit["note"]
+    row = next(r for r in sel.listed if r.gearbox is not None and "mechanical_fit" in r.unknown)
+    fit = next(ch for ch in row.checks if ch.name == "mechanical_fit")
+    assert "motor adapter" in fit.note
 
 
 def test_a_catalog_pair_with_drawn_adapters_is_judged_on_them() -> None:
@@ -91,10 +91,10 @@ def test_a_catalog_pair_with_drawn_adapters_is_judged_on_them() -> None:
     assert wrong.any()
     assert np.all((c.failed[wrong] & bit) != 0)
     k = int(np.flatnonzero(wrong)[0])
-    from drivetrain.sizing.reasons import candidate_dict
+    from drivetrain.sizing.reasons import candidate_answer
 
-    row = candidate_dict(c, k, sel.ranking.motors, sel.ranking.gearboxes, None)
-    assert any("no drawn adapter takes the motor" in f for f in row["failures"])
+    row = candidate_answer(c, k, sel.ranking.motors, sel.ranking.gearboxes, None)
+    assert any("no drawn adapter takes the motor" in f for f in row.failures)
 
 
 def test_t2b_at_a_cycle_rate_that_needs_the_shock_factor_is_unknown_on_the_catalog_path() -> None:
@@ -162,6 +162,6 @@ def test_an_output_load_not_modelled_is_unknown() -> None:
     """A rotary table on the gearbox output: its loads are not modelled, so F2r and F2a cannot be judged."""
     ax = parse_axis(_table(gearbox_series="AG2250 PLE"))
     sel = selection.select(ax, duty_cycle(ax), ax.spec.motor.select, ax.spec.motor.margins)
-    row = next(r for r in sel.listed if r["gearbox"] is not None)
-    f2r = next(ch for ch in row["checks"] if ch["name"] == "gearbox_radial_load")
-    assert f2r["status"] == "unknown" and "not modelled" in f2r["note"]
+    row = next(r for r in sel.listed if r.gearbox is not None)
+    f2r = next(ch for ch in row.checks if ch.name == "gearbox_radial_load")
+    assert f2r.status == "unknown" and "not modelled" in f2r.note

@@ -47,13 +47,13 @@ def _expected_parts(result: Any) -> Counter[str]:
     """The parts the axis has, counted from the answer's blocks and the axis file."""
     axis = result.axis
     parts: Counter[str] = Counter({"motor": 1, "drive": 1})
-    pick = (result.selection or {}).get("selected") if result.axis.motor is None else None
-    parts["gearbox"] = sum(st.kind == "gearbox" for st in axis.transmission) + bool(pick and pick.get("gearbox"))
+    pick = result.selection.selected if result.axis.motor is None and result.selection is not None else None
+    parts["gearbox"] = sum(st.kind == "gearbox" for st in axis.transmission) + bool(pick and pick.gearbox)
     parts["coupling"] = sum(st.kind == "coupling" for st in axis.transmission)
     parts["brake"] = sum(st.kind == "brake" for st in axis.transmission)
     parts["screw"] = int(axis.spec.mechanism.type in ("ball_screw", "lead_screw"))
     parts["guide"] = int(axis.spec.guide is not None)
-    regen = (pick or {}).get("regen") if pick is not None else result.regen
+    regen = pick.regen if pick is not None else result.regen
     parts["braking_resistor"] = int(bool(regen is not None and regen.resistor_needed
                                          and regen.builtin_resistor_sufficient is not True))
     return +parts
@@ -110,16 +110,16 @@ def test_a_motor_without_drive_currents_gets_a_drive_specification_in_torque_ter
     motor's RMS and peak torque over the cycle, the peak's duration (the 1/3 s acceleration of the trapezoid
     1.2 m in 1 s) and the supply of the motor's 200 V class; the currents need the motor's k_T."""
     result = sized("belt.yaml")
-    pick = result.selection["selected"]
-    assert pick["motor"] == "MQMF022L1" and pick["drive"].status == "unknown"
+    pick = result.selection.selected
+    assert pick.motor == "MQMF022L1" and pick.drive.status == "unknown"
     drive = next(r for r in order_sheet(result).rows if r.part == "drive")
     assert drive.kind == "specification" and drive.spec["motor"] == "MQMF022L1"
     cycle, rotor, _ = result.motor_cycle()
     torque = cycle.motor_torque(rotor)
     rms = math.sqrt(float(np.sum(cycle.weights * torque**2)) / cycle.period)
     assert drive.spec["continuous_torque_Nm"] == pytest.approx(rms, rel=1e-12)
-    assert drive.spec["continuous_torque_Nm"] == pytest.approx(pick["rms_torque_Nm"], rel=1e-9)
-    assert drive.spec["peak_torque_Nm"] == pytest.approx(pick["peak_torque_Nm"], rel=1e-9)
+    assert drive.spec["continuous_torque_Nm"] == pytest.approx(pick.rms_torque_Nm, rel=1e-9)
+    assert drive.spec["peak_torque_Nm"] == pytest.approx(pick.peak_torque_Nm, rel=1e-9)
     assert drive.spec["peak_duration_s"] == pytest.approx(1.0 / 3.0, rel=1e-9)  # t_a = 1 s / 3 (trapezoid)
     assert drive.spec["supply_voltage_V"] == 200.0
     assert drive.spec["dc_bus_voltage_V"] == pytest.approx(200.0 * math.sqrt(2.0), rel=1e-12)
@@ -141,12 +141,12 @@ def test_a_held_load_asks_for_the_brake_variant_with_its_holding_torque() -> Non
     order code, and says the holding torque to order; where it has one, that code is the one to order."""
     result = sized("hoist.yaml")
     motor = next(r for r in order_sheet(result).rows if r.part == "motor")
-    need = next(c for c in result.selection["selected"]["checks"] if c["name"] == "motor_brake")["required"]
+    need = result.selection.selected.check("motor_brake").required
     assert motor.spec["holding_brake"] == "required"
     assert motor.spec["brake_holding_torque_min_Nm"] == pytest.approx(need, rel=1e-12)
     from drivetrain import catalog
 
-    assert motor.catalog_id == result.selection["selected"]["motor"]
+    assert motor.catalog_id == result.selection.selected.motor
     variant = catalog.get(motor.catalog_id).get("brake_code")
     if variant is None:  # the catalog names no brake variant: no code to order, the holding torque to ask for
         assert motor.status == "incomplete" and motor.order_code is None
@@ -183,7 +183,7 @@ def test_the_belt_axis_resistor_row_by_hand() -> None:
     """examples/belt.yaml: 200 V class, bus 282.84 V, resistor peak 132.78 W: R_max = 282.84^2 / 132.78 =
     602.5 ohm, largest E12 value below it 560 ohm; the energy per event is the larger of the two braking events."""
     result = sized("belt.yaml")
-    regen = result.selection["selected"]["regen"]
+    regen = result.selection.selected.regen
     row = next(r for r in order_sheet(result).rows if r.part == "braking_resistor")
     p = regen.resistor_peak_power_W
     assert row.spec["resistance_max_ohm"] == pytest.approx(2.0 * 200.0**2 / p, rel=1e-12)
@@ -334,6 +334,6 @@ def test_a_brake_whose_dwells_are_all_braked_still_gets_its_holding_torque() -> 
     result = size(data)
     assert result.metrics.holding_torque_Nm == 0.0
     motor = next(r for r in order_sheet(result).rows if r.part == "motor")
-    need = next(c for c in result.selection["selected"]["checks"] if c["name"] == "motor_brake")["required"]
+    need = result.selection.selected.check("motor_brake").required
     assert motor.spec["holding_brake"] == "required" and need > 0.0
     assert motor.spec["brake_holding_torque_min_Nm"] == pytest.approx(need, rel=1e-12)

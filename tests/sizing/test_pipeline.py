@@ -51,7 +51,7 @@ def test_a_selection_found_first_is_the_ranked_selections_pick() -> None:
     path = ROOT / "examples" / "ball_screw.yaml"
     ranked, first = size(path), size(path, listing="selected")
     assert ranked.selection is not None and first.selection is not None
-    assert first.selection["selected"] == ranked.selection["selected"]
+    assert first.selection.selected == ranked.selection.selected
     assert len(first.candidates) == 1 and first.ok == ranked.ok
     assert first.ranking is not None and ranked.ranking is not None
     assert first.ranking.best is not None
@@ -89,19 +89,19 @@ def test_the_answer_reads_like_the_table() -> None:
     the cycle with load-side and motor-side columns."""
     res = size(ROOT / "examples" / "ball_screw.yaml")
     assert res.selection is not None
-    pick = res.selection["selected"]
+    pick = res.selection.selected
     table = res.torques()
-    assert table.attrs["motor"] == pick["motor"]
+    assert table.attrs["motor"] == pick.motor
     assert table.loc["peak_torque_Nm", "demand"] == res.metrics.peak_torque_Nm
-    assert table.loc["peak_torque_Nm", "motor"] == pytest.approx(pick["peak_torque_Nm"], rel=1e-12)
-    assert table.loc["rms_torque_Nm", "motor"] == pytest.approx(pick["rms_torque_Nm"], rel=1e-12)
+    assert table.loc["peak_torque_Nm", "motor"] == pytest.approx(pick.peak_torque_Nm, rel=1e-12)
+    assert table.loc["rms_torque_Nm", "motor"] == pytest.approx(pick.rms_torque_Nm, rel=1e-12)
     assert table.loc["rms_torque_Nm", "motor"] > table.loc["rms_torque_Nm", "demand"]  # the rotor adds torque
     df = res.to_pandas()
     assert {"load_x", "load_v", "shaft_torque_Nm", "motor_speed_rad_s", "motor_torque_Nm"} <= set(df.columns)
-    assert float(abs(df["motor_torque_Nm"]).max()) == pytest.approx(pick["peak_torque_Nm"], rel=1e-12)
+    assert float(abs(df["motor_torque_Nm"]).max()) == pytest.approx(pick.peak_torque_Nm, rel=1e-12)
     given = size(ROOT / "examples" / "belt_gantry_3m.yaml")
     assert given.motor is not None
-    assert given.torques().loc["rms_torque_Nm", "motor"] == pytest.approx(given.motor["rms_torque_Nm"], rel=1e-12)
+    assert given.torques().loc["rms_torque_Nm", "motor"] == pytest.approx(given.motor.rms_torque_Nm, rel=1e-12)
 
 
 def test_a_study_result_is_its_table_as_pandas() -> None:

@@ -92,8 +92,8 @@ def test_no_placeholder_code_and_no_motor_both_passing_and_rejected(path: Path) 
             assert not code_choices(r["order_code"]), r["order_code"]
             assert "x" not in r["order_code"].replace("X", "") or any(
                 c.islower() and c != "x" for c in r["order_code"]), r["order_code"]
-    passing = {c["motor"] for c in result.candidates if c["ok"]}
-    rejected = {c["motor"] for c in result.candidates if not c["ok"]}
+    passing = {c.motor for c in result.candidates if c.ok}
+    rejected = {c.motor for c in result.candidates if not c.ok}
     assert not passing & rejected
 
 
@@ -155,16 +155,16 @@ def test_a_passing_candidate_with_an_unknown_drive_says_so(capsys: pytest.Captur
     path = ROOT / "examples" / "belt.yaml"
     result = sized(path)
     best = result.candidates[0]
-    assert best["ok"] and best["drive"].status == "unknown"
+    assert best.ok and best.drive.status == "unknown"
     assert any(u.part == "drive" for u in result.unknowns)
     cli.main(["size", str(path)])
     lines = capsys.readouterr().out.splitlines()
-    row = next(ln for ln in lines if f" {best['motor']} " in ln and ln.lstrip("│┃ ").startswith("1 "))
+    row = next(ln for ln in lines if f" {best.motor} " in ln and ln.lstrip("│┃ ").startswith("1 "))
     assert "yes, unknown: drive" in row
-    judged = [c for c in result.candidates if c["ok"] and not c.get("unknown")
-              and getattr(c.get("drive"), "status", None) not in ("unknown", "none")]
+    judged = [c for c in result.candidates if c.ok and not c.unknown
+              and getattr(c.drive, "status", None) not in ("unknown", "none")]
     for c in judged:  # a row judged in full still says a plain yes
-        line = next(ln for ln in lines if f" {c['motor']} " in ln)
+        line = next(ln for ln in lines if f" {c.motor} " in ln)
         assert "unknown" not in line.split("│")[-3], line
 
 

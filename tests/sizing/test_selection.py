@@ -23,8 +23,8 @@ FAMILIES = ["ball_screw", "belt", "rack_pinion", "rotary", "hoist", "chain", "co
 
 def _rotor(cand: dict) -> float:
     """The candidate's rotor inertia: its brake variant's where the axis needs a brake and the catalog gives it."""
-    m = catalog.get(cand["motor"])
-    braked = "brake" in cand and m["rotor_inertia_brake_kgm2"] is not None
+    m = catalog.get(cand.motor)
+    braked = cand.brake is not None and m["rotor_inertia_brake_kgm2"] is not None
     return m["rotor_inertia_brake_kgm2"] if braked else m["rotor_inertia_kgm2"]
 
 
@@ -33,8 +33,8 @@ def motor_torque(result, cand: dict) -> tuple[np.ndarray, float]:
     duty = result.duty
     j = _rotor(cand)
     ratio, eff = 1.0, 1.0
-    if cand["gearbox"]:
-        g = catalog.get(cand["gearbox"])
+    if cand.gearbox:
+        g = catalog.get(cand.gearbox)
         ratio, eff, j = g["ratio"], g["efficiency"], j + (g["inertia_input_kgm2"] or 0.0)
     st = Stage("g", "gearbox", ratio=ratio, efficiency=eff, back_efficiency=eff)
     t_in, _ = torque_in(st, duty.torque, duty.external, duty.omega * ratio, duty.alpha * ratio,
@@ -46,35 +46,35 @@ def motor_torque(result, cand: dict) -> tuple[np.ndarray, float]:
 def test_selected_passes_and_next_smaller_fails(family: str) -> None:
     res = size(EXAMPLES / f"{family}.yaml")
     sel = res.selection
-    assert sel is not None and sel["passing"] > 0
-    best = sel["selected"]
-    assert best["ok"] and all(c["ok"] for c in best["checks"])
+    assert sel is not None and sel.passing > 0
+    best = sel.selected
+    assert best.ok and all(c.ok for c in best.checks)
     # Hand check of the closed forms: RMS and peak of the motor torque, and the inertia ratio.
     t_m, j_total = motor_torque(res, best)
-    checks = {c["name"]: c for c in best["checks"]}
+    checks = {c.name: c for c in best.checks}
     rms = float(np.sqrt(np.sum(res.duty.weights * t_m**2) / res.duty.period))
-    assert best["rms_torque_Nm"] == pytest.approx(rms, rel=1e-9)
-    assert best["peak_torque_Nm"] == pytest.approx(float(np.max(np.abs(t_m))), rel=1e-9)
+    assert best.rms_torque_Nm == pytest.approx(rms, rel=1e-9)
+    assert best.peak_torque_Nm == pytest.approx(float(np.max(np.abs(t_m))), rel=1e-9)
     j_m = _rotor(best)
-    ratio = best["ratio"]
-    assert checks["inertia_ratio"]["required"] == pytest.approx(
+    ratio = best.ratio
+    assert checks["inertia_ratio"].required == pytest.approx(
         (res.duty.load_inertia / ratio**2 + (j_total - j_m)) / j_m, rel=1e-9)
     speed_margin = res.axis.spec.motor.margins.speed
-    assert checks["max_speed"]["required"] == pytest.approx(res.metrics.max_speed_rpm * ratio * speed_margin,
+    assert checks["max_speed"].required == pytest.approx(res.metrics.max_speed_rpm * ratio * speed_margin,
                                                             rel=1e-9)
-    nxt = sel.get("next_smaller")
+    nxt = sel.next_smaller
     if nxt is not None:
         # (or was passed over for its drive: drive_select.attach_drives)
         # or passes with a fit or brake not known where the selected one's is (ranked after: selection.ranked)
-        assert not nxt["ok"] or nxt["failed"].startswith("drive:") or (
-            {"motor_brake", "mechanical_fit"} & (set(nxt["unknown"]) - set(best["unknown"])))
-        if not nxt["ok"]:
-            name = nxt["failed"].split(":")[0]
-            assert name in {c["name"] for c in nxt["checks"] if not c["ok"]}
-        assert nxt["rated_power_W"] <= best["rated_power_W"]
+        assert not nxt.ok or nxt.failed.startswith("drive:") or (
+            {"motor_brake", "mechanical_fit"} & (set(nxt.unknown) - set(best.unknown)))
+        if not nxt.ok:
+            name = nxt.failed.split(":")[0]
+            assert name in {c.name for c in nxt.checks if not c.ok}
+        assert nxt.rated_power_W <= best.rated_power_W
     else:  # nothing smaller exists: the selected motor is the catalog's smallest
         powers = catalog.motors(kind="ac_servo").rated_power
-        assert best["rated_power_W"] == np.nanmin(powers)
+        assert best.rated_power_W == np.nanmin(powers)
 
 
 def test_next_smaller_motor_can_reach_the_cycle_speed() -> None:
@@ -82,18 +82,18 @@ def test_next_smaller_motor_can_reach_the_cycle_speed() -> None:
     ball-screw example's pick: the next smaller motor named is one that reaches the cycle's speed, so its failing
     checks say how tight the pick is (a motor that only fails max_speed would say nothing)."""
     sel = size(EXAMPLES / "ball_screw.yaml").selection
-    nxt = sel["next_smaller"]
-    checks = {c["name"]: c for c in nxt["checks"]}
-    assert checks["max_speed"]["status"] == "pass"
-    assert {c["name"] for c in nxt["checks"] if c["status"] == "fail"} & {"rms_torque", "peak_torque", "inertia_ratio"}
-    assert nxt["rated_power_W"] < sel["selected"]["rated_power_W"]
+    nxt = sel.next_smaller
+    checks = {c.name: c for c in nxt.checks}
+    assert checks["max_speed"].status == "pass"
+    assert {c.name for c in nxt.checks if c.status == "fail"} & {"rms_torque", "peak_torque", "inertia_ratio"}
+    assert nxt.rated_power_W < sel.selected.rated_power_W
 
 
 def test_every_motor_against_every_ratio() -> None:
     res = size(EXAMPLES / "ball_screw.yaml")
     n_m = len(catalog.motors(kind="ac_servo"))
     n_g = len(catalog.gearboxes(kind="servo_gearbox"))
-    assert res.selection["evaluated"] == n_m * (n_g + 1)
+    assert res.selection.evaluated == n_m * (n_g + 1)
 
 
 def test_json_candidates_follow_the_design() -> None:
@@ -120,7 +120,7 @@ def test_empty_result_says_what_to_relax() -> None:
              "motor": {"select": {"gearbox": "none"}, "margins": {"inertia_ratio": 10}}}
     res = size(parse_axis(heavy))
     assert not res.ok
-    advice = res.selection["advice"]
+    advice = res.selection.advice
     assert "no candidate passes" in advice and ("inertia" in advice or "short by" in advice)
 
 
@@ -137,8 +137,8 @@ def test_optimal_ratio_of_a_pure_inertia_is_the_inertia_match() -> None:
     res = size({"mechanism": {"type": "custom", "inertia": 0.05},
                 "profile": [{"move": "90 deg", "time": 0.3}, {"dwell": 0.2}],
                 "motor": {"select": {"gearbox": "none"}, "margins": {"inertia_ratio": 1000}}})
-    opt = res.selection["optimal_ratio"]
-    assert opt["min_rms_ratio"] == pytest.approx(opt["inertia_match_ratio"], rel=1e-3)
+    opt = res.selection.optimal_ratio
+    assert opt.min_rms_ratio == pytest.approx(opt.inertia_match_ratio, rel=1e-3)
 
 
 def test_datasheet_curve_replaces_the_derived_envelope() -> None:
@@ -322,10 +322,10 @@ def test_closed_form_optimal_ratio_is_the_minimum_of_the_sampled_rms() -> None:
     def rms(i: float) -> float:
         return float(np.sqrt(np.sum(duty.weights * (duty.torque / i + j * duty.alpha * i) ** 2) / duty.period))
 
-    best = opt["min_rms_ratio"]
-    assert 0.01 <= best <= max(opt["max_ratio_for_speed"], 1.0)
-    assert rms(best) == pytest.approx(opt["min_rms_torque_Nm"], rel=1e-12)
-    scan = np.geomspace(0.01, max(opt["max_ratio_for_speed"], 1.0), 4000)
+    best = opt.min_rms_ratio
+    assert 0.01 <= best <= max(opt.max_ratio_for_speed, 1.0)
+    assert rms(best) == pytest.approx(opt.min_rms_torque_Nm, rel=1e-12)
+    scan = np.geomspace(0.01, max(opt.max_ratio_for_speed, 1.0), 4000)
     assert rms(best) <= min(rms(float(i)) for i in scan) * (1 + 1e-9)
 
 
@@ -341,27 +341,27 @@ def test_passing_candidates_are_ranked_by_the_objective(objective: str) -> None:
                                                  "top": 8}}
     res = size(data)
     sel = res.selection
-    assert sel is not None and sel["passing"] >= 3
-    ranked = [c for c in res.candidates if c["ok"]]
-    assert [c["rank"] for c in ranked] == list(range(1, len(ranked) + 1))
+    assert sel is not None and sel.passing >= 3
+    ranked = [c for c in res.candidates if c.ok]
+    assert [c.rank for c in ranked] == list(range(1, len(ranked) + 1))
     c_all = res.ranking.candidates
 
     def score(c: dict) -> float:
-        check = {ch["name"]: ch for ch in c["checks"]}
+        check = {ch.name: ch for ch in c.checks}
         if objective == "rms_utilisation":
-            return check["rms_torque"]["required"] / check["rms_torque"]["available"]
+            return check["rms_torque"].required / check["rms_torque"].available
         if objective == "inertia_match":
-            return abs(np.log(c["inertia_ratio"]))
+            return abs(np.log(c.inertia_ratio))
         if objective == "energy":
             motors, gb = res.ranking.motors, res.ranking.gearboxes
-            m = int(np.flatnonzero(np.asarray(motors.ids) == c["motor"])[0])
+            m = int(np.flatnonzero(np.asarray(motors.ids) == c.motor)[0])
             rows = c_all.of_motors(np.array([m]))
-            g = -1 if c["gearbox"] is None else int(np.flatnonzero(np.asarray(gb.ids) == c["gearbox"])[0])
+            g = -1 if c.gearbox is None else int(np.flatnonzero(np.asarray(gb.ids) == c.gearbox)[0])
             k = int(rows[np.flatnonzero(c_all.gearbox(rows) == g)[0]])
             cycle, rotor = candidate_cycle(res.axis, res.duty, res.ranking, k)
             power = cycle.motor_torque(rotor) * cycle.omega
             return float(np.sum(cycle.weights * np.maximum(power, 0.0)))
-        return c["rated_power_W"]
+        return c.rated_power_W
 
     scores = [score(c) for c in ranked]
     assert all(a <= b * (1 + 1e-9) + 1e-12 for a, b in pairwise(scores)), scores

@@ -58,16 +58,16 @@ def test_selected_pair_can_be_assembled(sized: dict[str, SizingResult], name: st
     """The selected motor's shaft goes into its gearbox's input bore (catalog values read back here)."""
     res = sized[name]
     sel = res.selection
-    assert sel is not None and sel["passing"] > 0
-    best = sel["selected"]
-    assert best["gearbox"] is not None, "a geared selection was asked for"
-    motor, gb = catalog.get(best["motor"]), catalog.get(best["gearbox"])
+    assert sel is not None and sel.passing > 0
+    best = sel.selected
+    assert best.gearbox is not None, "a geared selection was asked for"
+    motor, gb = catalog.get(best.motor), catalog.get(best.gearbox)
     assert motor["shaft_diameter_m"] is not None and gb["input_bore_max_m"] is not None
     assert motor["shaft_diameter_m"] <= gb["input_bore_max_m"]
-    fit = {c["name"]: c for c in best["checks"]}["mechanical_fit"]
-    assert fit["status"] == "pass"
-    assert fit["required"] == pytest.approx(motor["shaft_diameter_m"] * 1e3)
-    assert fit["available"] == pytest.approx(gb["input_bore_max_m"] * 1e3)
+    fit = {c.name: c for c in best.checks}["mechanical_fit"]
+    assert fit.status == "pass"
+    assert fit.required == pytest.approx(motor["shaft_diameter_m"] * 1e3)
+    assert fit.available == pytest.approx(gb["input_bore_max_m"] * 1e3)
 
 
 @pytest.mark.parametrize("name", ["z", "gantry", "table"])
@@ -94,7 +94,7 @@ def test_no_passing_pair_is_known_not_to_assemble(sized: dict[str, SizingResult]
                             gb.input_flange[r], gb.input_pilot[r], bolt_circle=motors.bolt_circle[m],
                             adapters=adapter_arrays(gb.input_adapters)[r])
     assert np.count_nonzero(margin < 0) >= np.count_nonzero(known & (shaft > bore))
-    assert sel["failures_by_check"]["mechanical_fit"] == int(np.count_nonzero(margin < 0))
+    assert sel.failures_by_check["mechanical_fit"] == int(np.count_nonzero(margin < 0))
 
 
 @pytest.mark.parametrize("name", ["z", "gantry", "table"])
@@ -102,40 +102,40 @@ def test_gearbox_checked_by_its_ratings(sized: dict[str, SizingResult], name: st
     """T2B, T2N, T2NOT, n1max, n1N of the selected gearbox, each against its own quantity of the cycle,
     recomputed here from the duty cycle and the catalog row."""
     res = sized[name]
-    best = res.selection["selected"]
-    checks = {c["name"]: c for c in best["checks"]}
-    gb = catalog.get(best["gearbox"])
+    best = res.selection.selected
+    checks = {c.name: c for c in best.checks}
+    gb = catalog.get(best.gearbox)
     margins = res.axis.spec.motor.margins
-    duty, i = res.duty, best["ratio"]
+    duty, i = res.duty, best.ratio
     rpm = 60 / (2 * math.pi)
     t2n = checks["gearbox_rated_torque"]
-    assert t2n["required"] == pytest.approx(cubic_mean(duty.torque, duty.omega, duty.weights) * margins.torque,
+    assert t2n.required == pytest.approx(cubic_mean(duty.torque, duty.omega, duty.weights) * margins.torque,
                                             rel=1e-9)
-    assert t2n["available"] == pytest.approx(gb["rated_output_torque_Nm"])
+    assert t2n.available == pytest.approx(gb["rated_output_torque_Nm"])
     n1max = checks["gearbox_max_input_speed"]
-    assert n1max["required"] == pytest.approx(res.metrics.max_speed_rpm * i * margins.speed, rel=1e-6)
+    assert n1max.required == pytest.approx(res.metrics.max_speed_rpm * i * margins.speed, rel=1e-6)
     if gb["max_input_speed_rad_s"] is None:
-        assert n1max["status"] == "unknown"
+        assert n1max.status == "unknown"
     else:
-        assert n1max["available"] == pytest.approx(gb["max_input_speed_rad_s"] * rpm)
+        assert n1max.available == pytest.approx(gb["max_input_speed_rad_s"] * rpm)
     n1n = checks["gearbox_mean_input_speed"]
-    assert n1n["required"] == pytest.approx(res.metrics.mean_speed_rpm * i, rel=1e-6)
-    assert n1n["available"] == pytest.approx(gb["rated_input_speed_rad_s"] * rpm)
+    assert n1n.required == pytest.approx(res.metrics.mean_speed_rpm * i, rel=1e-6)
+    assert n1n.available == pytest.approx(gb["rated_input_speed_rad_s"] * rpm)
     t2b = checks["gearbox_peak_torque"]
-    assert t2b["required"] == pytest.approx(float(np.max(np.abs(duty.torque))) * margins.torque, rel=1e-9)
+    assert t2b.required == pytest.approx(float(np.max(np.abs(duty.torque))) * margins.torque, rel=1e-9)
     if gb["max_output_torque_Nm"] is None or math.isnan(shock_factor(duty.period, margins.gearbox_shock_factor)):
-        assert t2b["status"] == "unknown" and t2b["ok"] and "T2B" in t2b["note"]
-        assert "gearbox_peak_torque" in best["unknown"]
+        assert t2b.status == "unknown" and t2b.ok and "T2B" in t2b.note
+        assert "gearbox_peak_torque" in best.unknown
     # the e-stop torque is the motor's peak through the gearbox (lecture's k-split), never the cycle's peak
     estop = checks["gearbox_emergency_stop_torque"]
-    motor = catalog.get(best["motor"])
+    motor = catalog.get(best.motor)
     j = motor["rotor_inertia_kgm2"] + (gb["inertia_input_kgm2"] or 0.0)
     k = j / (j + duty.load_inertia / i**2)
     t_l = float(np.median(np.abs(duty.external))) / i
     want = ((1 - k) * (motor["peak_torque_Nm"] - t_l) + t_l) * i * gb["efficiency"]
-    assert estop["required"] == pytest.approx(want, rel=1e-9)
-    assert estop["available"] == pytest.approx(gb["emergency_stop_torque_Nm"])
-    assert all(checks[n]["status"] != "fail" for n in checks)
+    assert estop.required == pytest.approx(want, rel=1e-9)
+    assert estop.available == pytest.approx(gb["emergency_stop_torque_Nm"])
+    assert all(checks[n].status != "fail" for n in checks)
 
 
 def test_given_gearbox_ratings_are_checked_and_named() -> None:
@@ -190,34 +190,34 @@ def test_motor_too_slow_fails_max_speed_first() -> None:
     res = size(_axes()["gantry"])
     sel = res.selection
     c, motors, gb = res.ranking.candidates, res.ranking.motors, res.ranking.gearboxes
-    from drivetrain.sizing.reasons import candidate_dict
+    from drivetrain.sizing.reasons import candidate_answer
 
     slow = np.flatnonzero(c.failed & (1 << 2))[:200]
     assert len(slow)
     for k in slow:
-        d = candidate_dict(c, int(k), motors, gb, None)
-        assert d["failures"][0].startswith("max_speed: the cycle needs")
-        peak = {ch["name"]: ch for ch in d["checks"]}["peak_torque"]
-        assert peak["status"] in ("not_judged", "pass", "fail")
-        assert peak["available"] != 0.0
-        assert all("available 0 N*m" not in f for f in d["failures"])
-    for cand in [*res.candidates, sel.get("next_smaller") or {}]:
-        for f in cand.get("failures", []):
+        d = candidate_answer(c, int(k), motors, gb, None)
+        assert d.failures[0].startswith("max_speed: the cycle needs")
+        peak = {ch.name: ch for ch in d.checks}["peak_torque"]
+        assert peak.status in ("not_judged", "pass", "fail")
+        assert peak.available != 0.0
+        assert all("available 0 N*m" not in f for f in d.failures)
+    for cand in [*res.candidates, *([sel.next_smaller] if sel.next_smaller is not None else [])]:
+        for f in cand.failures:
             assert "available 0 N*m" not in f and "-100.0 %" not in f
 
 
 def test_ranked_list_is_one_configuration_per_motor_and_all_pairs_on_request() -> None:
     axis = load_axis(EXAMPLES / "belt_gantry.yaml")
     res = size(axis)
-    ranked = [c for c in res.candidates if c["rank"]]
+    ranked = [c for c in res.candidates if c.rank]
     assert len(ranked) == 10
-    assert len({c["motor"] for c in ranked}) == 10
+    assert len({c.motor for c in ranked}) == 10
     for c in ranked:
-        assert c["vendor"] and c["rated_power_W"] > 0 and c["flange_mm"] > 0
+        assert c.vendor and c.rated_power_W > 0 and c.flange_mm > 0
     every = size(axis, all_pairs=True)
-    pairs = [c for c in every.candidates if c["rank"]]
-    assert len(pairs) == every.selection["passing"] > len({c["motor"] for c in pairs})
-    assert ranked[0]["motor"] == pairs[0]["motor"] and ranked[0]["gearbox"] == pairs[0]["gearbox"]
+    pairs = [c for c in every.candidates if c.rank]
+    assert len(pairs) == every.selection.passing > len({c.motor for c in pairs})
+    assert ranked[0].motor == pairs[0].motor and ranked[0].gearbox == pairs[0].gearbox
 
 
 def test_unknown_fail_policy_rejects_what_cannot_be_judged() -> None:
@@ -227,8 +227,8 @@ def test_unknown_fail_policy_rejects_what_cannot_be_judged() -> None:
     c = res.ranking.candidates
     assert np.all(c.unknown[c.ok] == 0)
     for cand in res.candidates:
-        assert cand["ok"] == (not cand["failures"])
-        assert not (cand["ok"] and cand["unknown"])
+        assert cand.ok == (not cand.failures)
+        assert not (cand.ok and cand.unknown)
 
 
 def test_a_candidate_exactly_at_its_limit_does_not_pass() -> None:
@@ -241,12 +241,12 @@ def test_a_candidate_exactly_at_its_limit_does_not_pass() -> None:
     data = {**base, "motor": {"inertia": j, "rated_torque": 1.0, "peak_torque": 100.0, "rated_speed": "3000 rpm",
                               "max_speed": "6000 rpm"}}
     res = size(data)
-    rms = res.motor["rms_torque_Nm"]
+    rms = res.motor.rms_torque_Nm
     exact = {**data, "motor": {**data["motor"], "rated_torque": rms, "stall_torque": rms}}
     res = size(exact)
-    check = {c["name"]: c for c in res.motor["checks"]}["rms_torque"]
-    assert not check["ok"]
-    assert check["margin"] == pytest.approx(1 / 1.2 - 1, rel=1e-3)
+    check = {c.name: c for c in res.motor.checks}["rms_torque"]
+    assert not check.ok
+    assert check.margin == pytest.approx(1 / 1.2 - 1, rel=1e-3)
 
 
 def test_advice_never_suggests_what_is_already_set() -> None:
@@ -254,7 +254,7 @@ def test_advice_never_suggests_what_is_already_set() -> None:
     heavy = {**ax, "mechanism": {**ax["mechanism"], "load": {"mass": "20000 kg"}},
              "motor": {"select": {"gearbox": "auto"}}}
     res = size(parse_axis(heavy))
-    advice = res.selection["advice"]
+    advice = res.selection.advice
     assert "no candidate passes" in advice
     assert "gearbox: auto" not in advice
     assert len(advice.splitlines()) >= 2  # one line per blocking check
@@ -274,8 +274,8 @@ def test_mechanical_fit_reasons_name_the_dimensions() -> None:
 
 def test_explain_lists_the_fit_and_every_gearbox_rating() -> None:
     res = size(EXAMPLES / "belt_gantry.yaml")
-    best = res.selection["selected"]
-    text = res.explain(best["motor"])
+    best = res.selection.selected
+    text = res.explain(best.motor)
     for name in ("mechanical_fit", "gearbox_peak_torque", "gearbox_rated_torque", "gearbox_max_input_speed",
                  "gearbox_mean_input_speed", "gearbox_emergency_stop_torque"):
         assert name in text
@@ -304,5 +304,5 @@ def test_report_subtitle_names_the_selected_gearbox(sized: dict[str, SizingResul
 
     res = sized["gantry"]
     model = build_report(res)
-    assert res.selection["selected"]["gearbox"] in model.subtitle
+    assert res.selection.selected.gearbox in model.subtitle
     assert "direct drive" not in model.subtitle

@@ -199,4 +199,4 @@ def test_a_drive_without_a_motor_is_refused() -> None:
 def test_a_drive_with_a_selection_is_checked_for_every_candidate() -> None:
     data = axis(motor={"select": {"vendor": "siemens", "flange": "96 mm", "gearbox": "none"}})
     r = size(data)
-    assert r.candidates and all(c["drive"].basis == "given in the axis file" for c in r.candidates)
+    assert r.candidates and all(c.drive.basis == "given in the axis file" for c in r.candidates)

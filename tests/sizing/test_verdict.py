@@ -229,16 +229,16 @@ def test_the_demand_table_says_which_shaft_each_number_is_at(capsys: pytest.Capt
     import re
 
     res = size(EXAMPLES / "belt_gantry.yaml")
-    pick = res.selection["selected"]
-    assert pick["gearbox"] and pick["ratio"] > 1
+    pick = res.selection.selected
+    assert pick.gearbox and pick.ratio > 1
     cli.main(["size", str(EXAMPLES / "belt_gantry.yaml")])
     out = capsys.readouterr().out
     assert "demand at the motor shaft" not in out
-    assert f"demand at the axis input (rotor excluded); at the shaft of {pick['motor']} behind {pick['gearbox']}" in out
+    assert f"demand at the axis input (rotor excluded); at the shaft of {pick.motor} behind {pick.gearbox}" in out
     axis_speed = float(re.search(r"│ max / mean speed\s+│\s+([\d.]+) /", out).group(1))  # type: ignore[union-attr]
     motor_row = re.search(r"│ motor shaft \(i = ([\d.]+)\): max / mean speed\s+│\s+([\d.]+) /", out)
-    assert motor_row is not None and float(motor_row.group(1)) == pytest.approx(pick["ratio"])
-    assert float(motor_row.group(2)) == pytest.approx(axis_speed * pick["ratio"], abs=pick["ratio"])
+    assert motor_row is not None and float(motor_row.group(1)) == pytest.approx(pick.ratio)
+    assert float(motor_row.group(2)) == pytest.approx(axis_speed * pick.ratio, abs=pick.ratio)
     peak = re.search(r"│ motor shaft \(i = [\d.]+\): peak / RMS torque, rotor included\s+│\s+([\d.]+) /", out)
     torques = res.torques()
     assert peak is not None and float(peak.group(1)) == pytest.approx(torques.loc["peak_torque_Nm", "motor"], rel=1e-3)

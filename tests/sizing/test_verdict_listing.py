@@ -32,8 +32,8 @@ def test_no_passing_motor_is_listed_as_rejected(name: str) -> None:
     res = size(EXAMPLES / name)
     assert res.ranking is not None
     c, ids = res.ranking.candidates, [str(i) for i in res.ranking.motors.ids]
-    passing = {row["motor"] for row in res.candidates if row["ok"]}
-    rejected = {row["motor"] for row in res.candidates if not row["ok"]}
+    passing = {row.motor for row in res.candidates if row.ok}
+    rejected = {row.motor for row in res.candidates if not row.ok}
     assert not passing & rejected
     for motor in rejected:
         rows = c.of_motors(np.flatnonzero(np.asarray(ids) == motor))
@@ -44,19 +44,19 @@ def test_the_gantry_lists_rejected_motors_only_when_every_configuration_fails() 
     """The 3 m gantry used to list SGM7A-15A as rejected (inertia_ratio -0.053 %) while 3 of its 811
     configurations passed (2 since the gearbox output loads are checked)."""
     res = size(EXAMPLES / "belt_gantry.yaml")
-    assert "SGM7A-15A" not in {row["motor"] for row in res.candidates if not row["ok"]}
+    assert "SGM7A-15A" not in {row.motor for row in res.candidates if not row.ok}
     import re
 
     passing = re.match(r"SGM7A-15A: (\d+) of 811 configurations pass", res.explain("SGM7A-15A"))
     assert passing is not None and int(passing.group(1)) >= 1
-    assert [row for row in res.candidates if not row["ok"]], "the listing still shows the closest rejected motors"
+    assert [row for row in res.candidates if not row.ok], "the listing still shows the closest rejected motors"
 
 
 def test_explain_shows_a_passing_configuration_of_a_passing_motor() -> None:
     res = size(EXAMPLES / "belt_gantry.yaml")
     for row in res.candidates:
-        if row["ok"]:
-            text = res.explain(row["motor"])
+        if row.ok:
+            text = res.explain(row.motor)
             assert "rejected because" not in text and "FAIL" not in text, text
 
 
@@ -65,11 +65,11 @@ def test_explain_of_a_failing_motor_shows_its_configuration_that_fails_least() -
     assert res.ranking is not None
     c, ids = res.ranking.candidates, np.asarray([str(i) for i in res.ranking.motors.ids])
     for row in res.candidates:
-        if row["ok"]:
+        if row.ok:
             continue
-        rows = c.of_motors(np.flatnonzero(ids == row["motor"]))
+        rows = c.of_motors(np.flatnonzero(ids == row.motor))
         fewest = min(_failures(int(f)) for f in c.failed[rows])
-        text = res.explain(row["motor"])
+        text = res.explain(row.motor)
         assert text.count("  FAIL ") == fewest, text
 
 
@@ -103,6 +103,6 @@ def test_advice_gives_no_percentage_for_a_check_not_judged() -> None:
             "motor": {"select": {"gearbox": "none"}, "margins": {"inertia_ratio": 10}}}
     res = size(parse_axis(fast))
     assert not res.ok
-    advice = res.selection["advice"]
+    advice = res.selection.advice
     assert "short by 100 %" not in advice and "vs 0 N*m" not in advice
     assert "rms_torque not judged" in advice and "max speed" in advice

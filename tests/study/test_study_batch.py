@@ -98,7 +98,7 @@ def test_selected_candidate_equals_size(engine: Engine, k: int) -> None:
     ref = drivetrain.size(axis)
     d = ref.to_dict()
     assert fast["ok"] == ref.ok
-    if ref.selection is not None and ref.selection.get("passing"):
+    if ref.selection is not None and ref.selection.passing:
         _same_candidate(fast["selection"]["selected"], d["selection"]["selected"])
     else:
         assert "selected" not in fast["selection"]

@@ -213,17 +213,17 @@ def test_build_size_save_reload_and_download(page: Any, server: tuple[str, Path]
 
     expected = size(example)
     banner = page.locator("#result-banner")
-    if expected.selection is not None and "selected" in expected.selection:
-        selected = expected.selection["selected"]["motor"]
+    if expected.selection is not None and expected.selection.selected is not None:
+        selected = expected.selection.selected.motor
         assert f"Selected motor: {selected}" in banner.inner_text()
         assert page.locator(".candidates-table tbody tr").count() == len(expected.candidates)
-        checks = expected.selection["selected"]["checks"]
+        checks = expected.selection.selected.checks
     else:
         assert expected.motor is not None
-        assert expected.motor["name"] in banner.inner_text()
-        checks = expected.motor["checks"]
+        assert expected.motor.name in banner.inner_text()
+        checks = expected.motor.checks
     assert page.locator(".checks-table tbody tr").count() == len(checks)
-    assert page.locator(".checks-table").inner_text().count("ok") >= sum(1 for c in checks if c["ok"])
+    assert page.locator(".checks-table").inner_text().count("ok") >= sum(1 for c in checks if c.ok)
     assert float(metric(page, "RMS torque").split()[0]) == sig4(expected.metrics.rms_torque_Nm)
     assert page.locator("#plot-plane .main-svg").count() >= 1
     screenshot(page, "web-editor.png")
@@ -235,8 +235,8 @@ def test_build_size_save_reload_and_download(page: Any, server: tuple[str, Path]
         compare = page.locator(".compare-table")
         compare.wait_for()
         heads = compare.locator("thead th").all_inner_texts()
-        assert heads[1].startswith(expected.candidates[0]["motor"])
-        assert heads[2].startswith(expected.candidates[1]["motor"])
+        assert heads[1].startswith(expected.candidates[0].motor)
+        assert heads[2].startswith(expected.candidates[1].motor)
         wait_until(page, "() => [...document.querySelectorAll('#plot-plane .legendtext')]"
                          ".some(t => t.textContent.includes('cycle') && !t.textContent.includes('|n|'))")
         page.click("text=Clear comparison")
@@ -282,7 +282,7 @@ def test_build_size_save_reload_and_download(page: Any, server: tuple[str, Path]
     assert downloaded == heavier
     again = size(downloaded)
     assert again.metrics.rms_torque_Nm == pytest.approx(rms, rel=1e-12)
-    assert [c["motor"] for c in again.candidates] == [c["motor"] for c in size(heavier).candidates]
+    assert [c.motor for c in again.candidates] == [c.motor for c in size(heavier).candidates]
 
     for fmt, check in (("html", lambda b: b"<html" in b[:2000].lower()), ("pdf", lambda b: b.startswith(b"%PDF"))):
         with page.expect_download(timeout=120_000) as download:
@@ -574,7 +574,7 @@ def test_the_dynamics_show_in_the_results(page: Any) -> None:
     page.select_option("#example-select", "belt_dynamic")
     wait_sized(page)
     wait_until(page, "() => document.querySelector('.dynamics-table') !== null")
-    first = size(ROOT / "examples" / "belt_dynamic.yaml").selection["dynamics"]["passed_over"][0]["motor"]
+    first = size(ROOT / "examples" / "belt_dynamic.yaml").selection.dynamics["passed_over"][0]["motor"]
     table = page.inner_text(".dynamics-table")
     assert first in table and "passed over for how it moves" in table and "answer" in table
     assert "static pick passed over for how it moves" in page.inner_text("#result-banner")

@@ -170,8 +170,8 @@ def test_a_selection_takes_the_supply_and_the_environment_in_the_form(page: Any)
     assert axis["environment"] == {"ambient": "45 degC", "altitude": "1500 m"}
     assert page.locator("#f-motor-dc-bus-voltage").count() == 1
     expected = size(axis).selection
-    assert f"Selected motor: {expected['selected']['motor']}" in page.inner_text("#result-banner")
-    assert f"{expected['passing']} of {expected['evaluated']}" in page.inner_text("#result-banner")
+    assert f"Selected motor: {expected.selected.motor}" in page.inner_text("#result-banner")
+    assert f"{expected.passing} of {expected.evaluated}" in page.inner_text("#result-banner")
 
 
 def test_not_orderable_is_a_short_verdict_with_the_motors_folded(page: Any) -> None:  # noqa: F811

@@ -10,6 +10,7 @@ from drivetrain.cli.quantities import TableUnits
 from drivetrain.terminal import Col, print_table, table_console
 
 if TYPE_CHECKING:
+    from drivetrain.sizing.answer import Candidate, CheckRow, SelectionSummary
     from drivetrain.sizing.electrical import DriveAnswer, Regen
 
 __all__ = ["CANDIDATE_COLUMNS", "print_sizing", "table_console"]
@@ -49,7 +50,12 @@ def print_sizing(result: Any, units: TableUnits | None = None) -> None:
         _print_checks(console, f"mechanism {result.axis.mechanism.type}",
                       {"ok": all(c.ok for c in mech), "checks": [c.to_dict() for c in mech]}, u)
     if result.motor is not None:
-        _print_checks(console, f"motor {result.motor['name']}", result.motor, u)
+        motor = result.motor
+        _print_checks(console, f"motor {motor.name}", {"ok": motor.ok, "checks": [c.to_dict() for c in motor.checks]},
+                      u)
+        console.print(f"inertia ratio J_L/J_M = {motor.inertia_ratio:.3g} "
+                      f"(lecture: below 5:1 recommended, 1:1 ideal); "
+                      f"t_am = {motor.min_accel_time_s:.4g} s, t_dm = {motor.min_decel_time_s:.4g} s")
         _print_electrical(console, result, u)
     gear = result.gearbox_checks
     if gear is not None:
@@ -63,8 +69,8 @@ def _motor_shaft_rows(result: Any, u: TableUnits) -> list[tuple[str, str]]:
     """Where the selection puts a catalog gearbox between the motor and the axis input, the selected motor's
     own figures at its shaft (speed x i; torque / (i eta) plus the gearbox input's and the rotor's inertia
     torque: ``SizingResult.motor_cycle``); nothing where the axis input is the motor shaft."""
-    pick = (result.selection or {}).get("selected") or {}
-    if not pick.get("gearbox") or result.axis.motor is not None:
+    pick = result.selection.selected if result.selection is not None else None
+    if pick is None or not pick.gearbox or result.axis.motor is not None:
         return []
     own = result.motor_cycle()
     if own is None:
@@ -74,7 +80,7 @@ def _motor_shaft_rows(result: Any, u: TableUnits) -> list[tuple[str, str]]:
 
     cycle, rotor, _ = own
     m = snapped_metrics(load_metrics(cycle, cycle.motor_torque(rotor)))
-    at = f"motor shaft (i = {pick['ratio']:.4g})"
+    at = f"motor shaft (i = {pick.ratio:.4g})"
     return [
         (f"{at}: load inertia", u.q(cycle.load_inertia, "inertia", "kg*cm^2", 1e4)),
         (f"{at}: peak / RMS torque, rotor included", f"{u.num(m['peak_torque_Nm'], 'torque')} / "
@@ -86,10 +92,10 @@ def _motor_shaft_rows(result: Any, u: TableUnits) -> list[tuple[str, str]]:
 def _demand_title(result: Any) -> str:
     """The demand table's title: at the axis input; and at the selected motor's shaft behind its catalog
     gearbox where the selection puts one there."""
-    pick = (result.selection or {}).get("selected") or {}
+    pick = result.selection.selected if result.selection is not None else None
     title = f"{result.axis.name}: demand at the axis input (rotor excluded)"
-    if pick.get("gearbox") and result.axis.motor is None:
-        title += f"; at the shaft of {pick['motor']} behind {pick['gearbox']}"
+    if pick is not None and pick.gearbox and result.axis.motor is None:
+        title += f"; at the shaft of {pick.motor} behind {pick.gearbox}"
     return title
 
 
@@ -118,15 +124,11 @@ def _print_checks(console: Any, title: str, block: dict[str, Any], u: TableUnits
     for c in block["checks"]:
         if c.get("note"):
             console.print(f"  {c['name']}: {c['note']}")
-    if "inertia_ratio" in block:
-        console.print(f"inertia ratio J_L/J_M = {block['inertia_ratio']:.3g} "
-                      f"(lecture: below 5:1 recommended, 1:1 ideal); "
-                      f"t_am = {block['min_accel_time_s']:.4g} s, t_dm = {block['min_decel_time_s']:.4g} s")
 
 
 def _print_electrical(console: Any, result: Any, u: TableUnits) -> None:
     """The electrical half of a given motor: supply, envelope source, currents, winding, drive, regen."""
-    _print_electrical_blocks(console, result.motor, result.drive, result.regen, u)
+    _print_electrical_blocks(console, result.motor.electrical, result.drive, result.regen, u)
 
 
 def _drive_label(drive: DriveAnswer | None) -> str:
@@ -137,18 +139,18 @@ def _drive_label(drive: DriveAnswer | None) -> str:
     return f"{drive.id or '-'}" + ("" if status == "ok" else f" ({status})")
 
 
-def _print_selected_electrical(console: Any, pick: dict[str, Any], u: TableUnits) -> None:
+def _print_selected_electrical(console: Any, pick: Candidate, u: TableUnits) -> None:
     """The selected candidate's drive, electrical figures and regen block (drivetrain.sizing.drive_select)."""
-    drive = pick.get("drive")
+    drive = pick.drive
     if drive is not None and drive.status in ("unknown", "none"):
         console.print(f"drive: {drive.id or 'none'} ({drive.status}: {drive.reason or ''})")
         drive = None
-    elec = pick.get("electrical") or {}
+    elec = pick.electrical or {}
     if elec.get("note"):
         console.print(f"electrical: {elec['note']}")
-    _print_electrical_blocks(console, {**elec, "checks": elec.get("checks", [])}, drive, pick.get("regen"), u)
+    _print_electrical_blocks(console, {**elec, "checks": elec.get("checks", [])}, drive, pick.regen, u)
     if elec.get("checks"):
-        _print_checks(console, f"motor {pick['motor']} electrical",
+        _print_checks(console, f"motor {pick.motor} electrical",
                       {"ok": all(c["ok"] for c in elec["checks"]), "checks": elec["checks"]}, u)
 
 
@@ -195,11 +197,11 @@ def _print_regen(console: Any, rg: Regen) -> None:
                   f"{rg.resistor_average_power_W:.4g} W{window}{builtin}")
 
 
-def _mounting(c: dict[str, Any], sel: dict[str, Any]) -> str:
+def _mounting(c: Candidate, sel: SelectionSummary | None) -> str:
     """How the motor drives the axis: a catalog gearbox, the axis's own gearbox, or direct."""
-    if c.get("gearbox"):
-        return f"{c['gearbox']} (i = {c['ratio']:.4g})"
-    if sel.get("transmission_gearbox"):
+    if c.gearbox:
+        return f"{c.gearbox} (i = {c.ratio:.4g})"
+    if sel is not None and sel.transmission_gearbox:
         return "axis gearbox"
     return "direct"
 
@@ -219,51 +221,59 @@ def _drive_unknown(drive: Any) -> bool:
 
 
 def _print_candidates(console: Any, result: Any, u: TableUnits) -> None:
-    sel = result.selection or {}
-    per = "every passing pair" if sel.get("listing") == "all_pairs" else "best configuration of each motor"
-    title = (f"candidates: {sel.get('passing', '?')} of {sel.get('evaluated', '?')} configurations pass, "
-             f"{sel.get('passing_motors', '?')} motors (ranked by {sel.get('objective', '?')}; {per}; "
+    sel: SelectionSummary | None = result.selection
+
+    def count(name: str) -> str:  # a count the smallest-first search leaves out: "?"
+        n = None if sel is None else getattr(sel, name)
+        return "?" if n is None else str(n)
+
+    per = ("every passing pair" if sel is not None and sel.listing == "all_pairs"
+           else "best configuration of each motor")
+    title = (f"candidates: {count('passing')} of {count('evaluated')} configurations pass, "
+             f"{count('passing_motors')} motors (ranked by {count('objective')}; {per}; "
              "rejected ones below with the reason)")
     rows: list[tuple[str, ...]] = []
+    c: Candidate
     for c in result.candidates:
-        checks = {ch["name"]: ch for ch in c["checks"]}
-        if c["ok"]:
-            unknown = [*c.get("unknown", []), *(["drive"] if _drive_unknown(c.get("drive")) else [])]
+        if c.ok:
+            unknown = [*c.unknown, *(["drive"] if _drive_unknown(c.drive) else [])]
             why = "yes" if not unknown else "yes, unknown: " + ", ".join(unknown)
         else:
-            bad = sorted((ch for ch in c["checks"] if ch.get("status", "fail" if not ch["ok"] else "pass") == "fail"),
-                         key=lambda ch: (ch["name"] != "max_speed", ch["margin"] or 0.0))
-            why = "\n".join(f"{ch['name']} {_pct(ch['margin'])}" for ch in bad) or c["failed"]
-        power = c.get("rated_power_W")
-        flange = c.get("flange_mm")
-        motor = c["motor"] + (" †" if c.get("unverified") else "")
-        rows.append((str(c["rank"]) if c.get("rank") else "-", motor, c.get("vendor", ""),
+            bad = sorted((ch for ch in c.checks if ch.status == "fail"),
+                         key=lambda ch: (ch.name != "max_speed", ch.margin or 0.0))
+            why = "\n".join(f"{ch.name} {_pct(ch.margin)}" for ch in bad) or c.failed
+        power = c.rated_power_W
+        motor = c.motor + (" †" if c.unverified else "")
+        peak, rms = c.check("peak_torque"), c.check("rms_torque")
+        rows.append((str(c.rank) if c.rank else "-", motor, c.vendor,
                      "" if power is None or math.isnan(power) else f"{power:.0f} W",
-                     _flange(flange, u), _mounting(c, sel),
-                     f"{c['inertia_ratio']:.3g}", _pct(checks["peak_torque"]["margin"]),
-                     _pct(checks["rms_torque"]["margin"]), why, _drive_label(c.get("drive"))))
+                     _flange(c.flange_mm, u), _mounting(c, sel),
+                     f"{c.inertia_ratio:.3g}", _pct(None if peak is None else peak.margin),
+                     _pct(None if rms is None else rms.margin), why, _drive_label(c.drive)))
     print_table(console, title, CANDIDATE_COLUMNS, rows)
-    if any(c.get("unverified") for c in result.candidates):
+    if any(c.unverified for c in result.candidates):
         console.print("† unverified catalog data (not traced to a vendor document, or a derived rating): "
                       "see unverified_reason in --json, or `drivetrain catalog show ID`")
-    if sel.get("selected"):
-        pick = sel["selected"]
-        how = (f" + {pick['gearbox']} ({pick.get('gearbox_vendor') or 'catalog'}, i = {pick['ratio']:.4g})"
-               if pick.get("gearbox") else (f", on the axis's {sel['transmission_gearbox']}"
-                                            if sel.get("transmission_gearbox") else ", direct drive"))
-        console.print(f"selected: {pick['motor']} ({pick['vendor']}){how}")
-        if sel.get("drive_advice"):
-            console.print(f"[bold red]not orderable: {sel['drive_advice']}[/]")
+    if sel is None:
+        return
+    if sel.selected is not None:
+        pick = sel.selected
+        how = (f" + {pick.gearbox} ({pick.gearbox_vendor or 'catalog'}, i = {pick.ratio:.4g})"
+               if pick.gearbox else (f", on the axis's {sel.transmission_gearbox}"
+                                     if sel.transmission_gearbox else ", direct drive"))
+        console.print(f"selected: {pick.motor} ({pick.vendor}){how}")
+        if sel.drive_advice:
+            console.print(f"[bold red]not orderable: {sel.drive_advice}[/]")
         else:
-            for over in sel.get("drive_passed_over", [])[:5]:
-                what = {"dynamics": "how it moves"}.get(over.get("drive_status", ""), "its drive")
-                if over["reason"].startswith("voltage_class:"):
+            for over in (sel.drive_passed_over or [])[:5]:
+                what = {"dynamics": "how it moves"}.get(over.drive_status, "its drive")
+                if over.reason.startswith("voltage_class:"):
                     what = "its voltage class"
-                console.print(f"  passed over for {what}: {over['motor']}: {over['reason']}")
-            more = int(sel.get("drive_passed_over_count", 0)) - 5
+                console.print(f"  passed over for {what}: {over.motor}: {over.reason}")
+            more = (sel.drive_passed_over_count or 0) - 5
             if more > 0:
                 console.print(f"  ... and {more} more passed over for their drive (selection.drive_passed_over)")
-        dyn = sel.get("dynamics")
+        dyn = sel.dynamics
         if dyn and dyn.get("chosen"):
             from drivetrain.report.dynamics import inertia_sentence
 
@@ -275,30 +285,29 @@ def _print_candidates(console: Any, result: Any, u: TableUnits) -> None:
         elif dyn:
             console.print(f"[bold red]dynamics: none of the {dyn['judged']} candidates judged passes[/]")
         _print_selected_electrical(console, pick, u)
-        if pick.get("unknown"):
+        if pick.unknown:
             console.print("  not judged (the catalog lacks the data): "
-                          + "; ".join(f"{ch['name']}: {ch.get('note', '')}" for ch in pick["checks"]
-                                      if ch.get("status") == "unknown"))
-        if sel.get("unverified"):
-            console.print(f"  {sel['unverified']}")
-        nxt = sel.get("next_smaller")
-        if nxt:
-            console.print(f"next smaller motor {nxt['motor']} fails:")
-            checks = {ch["name"]: ch for ch in nxt.get("checks", [])}
-            for line in nxt.get("failures") or [nxt["failed"]]:
+                          + "; ".join(f"{ch.name}: {ch.note or ''}" for ch in pick.checks if ch.status == "unknown"))
+        if sel.unverified:
+            console.print(f"  {sel.unverified}")
+        nxt = sel.next_smaller
+        if nxt is not None:
+            console.print(f"next smaller motor {nxt.motor} fails:")
+            checks = {ch.name: ch for ch in nxt.checks}
+            for line in nxt.failures or [nxt.failed]:
                 console.print(f"  {_failure(line, checks, u)}")
-        opt = sel.get("optimal_ratio")
-        if opt:
-            near = opt.get("nearest_catalog_ratio")
-            console.print(f"optimal ratio for {opt['motor']}: {opt['min_rms_ratio']:.3g} (min RMS), "
-                          f"{opt['inertia_match_ratio']:.3g} (inertia match)"
+        opt = sel.optimal_ratio
+        if opt is not None:
+            near = opt.nearest_catalog_ratio
+            console.print(f"optimal ratio for {opt.motor}: {opt.min_rms_ratio:.3g} (min RMS), "
+                          f"{opt.inertia_match_ratio:.3g} (inertia match)"
                           + (f", nearest catalog ratio {near:g}" if near else ""))
         if dyn and dyn.get("settling_optimal_ratio"):
             from drivetrain.report.dynamics import settling_ratio_sentence
 
             console.print(settling_ratio_sentence(dyn))
-    elif sel.get("advice"):
-        for line in str(sel["advice"]).splitlines():
+    elif sel.advice:
+        for line in sel.advice.splitlines():
             console.print(f"[bold red]{line}[/]")
 
 
@@ -309,12 +318,12 @@ def _flange(flange: float | None, u: TableUnits) -> str:
     return f"{flange:.0f} mm" if u.system == "si" else u.q(flange * 1e-3, "length", "mm", spec=".3g")
 
 
-def _failure(line: str, checks: dict[str, dict[str, Any]], u: TableUnits) -> str:
+def _failure(line: str, checks: dict[str, CheckRow], u: TableUnits) -> str:
     """A failing check's sentence (drivetrain.sizing.reasons, SI) in the table's units."""
     from drivetrain.sizing.reasons import percent
 
     ch = checks.get(line.split(":", 1)[0])
-    if ch is None or ch["name"] == "mechanical_fit" or ch.get("margin") is None or not u.converts(ch["unit"]):
+    if ch is None or ch.name == "mechanical_fit" or ch.margin is None or not u.converts(ch.unit):
         return line
-    avail = "n/a" if ch.get("available") is None else u.check(ch["available"], ch["unit"])
-    return f"{ch['name']}: required {u.check(ch['required'], ch['unit'])} > available {avail} ({percent(ch['margin'])})"
+    avail = "n/a" if ch.available is None else u.check(ch.available, ch.unit)
+    return f"{ch.name}: required {u.check(ch.required, ch.unit)} > available {avail} ({percent(ch.margin)})"

@@ -120,13 +120,14 @@ def _motor(axis: Axis, sized: SizingResult | None = None) -> tuple[str, float, t
         from drivetrain.sizing.pipeline import size
 
         res = sized if sized is not None else size(axis)
-        chosen = (res.selection or {}).get("selected")
-        if not chosen:
+        chosen = res.selection.selected if res.selection is not None else None
+        if chosen is None:
             raise InputError("motor.select", "no catalog motor passes, so there is no motor to simulate; "
-                             + str((res.selection or {}).get("advice", "")), has_value=False)
-        m = catalog.get(chosen["motor"])
-        stages = stages_with_gearbox(axis, catalog.get(chosen["gearbox"]) if chosen.get("gearbox") else None)
-        return str(chosen["motor"]), float(m["rotor_inertia_kgm2"]), stages
+                             + str((res.selection.advice if res.selection is not None else None) or ""),
+                             has_value=False)
+        m = catalog.get(chosen.motor)
+        stages = stages_with_gearbox(axis, catalog.get(chosen.gearbox) if chosen.gearbox else None)
+        return chosen.motor, float(m["rotor_inertia_kgm2"]), stages
     raise InputError("motor", "dynamics need a motor: name one or select one from the catalog", has_value=False)
 
 

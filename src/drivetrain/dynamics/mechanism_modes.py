@@ -158,7 +158,7 @@ def modes_of_result(result: Any) -> Modes | None:
     stiff = mechanism_stiffness_of(axis)
     if stiff is None:
         return None
-    if axis.motor is None and not ((result.selection or {}).get("selected")):
+    if axis.motor is None and (result.selection is None or result.selection.selected is None):
         return None
     dyn = model(axis, result)
     out = modes_across_stroke(axis, dyn.stages, dyn.motor_inertia, stiff)

@@ -80,11 +80,11 @@ def motor_power(res: SizingResult) -> tuple[Array, str, list[str]]:
     duty = res.duty
     if axis.motor is not None:
         j = axis.motor.inertia
-    elif res.selection is not None and res.selection.get("selected") and res.ranking is not None:
+    elif res.selection is not None and res.selection.selected is not None and res.ranking is not None:
         from drivetrain.sizing.selection import candidate_cycle
 
         duty, j = candidate_cycle(axis, res.duty, res.ranking)
-        notes.append(f"selected motor {res.selection['selected']['motor']}: shaft power with its rotor")
+        notes.append(f"selected motor {res.selection.selected.motor}: shaft power with its rotor")
     else:
         j = 0.0
         notes.append("no motor: the load's shaft power at the motor shaft, rotor left out")
@@ -158,12 +158,12 @@ def bom_items(ma: MachineAxis, ap: AxisPower) -> list[dict[str, Any]]:
             code = spec.id if spec is not None and spec.id else axis.motor.name
             vendor = axis.motor.source.split(" ")[0] if spec is not None and spec.id else None
             rows.append({"kind": "motor", "order_code": code, "vendor": vendor, "quantity": 1, "axis": ma.name})
-        elif res.selection is not None and res.selection.get("selected"):
-            pick = res.selection["selected"]
-            rows.append({"kind": "motor", "order_code": pick["motor"], "vendor": pick.get("vendor"), "quantity": 1,
+        elif res.selection is not None and res.selection.selected is not None:
+            pick = res.selection.selected
+            rows.append({"kind": "motor", "order_code": pick.motor, "vendor": pick.vendor, "quantity": 1,
                          "axis": ma.name})
-            if pick.get("gearbox"):
-                rows.append({"kind": "gearbox", "order_code": pick["gearbox"], "vendor": None, "quantity": 1,
+            if pick.gearbox:
+                rows.append({"kind": "gearbox", "order_code": pick.gearbox, "vendor": None, "quantity": 1,
                              "axis": ma.name})
         else:
             rows.append({"kind": "motor", "order_code": None, "vendor": None, "quantity": 1, "axis": ma.name,

@@ -167,7 +167,7 @@ def _checks_verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None)
 
 def _motor_verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> Verdict:
     m = result.metrics
-    sel = result.selection or {}
+    sel = result.selection
     if focus is not None and focus.origin == "axis":
         checks = focus.checks
         failed = [c for c in checks if not c["ok"]]
@@ -182,25 +182,22 @@ def _motor_verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) 
         details = [failure_sentence(c, du) for c in sorted(failed, key=lambda c: c["margin"])]
         return Verdict("fail", f"Motor {focus.label} is not adequate: {len(failed)} of {len(checks)} checks fail",
                        details)
-    if sel or result.candidates:
-        evaluated = sel.get("evaluated")
-        passing = sel.get("passing")
+    if sel is not None or result.candidates:
         scope = ""
-        if isinstance(evaluated, int) and isinstance(passing, int):
-            how = (f"direct and behind {sel['gearbox_rows']} catalog gearbox rows" if sel.get("gearbox_rows")
-                   else (f"on the axis's {sel['transmission_gearbox']}" if sel.get("transmission_gearbox")
+        if sel is not None and sel.evaluated is not None and sel.passing is not None:
+            how = (f"direct and behind {sel.gearbox_rows} catalog gearbox rows" if sel.gearbox_rows
+                   else (f"on the axis's {sel.transmission_gearbox}" if sel.transmission_gearbox
                          else "direct drive"))
-            scope = (f"{passing} of {evaluated} configurations pass, no check failing "
-                     f"({sel.get('motors', '?')} motors, "
-                     f"{how}); objective: {str(sel.get('objective', 'smallest')).replace('_', ' ')}.")
+            scope = (f"{sel.passing} of {sel.evaluated} configurations pass, no check failing "
+                     f"({sel.motors} motors, "
+                     f"{how}); objective: {sel.objective.replace('_', ' ')}.")
         if focus is not None and focus.passed:
             details = [d for d in (scope, _tightest(focus.checks, du)) if d]
-            nxt = sel.get("next_smaller")
-            if isinstance(nxt, dict) and nxt.get("motor"):
-                bad = [c for c in nxt.get("checks", []) if c.get("status", "fail" if not c.get("ok", True)
-                                                                    else "pass") == "fail"]
-                first = min(bad, key=lambda c: (c["name"] != "max_speed", c.get("margin") or 0.0)) if bad else None
-                why = failure_sentence(first, du) if first is not None else str(nxt.get("failed") or "fails a check")
+            nxt = sel.next_smaller if sel is not None else None
+            if nxt is not None and nxt.motor:
+                short = [c for c in nxt.checks if c.status == "fail"]
+                first = min(short, key=lambda c: (c.name != "max_speed", c.margin or 0.0)) if short else None
+                why = failure_sentence(first.to_dict(), du) if first is not None else (nxt.failed or "fails a check")
                 details.append(f"Next smaller motor {candidate_label(nxt)} is rejected: {why}.")
             if any(c.get("approximate") for c in focus.checks):
                 details.append(_APPROX_NOTE)
@@ -215,11 +212,11 @@ def _motor_verdict(result: SizingResult, du: DisplayUnits, focus: Focus | None) 
             bad = [c for c in bad if c.get("status", "fail") == "fail"]
             details += [f"Closest: {focus.label}: " + failure_sentence(c, du) for c in
                         sorted(bad, key=lambda c: (c["name"] != "max_speed", c.get("margin") or 0.0))[:2]]
-        if sel.get("advice"):
-            details += str(sel["advice"]).splitlines()
-        if sel.get("drive_advice"):  # the motors pass, but none can be ordered with a drive
+        if sel is not None and sel.advice:
+            details += sel.advice.splitlines()
+        if sel is not None and sel.drive_advice:  # the motors pass, but none can be ordered with a drive
             return Verdict("fail", "No passing motor has a drive that can be ordered",
-                           [*details, f"Not orderable: {sel['drive_advice']}."])
+                           [*details, f"Not orderable: {sel.drive_advice}."])
         return Verdict("fail", "No catalog motor passes every check", details)
     return Verdict("info", "Demand at the motor shaft (no motor given)", [
         f"Peak {du.fmt(m.peak_torque_Nm, 'torque')}, RMS {du.fmt(m.rms_torque_Nm, 'torque')}, "

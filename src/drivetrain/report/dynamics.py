@@ -113,16 +113,14 @@ def passed_over_table(dyn: dict[str, Any]) -> Table | None:
 
 def inertia_sentence(result: SizingResult) -> str | None:
     """The inertia ratio the dynamic pick ends up with, and that the dynamic checks decided it."""
-    sel = result.selection or {}
-    dyn, pick = sel.get("dynamics"), sel.get("selected")
-    if not dyn or not pick or not dyn.get("chosen") or dyn["chosen"]["motor"] != pick.get("motor"):
+    sel = result.selection
+    dyn, pick = (None, None) if sel is None else (sel.dynamics, sel.selected)
+    if not dyn or pick is None or not dyn.get("chosen") or dyn["chosen"]["motor"] != pick.motor:
         return None
-    ratio = pick.get("inertia_ratio")
-    if ratio is None:
-        return None
+    ratio = pick.inertia_ratio
     limit = result.axis.spec.motor.margins.inertia_ratio if result.axis.spec.motor is not None else None
     rule = f" (the inertia_ratio check, at most {fmt_number(limit)}, still applies)" if limit else ""
-    return (f"{pick['motor']} ends up with an inertia ratio J_L/J_M of {fmt_number(ratio)}: the dynamic checks "
+    return (f"{pick.motor} ends up with an inertia ratio J_L/J_M of {fmt_number(ratio)}: the dynamic checks "
             f"(settling, following error, bandwidth, margins) decided the pick, not the ratio{rule}.")
 
 
@@ -142,7 +140,7 @@ def settling_ratio_sentence(dyn: dict[str, Any]) -> str | None:
 def dynamics_tables(result: SizingResult, du: DisplayUnits) -> list[Table]:
     """The report's dynamics section: the candidates judged, the picks passed over, and notes on the
     answer's inertia ratio and the settling-optimal ratio ([] when the axis states no requirements)."""
-    dyn = (result.selection or {}).get("dynamics")
+    dyn = result.selection.dynamics if result.selection is not None else None
     if not dyn:
         return []
     table = candidates_table(dyn, du)

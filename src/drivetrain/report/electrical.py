@@ -2,7 +2,7 @@
 speed-torque curves at the supply voltage.
 
 The figures come from the result (a given motor: ``result.motor`` and ``result.drive``, ``result.regen``;
-a selection: ``selection['selected']['drive'|'electrical'|'regen']``, drivetrain.sizing.drive_select).
+a selection: ``selection.selected.drive``, ``.electrical``, ``.regen``, drivetrain.sizing.drive_select).
 The plot recomputes the bus power over the cycle with the same model as the regen block
 (``drivetrain.physics.regen.regen_cycle``, copper loss from I = T / K_t where K_t and R are known).
 """
@@ -29,13 +29,14 @@ REGEN_COLORS = {"bus": "#ef6c00", "resistor": "#c62828", "capacitor": "#2e7d32",
 def blocks(result: SizingResult) -> tuple[dict[str, Any], DriveAnswer | None, Regen | None]:
     """(electrical figures of the motor, drive block, regen block) of the report's motor; {} / None if absent."""
     if result.motor is not None:
-        elec = {k: v for k, v in result.motor.items() if k != "checks"}
-        elec["checks"] = [c for c in result.motor.get("checks", []) if _electrical_check(c["name"])]
+        # the checks as the JSON has them, as a selected motor's electrical block holds them
+        elec = {**result.motor.electrical,
+                "checks": [c.to_dict() for c in result.motor.checks if _electrical_check(c.name)]}
         return elec, result.drive, result.regen
-    sel = (result.selection or {}).get("selected")
-    if not sel:
+    sel = result.selection.selected if result.selection is not None else None
+    if sel is None:
         return {}, None, None
-    return dict(sel.get("electrical") or {}), sel.get("drive"), sel.get("regen")
+    return dict(sel.electrical or {}), sel.drive, sel.regen
 
 
 def _electrical_check(name: str) -> bool:
@@ -49,7 +50,7 @@ def _motor_electrical(result: SizingResult, focus: Focus) -> MotorElectrical | N
         return None
     from drivetrain.sizing.drive_select import catalog_electrical
 
-    return catalog_electrical(str(focus.candidate["motor"]))
+    return catalog_electrical(focus.candidate.motor)
 
 
 def regen_plot(result: SizingResult, du: DisplayUnits, focus: Focus | None) -> PlotSpec | None:

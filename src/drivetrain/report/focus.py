@@ -1,7 +1,7 @@
 """The motor the report is about: the axis's own motor, or the catalog selection's choice.
 
 A sizing names a motor in the axis file (``SizingResult.motor``), or selects one from the
-catalog (``SizingResult.selection['selected']``, possibly behind a catalog gearbox), or gives
+catalog (``SizingResult.selection.selected``, possibly behind a catalog gearbox), or gives
 only the demand. The report plots and tabulates one motor: :func:`focus_of` finds it, reads its
 ratings (from the catalog for a selection) and takes the cycle at its shaft through the selected
 gearbox from the selection (``selection.candidate_cycle``, as its checks saw it).
@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import MotorData
+    from drivetrain.sizing.answer import Candidate
     from drivetrain.sizing.result import SizingResult
 
 Array = NDArray[np.float64]
@@ -50,7 +51,7 @@ class Focus:
     label: str
     motor: MotorData
     gearbox: GearboxInfo | None
-    checks: list[dict[str, Any]]
+    checks: list[dict[str, Any]]  # as the JSON has them: the report reads them as the axis's own checks
     passed: bool
     omega: Array
     alpha: Array
@@ -58,7 +59,7 @@ class Focus:
     torque: Array
     load_inertia: float
     metrics: dict[str, Any]
-    candidate: dict[str, Any] | None = None
+    candidate: Candidate | None = None
 
     @property
     def inertia_ratio(self) -> float:
@@ -66,11 +67,11 @@ class Focus:
         return self.load_inertia / self.motor.inertia
 
 
-def candidate_label(c: dict[str, Any]) -> str:
+def candidate_label(c: Candidate) -> str:
     """'HG-KR23' or 'SGM7J-02A + GPB042-L1-i5'."""
-    text = str(c.get("motor", "?"))
-    if c.get("gearbox"):
-        text += f" + {c['gearbox']}"
+    text = c.motor
+    if c.gearbox:
+        text += f" + {c.gearbox}"
     return text
 
 
@@ -119,8 +120,10 @@ def _from_axis(result: SizingResult) -> Focus | None:
     duty = result.duty
     torque = duty.motor_torque(motor.inertia)
     metrics = shaft_metrics(result, duty.omega, torque)
-    metrics.update({k: v for k, v in block.items() if k.endswith(("_Nm", "_W", "_J", "_s")) and v is not None})
-    return Focus("axis", motor.name, motor, None, list(block.get("checks", [])), bool(block.get("ok")),
+    # the block's figures as the JSON keys them (their unit in the name)
+    figures = block.to_dict().items()
+    metrics.update({k: v for k, v in figures if k.endswith(("_Nm", "_W", "_J", "_s")) and v is not None})
+    return Focus("axis", motor.name, motor, None, [c.to_dict() for c in block.checks], block.ok,
                  duty.omega, duty.alpha, duty.torque, torque, duty.load_inertia, metrics)
 
 
@@ -138,9 +141,10 @@ def _gearbox(record: dict[str, Any], ratio: float) -> GearboxInfo:
 
 
 def _from_selection(result: SizingResult) -> Focus | None:
-    sel = result.selection or {}
-    cand = sel.get("selected") or (result.candidates[0] if result.candidates else None)
-    if not isinstance(cand, dict) or not cand.get("motor"):
+    sel = result.selection
+    cand = sel.selected if sel is not None and sel.selected is not None else (
+        result.candidates[0] if result.candidates else None)
+    if cand is None or not cand.motor:
         return None
     ranking = result.ranking
     if ranking is None:
@@ -151,9 +155,8 @@ def _from_selection(result: SizingResult) -> Focus | None:
     from drivetrain.sizing.selection import candidate_cycle
 
     try:
-        motor = motor_from_catalog_row(catalog.get(str(cand["motor"])))
-        gb = _gearbox(catalog.get(str(cand["gearbox"])), float(cand.get("ratio") or 1.0)) if cand.get(
-            "gearbox") else None
+        motor = motor_from_catalog_row(catalog.get(cand.motor))
+        gb = _gearbox(catalog.get(cand.gearbox), float(cand.ratio or 1.0)) if cand.gearbox else None
     except InputError:
         return None
     # the candidate's own cycle as the selection checked it (the selected one, else the first listed)
@@ -162,12 +165,10 @@ def _from_selection(result: SizingResult) -> Focus | None:
     omega, alpha, load, j_l = cycle.omega, cycle.alpha, cycle.torque, cycle.load_inertia
     torque = cycle.motor_torque(rotor)
     metrics = shaft_metrics(result, omega, torque)
-    for key in ("rms_torque_Nm", "peak_torque_Nm"):
-        if isinstance(cand.get(key), (int, float)):
-            metrics[key] = float(cand[key])
+    metrics["rms_torque_Nm"], metrics["peak_torque_Nm"] = cand.rms_torque_Nm, cand.peak_torque_Nm
     # a selection whose motor no orderable drive feeds (drive_select) has not passed
-    passed = bool(cand.get("ok")) and "drive_advice" not in sel
-    return Focus("selection", candidate_label(cand), motor, gb, list(cand.get("checks", [])), passed,
+    passed = cand.ok and (sel is None or sel.drive_advice is None)
+    return Focus("selection", candidate_label(cand), motor, gb, [c.to_dict() for c in cand.checks], passed,
                  omega, alpha, load, torque, j_l, metrics, cand)
 
 

@@ -280,7 +280,6 @@ def formulas_for(result: SizingResult, catalog_gearbox: bool = False) -> list[Fo
     ``catalog_gearbox``: the report's motor sits behind a gearbox the selection chose.
     """
     axis = result.axis
-    selection = result.selection or {}
     keys: list[str] = []
     shapes = {s.shape for s in axis.cycle().steps} if axis.spec.profile else set()
     if shapes & {"trapezoid", "triangle"}:
@@ -308,13 +307,13 @@ def formulas_for(result: SizingResult, catalog_gearbox: bool = False) -> list[Fo
     if motor:
         keys += ["check_peak", "check_rms", "check_speed", "check_inertia", "envelope_continuous",
                  "envelope_intermittent"]
-    if catalog_gearbox or any(c.get("gearbox") for c in result.candidates):
+    if catalog_gearbox or any(c.gearbox for c in result.candidates):
         keys += ["gearbox_t2b", "gearbox_rated", "gearbox_peak"]
     if axis.motor is not None:
         keys += ["accel_times", "powers"]
     if motor:
         keys.append("optimal_ratio")
-    if isinstance(selection.get("optimal_ratio"), dict):
+    if result.selection is not None and result.selection.optimal_ratio is not None:
         keys.append("min_rms_ratio")
     if result.slip_check is not None:
         keys.append("slip_limit")

@@ -26,6 +26,7 @@ from drivetrain.report.focus import Focus
 from drivetrain.units import quantity_of_key
 
 if TYPE_CHECKING:
+    from drivetrain.sizing.answer import CheckRow
     from drivetrain.sizing.result import SizingResult
 
 MAX_CANDIDATE_ROWS = 25
@@ -282,58 +283,50 @@ def _derived_rows(motor_id: str) -> list[list[Cell]]:
     return [[Cell(f"Derived: {name}"), Cell(text, "warn")] for name, text in derived.items()]
 
 
-def _margin_cell(checks: dict[str, dict[str, Any]], name: str) -> Cell:
+def _margin_cell(checks: dict[str, CheckRow], name: str) -> Cell:
     ch = checks.get(name)
     if ch is None:
         return Cell("—")
-    return Cell(fmt_percent(ch.get("margin")), "pass" if ch.get("ok") else "fail")
+    return Cell(fmt_percent(ch.margin), "pass" if ch.ok else "fail")
 
 
 def candidates_table(result: SizingResult, du: DisplayUnits) -> Table | None:
     if not result.candidates:
         return None
     rows = []
-    for k, c in enumerate(result.candidates[:MAX_CANDIDATE_ROWS], start=1):
-        checks: dict[str, dict[str, Any]] = {str(ch.get("name")): ch for ch in c.get("checks", [])
-                                             if isinstance(ch, dict)}
-
-        failed = [ch for ch in checks.values() if ch.get("status", "fail" if not ch.get("ok", True) else "pass")
-                  == "fail"]
-        if c.get("ok"):  # the three outcomes of the answer's verdict (docs/checks.md, "The verdict")
-            gaps = [str(n) for n in c.get("unknown") or []]
-            drive = c.get("drive")
+    for c in result.candidates[:MAX_CANDIDATE_ROWS]:
+        checks = {ch.name: ch for ch in c.checks}
+        failed = [ch for ch in c.checks if ch.status == "fail"]
+        if c.ok:  # the three outcomes of the answer's verdict (docs/checks.md, "The verdict")
+            gaps = list(c.unknown)
+            drive = c.drive
             if drive is not None and drive.status in ("unknown", "none"):
                 gaps.append("drive")
             verdict = Cell(f"PASS WITH UNKNOWNS: {', '.join(gaps)}", "warn") if gaps else Cell("PASS", "pass")
         elif failed:
-            verdict = Cell(failure_sentence(min(failed, key=lambda ch: (ch["name"] != "max_speed",
-                                                                        ch.get("margin") or 0.0)), du), "fail")
+            worst = min(failed, key=lambda ch: (ch.name != "max_speed", ch.margin or 0.0))
+            verdict = Cell(failure_sentence(worst.to_dict(), du), "fail")
         else:
-            verdict = Cell(str(c.get("failed") or "FAIL"), "fail")
-        ratio = c.get("ratio")
-        ir = c.get("inertia_ratio")
-        rank = c.get("rank", k)
-        rows.append([Cell(str(rank) if rank is not None else "—"), Cell(str(c.get("motor", "?"))),
-                     Cell(str(c.get("gearbox") or "—")),
-                     Cell(fmt_number(float(ratio)) if isinstance(ratio, (int, float)) else "—"),
-                     Cell(fmt_number(float(ir), 3) if isinstance(ir, (int, float)) else "—"),
+            verdict = Cell(c.failed or "FAIL", "fail")
+        rows.append([Cell(str(c.rank) if c.rank is not None else "—"), Cell(c.motor), Cell(c.gearbox or "—"),
+                     Cell(fmt_number(c.ratio)), Cell(fmt_number(c.inertia_ratio, 3)),
                      _margin_cell(checks, "peak_torque"), _margin_cell(checks, "rms_torque"),
                      _margin_cell(checks, "max_speed"), verdict])
     note = ("Passing candidates in rank order (the best configuration of each motor), then the closest rejected "
             "ones with the reason each failed.")
     if len(result.candidates) > MAX_CANDIDATE_ROWS:
         note += f" The first {MAX_CANDIDATE_ROWS} of {len(result.candidates)} shown."
-    sel = result.selection or {}
-    fails = sel.get("failures_by_check")
-    if isinstance(fails, dict) and isinstance(sel.get("evaluated"), int):
+    sel = result.selection
+    fails = None if sel is None else sel.failures_by_check
+    if sel is not None and fails is not None and sel.evaluated is not None:
         parts = [f"{CHECK_NAMES.get(k, k)} {v}" for k, v in fails.items() if isinstance(v, int) and v]
-        note += (f" Of {sel['evaluated']} configurations evaluated, rejections by check (a configuration may fail "
+        note += (f" Of {sel.evaluated} configurations evaluated, rejections by check (a configuration may fail "
                  f"several): {', '.join(parts)}.")
-        unknown = sel.get("unknown_by_check")
-        if isinstance(unknown, dict):
+        unknown = sel.unknown_by_check
+        if unknown is not None:
             gaps = [f"{CHECK_NAMES.get(k, k)} {v}" for k, v in unknown.items() if isinstance(v, int) and v]
             if gaps:
-                note += (f" Not judged for lack of catalog data (policy: {sel.get('unknown_policy', 'flag')}): "
+                note += (f" Not judged for lack of catalog data (policy: {sel.unknown_policy}): "
                          f"{', '.join(gaps)}.")
     return Table("candidates", "Ranked candidates", ["#", "motor", "gearbox", "ratio", "J_L/J_M", "peak margin",
                                                      "RMS margin", "speed margin", "result / reason"], rows,
@@ -345,19 +338,18 @@ def ratios_table(result: SizingResult, du: DisplayUnits, focus: Focus | None) ->
 
     rows: list[list[Cell]] = []
     axis = result.axis
-    opt = (result.selection or {}).get("optimal_ratio")
-    if isinstance(opt, dict):
-        who = str(opt.get("motor", ""))
+    opt = result.selection.optimal_ratio if result.selection is not None else None
+    if opt is not None:
+        who = opt.motor
         items = (("inertia_match_ratio", "Inertia-matching ratio √(J_L / J_M)",
                   f"an added reduction that makes J_L / i² = J_M for {who} (purely inertial load)"),
                  ("min_rms_ratio", "Ratio of least RMS torque",
                   "the added reduction that minimises the motor's RMS torque over this cycle"
-                  + (f" ({du.fmt(opt['min_rms_torque_Nm'], 'torque')})"
-                     if isinstance(opt.get("min_rms_torque_Nm"), (int, float)) else "")),
+                  + f" ({du.fmt(opt.min_rms_torque_Nm, 'torque')})"),
                  ("max_ratio_for_speed", "Largest ratio within the motor's max speed", "a larger ratio overspeeds it"),
                  ("nearest_catalog_ratio", "Nearest catalog gearbox ratio", "to the ratio of least RMS torque"))
         for key, label, meaning in items:
-            value = opt.get(key)
+            value = getattr(opt, key)
             if isinstance(value, (int, float)):
                 rows.append([Cell(label), Cell(fmt_number(float(value), 3), "strong" if key == "min_rms_ratio" else ""),
                              Cell(meaning, "muted")])
@@ -424,9 +416,9 @@ def subtitle(result: SizingResult, focus: Focus | None) -> str:
         parts[0] += ", vertical" if math.isclose(incline, math.pi / 2) else f", {math.degrees(incline):.3g}° incline"
     n = len(axis.transmission)
     geared = [st.name for st in axis.transmission if st.kind == "gearbox"]
-    picked = focus.candidate.get("gearbox") if focus is not None and focus.candidate else None
+    picked = focus.candidate.gearbox if focus is not None and focus.candidate else None
     if picked:
-        parts.append(f"gearbox {picked} (i = {fmt_number(float(focus.candidate.get('ratio') or 1.0))})"
+        parts.append(f"gearbox {picked} (i = {fmt_number(float(focus.candidate.ratio or 1.0))})"
                      if focus is not None and focus.candidate else f"gearbox {picked}")
     if geared:
         parts.append(", ".join(geared))

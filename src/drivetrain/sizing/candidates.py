@@ -12,6 +12,7 @@ from numpy.typing import NDArray
 
 if TYPE_CHECKING:
     from drivetrain.catalog import GearboxTable, MotorTable
+    from drivetrain.sizing.answer import Candidate, SelectionSummary
 
 Array = NDArray[np.float64]
 
@@ -185,14 +186,14 @@ class Selection:
 
     Attributes
     ----------
-    listed : list of dict
+    listed : list of Candidate
         The listed candidates (JSON ``candidates``): each with its checks (required, available, margin).
-    summary : dict
+    summary : SelectionSummary
         The selection's summary (JSON ``selection``): counts, the selected candidate, advice.
     ranking : Ranking
         The evaluated candidates and their order.
     """
 
-    listed: list[dict[str, Any]]
-    summary: dict[str, Any]
+    listed: list[Candidate]
+    summary: SelectionSummary
     ranking: Ranking

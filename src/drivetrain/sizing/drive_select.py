@@ -48,6 +48,7 @@ import numpy as np
 from drivetrain.axis.electrical import DriveData, MotorElectrical, drive_from_catalog_row, electrical_from_catalog_row
 from drivetrain.errors import InputError
 from drivetrain.physics import drive_overload, motor_electrical
+from drivetrain.sizing.answer import PassedOver
 from drivetrain.sizing.electrical import (
     DriveAnswer,
     Regen,
@@ -338,7 +339,7 @@ None) -> (accepted, why not). The dynamic selection is one (``dynamics.dynamic_s
 
 
 def _walk(axis: Axis, duty: DutyCycle, ranking: Ranking, strict: bool,
-          memo: DriveMemo, judge: Judge | None = None) -> tuple[int | None, list[dict[str, Any]]]:
+          memo: DriveMemo, judge: Judge | None = None) -> tuple[int | None, list[PassedOver]]:
     """The first passing motor (best configuration, ranked order) whose drive can be ordered.
 
     A drive is an answer when it passes its current checks (``ok``); under ``unknown: flag`` a drive
@@ -349,7 +350,7 @@ def _walk(axis: Axis, duty: DutyCycle, ranking: Ranking, strict: bool,
     from drivetrain.sizing.selection import best_per_motor
 
     c, motors = ranking.candidates, ranking.motors
-    passed: list[dict[str, Any]] = []
+    passed: list[PassedOver] = []
     supply = stated_supply(axis)
     for k in best_per_motor(c, ranking.ranked)[:_WALK]:
         if judge is not None and getattr(judge, "exhausted", False):
@@ -357,8 +358,8 @@ def _walk(axis: Axis, duty: DutyCycle, ranking: Ranking, strict: bool,
         m = int(c.motor[k])
         vc = voltage_class_check(supply, _motor_voltage(motors, m))
         if vc is not None and (vc["status"] == "fail" or (strict and vc["status"] == "unknown")):
-            passed.append({"motor": str(motors.ids[m]), "drive_status": f"voltage_class {vc['status']}",
-                           "reason": f"voltage_class: {vc['note']}"})
+            passed.append(PassedOver(str(motors.ids[m]), f"voltage_class {vc['status']}",
+                                     f"voltage_class: {vc['note']}"))
             continue
         block = memo.motor_prospect(motors, m, axis.drive)
         if block.status is None:  # checkable: its current decides
@@ -371,9 +372,9 @@ def _walk(axis: Axis, duty: DutyCycle, ranking: Ranking, strict: bool,
             ok, why = judge(str(motors.ids[m]), str(gb.ids[g]) if g >= 0 and gb is not None else None)
             if ok:
                 return int(k), passed
-            passed.append({"motor": str(motors.ids[m]), "drive_status": "dynamics", "reason": why})
+            passed.append(PassedOver(str(motors.ids[m]), "dynamics", why))
             continue
-        passed.append({"motor": str(motors.ids[m]), "drive_status": block.status, "reason": _drive_reason(block)})
+        passed.append(PassedOver(str(motors.ids[m]), str(block.status), _drive_reason(block)))
     return None, passed
 
 
@@ -414,12 +415,12 @@ def orderable(axis: Axis, duty: DutyCycle, chosen: Selection, reselect: Callable
     sel, ranking = chosen.summary, chosen.ranking
     best, passed = _walk(axis, duty, ranking, strict, memo, judge)
     if passed:  # the first ones, and how many in all
-        sel["drive_passed_over"], sel["drive_passed_over_count"] = passed[:20], len(passed)
+        sel.drive_passed_over, sel.drive_passed_over_count = passed[:20], len(passed)
     if best is None:  # keep the best-ranked motor and say why it cannot be ordered
         rule = "passes its current checks" + (" (unknown: fail)" if strict else "") + (
             " and passes the dynamic requirements" if judge is not None else "")
-        sel["drive_advice"] = (f"none of the {len(passed)} passing motors tried has a drive that {rule}; "
-                               f"the best-ranked, {passed[0]['motor']}: {passed[0]['reason']}")
+        sel.drive_advice = (f"none of the {len(passed)} passing motors tried has a drive that {rule}; "
+                            f"the best-ranked, {passed[0].motor}: {passed[0].reason}")
     elif best != ranking.best:
         _reselect(axis, duty, chosen, best, passed)
     return chosen
@@ -439,41 +440,42 @@ def attach_drives(axis: Axis, duty: DutyCycle, chosen: Selection, margins: Margi
     from drivetrain import catalog
 
     ks = [k for _, k in zip(chosen.listed, shown, strict=False)]
-    ks += [ranking.best] if "selected" in sel and ranking.best is not None else []
+    ks += [ranking.best] if sel.selected is not None and ranking.best is not None else []
     catalog.motor_rows([str(motors.ids[int(c.motor[k])]) for k in ks])  # one query for the motors below
     done: dict[int, tuple[DriveAnswer, DriveData | None]] = {}
     supply = stated_supply(axis)
     for cand, k in zip(chosen.listed, shown, strict=False):
         done[k] = _candidate_drive(axis, duty, ranking, k, memo)
-        cand["drive"] = done[k][0]
+        cand.drive = done[k][0]
         vc = voltage_class_check(supply, _motor_voltage(ranking.motors, int(ranking.candidates.motor[k])))
         if vc is not None:
-            cand["voltage_class"] = vc
-    if "selected" not in sel or ranking.best is None:
+            cand.voltage_class = vc
+    if sel.selected is None or ranking.best is None:
         return
     best = ranking.best
     block, drive = done[best] if best in done else _candidate_drive(axis, duty, ranking, best, memo)
     from drivetrain.sizing.selection import candidate_cycle
 
     cycle, _ = candidate_cycle(axis, duty, ranking, best)
-    sel["selected"]["drive"] = block
+    pick = sel.selected
+    pick.drive = block
     vc = voltage_class_check(supply, _motor_voltage(motors, int(c.motor[best])))
     if vc is not None:
-        sel["selected"]["voltage_class"] = vc
-    sel["selected"].update(selected_electrical(axis, cycle, motors, int(c.motor[best]), drive, margins))
+        pick.voltage_class = vc
+    pick.electrical, pick.regen = selected_electrical(axis, cycle, motors, int(c.motor[best]), drive, margins)
 
 
-def _reselect(axis: Axis, duty: DutyCycle, chosen: Selection, best: int, passed: list[dict[str, Any]]) -> None:
+def _reselect(axis: Axis, duty: DutyCycle, chosen: Selection, best: int, passed: list[PassedOver]) -> None:
     """Make candidate ``best`` the selection: its row, the next smaller motor (the last one passed
     over for its drive, which is smaller) and its optimal ratio."""
-    from drivetrain.sizing.reasons import candidate_dict
+    from drivetrain.sizing.reasons import candidate_answer
     from drivetrain.sizing.selection import best_per_motor, next_smaller, optimal_ratio, size_key
 
     sel, ranking = chosen.summary, chosen.ranking
     c, motors, gb = ranking.candidates, ranking.motors, ranking.gearboxes
     order = [int(k) for k in best_per_motor(c, ranking.ranked)]
     ranking.best = best
-    sel["selected"] = candidate_dict(c, best, motors, gb, order.index(best) + 1)
+    sel.selected = candidate_answer(c, best, motors, gb, order.index(best) + 1)
     # the last one passed over that is smaller: a candidate known to assemble or to hold with its brake ranks
     # before a smaller one not known to (selection.ranked), so the one just before may be larger
     size = size_key(motors)
@@ -481,20 +483,20 @@ def _reselect(axis: Axis, duty: DutyCycle, chosen: Selection, best: int, passed:
     smaller = [i for i, k in enumerate(before) if size[c.motor[k]] < size[c.motor[best]]]
     if smaller:
         last, last_why = before[smaller[-1]], passed[smaller[-1]]
-        nxt = candidate_dict(c, last, motors, gb, None)
-        why = last_why["reason"] if last_why["drive_status"] == "dynamics" or last_why["reason"].startswith(
-            "voltage_class:") else f"drive: {last_why['reason']}"
-        nxt.update({"failed": why, "failures": [why]})
-        sel["next_smaller"] = nxt
+        nxt = candidate_answer(c, last, motors, gb, None)
+        why = last_why.reason if last_why.drive_status == "dynamics" or last_why.reason.startswith(
+            "voltage_class:") else f"drive: {last_why.reason}"
+        nxt.failed, nxt.failures = why, [why]
+        sel.next_smaller = nxt
     else:
-        sel["next_smaller"] = next_smaller(c, motors, gb, best)
-    sel["optimal_ratio"] = optimal_ratio(axis, duty, motors, int(c.motor[best]), gb)
+        sel.next_smaller = next_smaller(c, motors, gb, best)
+    sel.optimal_ratio = optimal_ratio(axis, duty, motors, int(c.motor[best]), gb)
 
 
 def selected_electrical(axis: Axis, cycle: DutyCycle, motors: MotorTable, m: int, drive: DriveData | None,
-                        margins: Margins | None) -> dict[str, Any]:
-    """``electrical`` (a dict joining the selected candidate) and ``regen`` (a :class:`Regen`) of the selected
-    motor with its drive (empty keys when not known)."""
+                        margins: Margins | None) -> tuple[dict[str, Any], Regen | None]:
+    """``electrical`` (the figures joining the selected candidate: ``Candidate.electrical``) and ``regen`` of the
+    selected motor with its drive (None where not known)."""
     from drivetrain import catalog
     from drivetrain.axis.model import motor_from_catalog_row
 
@@ -512,12 +514,10 @@ def selected_electrical(axis: Axis, cycle: DutyCycle, motors: MotorTable, m: int
     rated_drive = drive if drive is not None and math.isfinite(drive.continuous_current) else None
     regen_drive = drive
     if not elec.any:
-        out: dict[str, Any] = {"electrical": {"envelope_source": "derived" if motor.approximate_envelope
-                                              else "datasheet", "rms_current_A": None, "peak_current_A": None,
-                                              "winding_temperature_rise_K": None,
-                                              "note": f"the catalog has no electrical data for {mid}"}}
-        out["regen"] = _mechanical_regen(cycle, motor, regen_drive, elec)
-        return out
+        return ({"envelope_source": "derived" if motor.approximate_envelope else "datasheet", "rms_current_A": None,
+                 "peak_current_A": None, "winding_temperature_rise_K": None,
+                 "note": f"the catalog has no electrical data for {mid}"},
+                _mechanical_regen(cycle, motor, regen_drive, elec))
     ax = replace(axis, electrical=elec, drive=rated_drive)
     try:
         ans = electrical_answer(ax, cycle, motor, margins)
@@ -526,15 +526,15 @@ def selected_electrical(axis: Axis, cycle: DutyCycle, motors: MotorTable, m: int
 
         if not isinstance(exc, InputError):
             raise
-        return {"electrical": {"note": str(exc), "winding_temperature_rise_K": None},
-                "regen": _mechanical_regen(cycle, motor, regen_drive, elec)}
+        return ({"note": str(exc), "winding_temperature_rise_K": None},
+                _mechanical_regen(cycle, motor, regen_drive, elec))
     electrical = {**ans.motor, "checks": [ch.to_dict() for ch in ans.checks]}
     if ans.curve is not None:
         electrical["curve"] = ans.curve
     regen = ans.regen
     if rated_drive is None and regen_drive is not None:
         regen = _mechanical_regen(cycle, motor, regen_drive, elec)
-    return {"electrical": electrical, "regen": regen}
+    return electrical, regen
 
 
 def _mechanical_regen(cycle: DutyCycle, motor: MotorData, drive: DriveData | None,

@@ -59,7 +59,7 @@ class Regen:
     the bus capacitors absorb and what is left for a braking resistor (``physics.regen.regen_cycle``).
 
     The given motor's sits in ``SizingResult.regen``, the selected candidate's in
-    ``SizingResult.selection["selected"]["regen"]``; :meth:`to_dict` is the ``regen`` object of the JSON
+    ``SizingResult.selection.selected.regen``; :meth:`to_dict` is the ``regen`` object of the JSON
     (docs/axis-file.md), its keys the fields in this order.
 
     Attributes
@@ -151,7 +151,7 @@ class DriveAnswer:
     drive a catalog candidate may be ordered with (``drive_select.pick_drive``; docs/checks.md, "Drive selection").
 
     A given motor's sits in ``SizingResult.drive``; a catalog selection's in each listed candidate's
-    ``drive`` and in ``selection["selected"]["drive"]``. :meth:`to_dict` is the ``drive`` object of the JSON
+    ``drive`` and in ``selection.selected.drive``. :meth:`to_dict` is the ``drive`` object of the JSON
     (docs/axis-file.md, "Result keys of the electrical half" and "Drives in a selection").
 
     Attributes

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from drivetrain.physics.brake import held_torque
+from drivetrain.sizing.answer import BrakeVariant
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Axis
@@ -74,7 +75,7 @@ def braked_motors(motors: MotorTable) -> MotorTable:
 
 
 
-def brake_variant(motors: MotorTable, m: int) -> dict[str, object]:
+def brake_variant(motors: MotorTable, m: int) -> BrakeVariant:
     """A candidate's brake variant as the answer names it: order code, holding torque [N m], the
     with-brake rotor inertia [kg m^2] (None where the catalog lacks one) and what is missing."""
     code = str(motors.brake_code[m])
@@ -82,10 +83,9 @@ def brake_variant(motors: MotorTable, m: int) -> dict[str, object]:
     j_b = float(motors.rotor_inertia_brake[m])
     missing = [what for what, gap in (("order code", not code), ("holding torque", np.isnan(t_h)),
                                       ("with-brake rotor inertia (the plain rotor's is used)", np.isnan(j_b))) if gap]
-    out: dict[str, object] = {"order_code": code or None, "holding_torque_Nm": None if np.isnan(t_h) else t_h,
-                              "rotor_inertia_kgm2": None if np.isnan(j_b) else j_b}
-    if missing:
-        out["note"] = "the catalog lacks the brake variant's " + ", ".join(missing) + ": ask the vendor"
-    return out
+    return BrakeVariant(order_code=code or None, holding_torque_Nm=None if np.isnan(t_h) else t_h,
+                        rotor_inertia_kgm2=None if np.isnan(j_b) else j_b,
+                        note="the catalog lacks the brake variant's " + ", ".join(missing) + ": ask the vendor"
+                        if missing else None)
 
 __all__ = ["STATIC_TOLERANCE", "HoldingNeed", "brake_variant", "braked_motors", "holding_need"]

@@ -22,6 +22,7 @@ from drivetrain.sizing.order_spec import (
 )
 
 if TYPE_CHECKING:
+    from drivetrain.sizing.answer import Candidate, MotorAnswer
     from drivetrain.sizing.axis_blocks import MechanismCheck
     from drivetrain.sizing.electrical import DriveAnswer, Regen
     from drivetrain.sizing.result import SizingResult
@@ -34,7 +35,8 @@ class _Ctx:
     result: SizingResult
     motor_id: str | None = None
     motor_row: dict[str, Any] | None = None
-    motor: dict[str, Any] | None = None
+    motor: MotorAnswer | Candidate | None = None
+    checks: list[dict[str, Any]] = field(default_factory=list)  # the motor's checks as the JSON rows, as extras'
     drive: DriveAnswer | None = None
     regen: Regen | None = None
     elec: dict[str, Any] = field(default_factory=dict)
@@ -71,15 +73,16 @@ def context(result: SizingResult) -> _Ctx:
     if axis.motor is not None:
         spec = axis.spec.motor
         c.motor_id = spec.id if spec is not None and spec.id else None
-        c.motor, c.elec = result.motor, dict(result.motor or {})
-        c.drive, c.regen = result.drive, result.regen
-    elif result.selection is not None and result.ranking is not None and result.ranking.best is not None:
-        pick = result.selection.get("selected") or {}
-        c.motor_id, c.motor = pick.get("motor"), pick
-        c.drive, c.regen, c.elec = pick.get("drive"), pick.get("regen"), dict(pick.get("electrical") or {})
-        if pick.get("gearbox"):
-            c.gearbox_id, c.ratio = str(pick["gearbox"]), float(pick.get("ratio") or 1.0)
-            c.gearbox_checks = [ch for ch in pick.get("checks", []) if ch["name"].startswith("gearbox_")]
+        c.motor, c.drive, c.regen = result.motor, result.drive, result.regen
+        c.elec = {} if result.motor is None else dict(result.motor.electrical)
+    elif result.selection is not None and result.selection.selected is not None and result.ranking is not None \
+            and result.ranking.best is not None:
+        pick = c.motor = result.selection.selected
+        c.motor_id, c.drive, c.regen, c.elec = pick.motor, pick.drive, pick.regen, dict(pick.electrical or {})
+        if pick.gearbox:
+            c.gearbox_id, c.ratio = pick.gearbox, float(pick.ratio or 1.0)
+            c.gearbox_checks = [ch.to_dict() for ch in pick.checks if ch.name.startswith("gearbox_")]
+    c.checks = [] if c.motor is None else [ch.to_dict() for ch in c.motor.checks]
     c.motor_row = c.catalog(c.motor_id)
     return c
 
@@ -178,7 +181,7 @@ def motor_row(c: _Ctx) -> OrderRow:
     result, axis = c.result, c.result.axis
     need, static = _brake_need(c)
     required = None if static is None else brake_holding_torque(static)
-    brake_checks = [ch for ch in (c.motor or {}).get("checks", []) if "brake" in ch["name"]]
+    brake_checks = [ch for ch in c.checks if "brake" in ch["name"]]
     if brake_checks and brake_checks[0].get("required") is not None:
         required = float(brake_checks[0]["required"])  # the answer's own brake check rules
     brake_spec: dict[str, Any] = {}
@@ -204,17 +207,16 @@ def motor_row(c: _Ctx) -> OrderRow:
         assert mo is not None
         spec = {"rated_torque_Nm": mo.rated_torque, "peak_torque_Nm": mo.peak_torque,
                 "max_speed_rpm": _rpm(mo.max_speed), "rotor_inertia_kgm2": mo.inertia,
-                "rms_torque_required_Nm": (c.motor or {}).get("rms_torque_Nm"),
-                "peak_torque_required_Nm": (c.motor or {}).get("peak_torque_Nm"), **brake_spec}
+                "rms_torque_required_Nm": None if c.motor is None else c.motor.rms_torque_Nm,
+                "peak_torque_required_Nm": None if c.motor is None else c.motor.peak_torque_Nm, **brake_spec}
         return _named_row("motor", f"servo motor {mo.name} (as the axis file gives it)", mo.name, None, spec, [
-            *brake_open, *_checks_open([ch for ch in (c.motor or {}).get("checks", []) if ch.get("status") != "pass"])])
+            *brake_open, *_checks_open([ch for ch in c.checks if ch.get("status") != "pass"])])
     code = str(c.motor_id)
     spec = {"voltage_class_V": row.get("voltage_V"), "rated_torque_Nm": row.get("rated_torque_Nm"),
             "peak_torque_Nm": row.get("peak_torque_Nm"), "flange_mm": _mm(row, "flange_m"),
             "shaft_diameter_mm": _mm(row, "shaft_diameter_m"), **brake_spec}
     # the motor's own checks that fail or could not be judged (the gearbox's go to its row)
-    open_points = [*brake_open, *_checks_open([ch for ch in (c.motor or {}).get("checks", [])
-                                               if not ch["name"].startswith("gearbox_")])]
+    open_points = [*brake_open, *_checks_open([ch for ch in c.checks if not ch["name"].startswith("gearbox_")])]
     if row.get("voltage_V") is None:
         open_points.append("voltage class not in the catalog: confirm the motor's winding voltage with the vendor")
     has_brake = str(row.get("brake")) in ("1", "True", "yes")

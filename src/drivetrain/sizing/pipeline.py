@@ -171,7 +171,7 @@ def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listi
             chosen = reselect() if reselect is not None else chosen
             reselect = None
             probe = copy.copy(chosen)
-            probe.summary, probe.ranking = dict(chosen.summary), copy.copy(chosen.ranking)
+            probe.summary, probe.ranking = copy.copy(chosen.summary), copy.copy(chosen.ranking)
             judge.collect = True
             orderable(axis, duty, probe, None, memo, judge)
             judge.settle_on_fastest()
@@ -182,7 +182,7 @@ def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listi
             chosen = orderable(axis, duty, chosen, reselect, memo)
             reselect = reselect if chosen is searched else None  # else the drive rule ranked in full already
             best = chosen.ranking.best
-            if best is not None and "drive_advice" not in chosen.summary:
+            if best is not None and chosen.summary.drive_advice is None:
                 c, gb = chosen.ranking.candidates, chosen.ranking.gearboxes
                 g = int(c.gearbox(best))
                 judged_first = judge.first(str(chosen.ranking.motors.ids[int(c.motor[best])]),
@@ -192,7 +192,7 @@ def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listi
     if not judged_first:
         chosen = orderable(axis, duty, chosen, reselect, memo, judge)
     if judge is not None:
-        dyn = chosen.summary["dynamics"] = judge.to_dict()
+        dyn = chosen.summary.dynamics = judge.to_dict()
         if axis.requirements is not None and axis.requirements.settling_ratio and chosen.ranking.best is not None:
             from drivetrain.sizing.selection import candidate_cycle
 
@@ -209,15 +209,18 @@ def _count_dynamics(chosen: Selection, judge: Any) -> Selection:
     inertia ratio the dynamic pick ends up with."""
     import importlib
 
-    dyn = chosen.summary["dynamics"]
+    summary = chosen.summary
+    dyn = summary.dynamics
+    assert dyn is not None
     fails, unknown = importlib.import_module("drivetrain.dynamics.dynamic_selection").failure_counts(dyn)
-    for name, counts in (("failures_by_check", fails), ("unknown_by_check", unknown)):
-        if isinstance(chosen.summary.get(name), dict):
-            chosen.summary[name] = {**chosen.summary[name], **counts}
-    pick = chosen.summary.get("selected") or {}
-    if dyn.get("chosen") and pick.get("motor") == dyn["chosen"]["motor"]:
+    if summary.failures_by_check is not None:
+        summary.failures_by_check = {**summary.failures_by_check, **fails}
+    if summary.unknown_by_check is not None:
+        summary.unknown_by_check = {**summary.unknown_by_check, **unknown}
+    pick = summary.selected
+    if dyn.get("chosen") and pick is not None and pick.motor == dyn["chosen"]["motor"]:
         # the inertia ratio is a consequence: the one the dynamic pick ends up with (docs/checks.md)
-        dyn["answer_inertia_ratio"] = pick.get("inertia_ratio")
+        dyn["answer_inertia_ratio"] = pick.inertia_ratio
     return chosen
 
 
@@ -263,9 +266,9 @@ def size_duty(axis: Axis, duty: DutyCycle, *, all_pairs: bool = False, listing: 
             strict = axis.spec.motor.select.unknown == "fail"
             gear = gearbox_rating_checks(axis, duty, selected_motor(chosen.ranking), strict)
         own = [st.name for st in axis.transmission if st.kind == "gearbox"]
-        if own and not result.selection.get("gearbox_rows"):
+        if own and not result.selection.gearbox_rows:
             # the motors go direct onto the axis's own gearbox: say so, not "direct drive, ratio 1"
-            result.selection["transmission_gearbox"] = ", ".join(own)
+            result.selection.transmission_gearbox = ", ".join(own)
     elif axis.drive is not None:
         raise InputError("drive", "a given drive needs a motor: give motor: {id: ...}, its parameters, "
                          "or motor: {select: ...}", has_value=False)

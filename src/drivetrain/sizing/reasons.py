@@ -5,12 +5,13 @@ nothing passes, and why a given catalog motor was accepted or rejected (``--expl
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
 from drivetrain.errors import InputError
+from drivetrain.sizing.answer import Candidate, CheckRow
 from drivetrain.sizing.candidates import CHECK_UNITS, MOTOR_CHECKS, Candidates, closest, column
 from drivetrain.sizing.checks import adapter_arrays, adapter_margin
 from drivetrain.sizing.motor_brake import brake_variant
@@ -18,6 +19,7 @@ from drivetrain.sizing.motor_brake import brake_variant
 if TYPE_CHECKING:
     from drivetrain.axis.model import Margins, SelectSpec
     from drivetrain.catalog import GearboxTable, MotorTable
+    from drivetrain.sizing.answer import SelectionSummary
     from drivetrain.sizing.candidates import Ranking
 
 
@@ -124,22 +126,22 @@ def percent(margin: float | None) -> str:
     return f"{p:+.2g} %" if p != 0.0 and abs(p) < 0.1 else f"{p:+.1f} %"
 
 
-def _reason(ch: dict[str, Any], fit_bad: str) -> str:
+def _reason(ch: CheckRow, fit_bad: str) -> str:
     """One failing check as a sentence."""
-    n, unit = ch["name"], ch["unit"]
-    pct = percent(ch["margin"])
+    n, unit = ch.name, ch.unit
+    pct = percent(ch.margin)
     if n == "mechanical_fit":
         return f"mechanical_fit: {fit_bad} ({pct})"
     if n == "max_speed":
-        return (f"max_speed: the cycle needs {ch['required']:.0f} rpm at the motor (margin included), the motor "
-                f"reaches {ch['available']:.0f} rpm ({pct})")
+        return (f"max_speed: the cycle needs {ch.required:.0f} rpm at the motor (margin included), the motor "
+                f"reaches {ch.available:.0f} rpm ({pct})")
     u = "" if unit == "-" else f" {unit}"
-    avail = "n/a" if ch["available"] is None else f"{ch['available']:.4g}{u}"
-    return f"{n}: required {ch['required']:.4g}{u} > available {avail} ({pct})"
+    avail = "n/a" if ch.available is None else f"{ch.available:.4g}{u}"
+    return f"{n}: required {ch.required:.4g}{u} > available {avail} ({pct})"
 
 
-def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None,
-                   rank: int | None) -> dict[str, Any]:
+def candidate_answer(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None,
+                     rank: int | None) -> Candidate:
     """One candidate as in docs/axis-file.md: motor, gearbox, ratio, inertia ratio, status, checks, why it failed.
 
     ``status`` is ``ok`` (every check passes), ``unknown`` (none fails, some cannot be judged:
@@ -150,7 +152,7 @@ def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable |
     d = c.details([k])
     geared = g >= 0 and gb is not None
     fit_bad, fit_gap = _fit_reason(motors, m, gb, g) if geared and gb is not None else ("", "")
-    checks: dict[str, dict[str, Any]] = {}
+    checks: dict[str, CheckRow] = {}
     for n in c.check_names():
         if n not in MOTOR_CHECKS and not geared:
             continue
@@ -164,53 +166,52 @@ def candidate_dict(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable |
                              or (n == "rms_torque" and status == "fail" and not avail > 0.0))
         if slow:
             status, avail, mar = "not_judged", math.nan, math.nan
-        checks[n] = {"name": n, "required": req, "available": avail if math.isfinite(avail) else None,
-                     "unit": CHECK_UNITS[n], "margin": mar if math.isfinite(mar) else None,
-                     "ok": status == "pass" or (status == "unknown" and not c.strict), "status": status,
-                     "approximate": bool(d.approximate[n][0])}
-        if status in ("unknown", "not_judged"):
-            checks[n]["note"] = _unknown_note(n, c, fit_gap)
-    failing = sorted((ch for ch in checks.values() if ch["status"] == "fail"),
-                     key=lambda ch: (ch["name"] != "max_speed", ch["margin"], ch["name"]))
+        checks[n] = CheckRow(name=n, required=req, available=avail if math.isfinite(avail) else None,
+                             unit=CHECK_UNITS[n], margin=mar if math.isfinite(mar) else None,
+                             ok=status == "pass" or (status == "unknown" and not c.strict), status=status,
+                             approximate=bool(d.approximate[n][0]),
+                             note=_unknown_note(n, c, fit_gap) if status in ("unknown", "not_judged") else None)
+    failing = sorted((ch for ch in checks.values() if ch.status == "fail"),
+                     key=lambda ch: (ch.name != "max_speed", ch.margin, ch.name))
     failures = [_reason(ch, fit_bad) for ch in failing]
-    unknown = [n for n, ch in checks.items() if ch["status"] == "unknown"]
+    unknown = [n for n, ch in checks.items() if ch.status == "unknown"]
     if c.strict:
-        failures += [f"{n}: cannot be judged, {checks[n]['note']}" for n in unknown]
+        failures += [f"{n}: cannot be judged, {checks[n].note}" for n in unknown]
     ok = not failures
-    return {
-        "rank": rank, "motor": str(motors.ids[m]), "vendor": str(motors.vendor[m]), "series": str(motors.series[m]),
-        "rated_power_W": float(motors.rated_power[m]), "flange_mm": _plain_mm(motors.flange[m]),
-        "shaft_diameter_mm": _plain_mm(column(motors, "shaft_diameter")[m]),
-        "gearbox": str(gb.ids[g]) if geared and gb is not None else None,
-        "gearbox_vendor": str(gb.vendor[g]) if geared and gb is not None else None, "ratio": float(c.ratio(k)),
-        "inertia_ratio": float(d.inertia_ratio[0]), "rms_torque_Nm": float(d.rms_torque[0]),
-        "peak_torque_Nm": float(d.peak_torque[0]),
-        "ok": ok, "status": "fails" if not ok else ("unknown" if unknown else "ok"), "unknown": unknown,
-        "failed": failures[0] if failures else "", "failures": failures,
-        "approximate_envelope": bool(~motors.has_curve[m]), "rated_torque_derived": bool(motors.approx_rated[m]),
-        **_derived(motors, m), **_trace(motors, m, gb if geared else None, g), "checks": list(checks.values()),
-        **({"brake": brake_variant(motors, m)} if c.brake_needed else {}),
-    }
+    unverified, unverified_reason = _trace(motors, m, gb if geared else None, g)
+    return Candidate(
+        rank=rank, motor=str(motors.ids[m]), vendor=str(motors.vendor[m]), series=str(motors.series[m]),
+        rated_power_W=float(motors.rated_power[m]), flange_mm=_plain_mm(motors.flange[m]),
+        shaft_diameter_mm=_plain_mm(column(motors, "shaft_diameter")[m]),
+        gearbox=str(gb.ids[g]) if geared and gb is not None else None,
+        gearbox_vendor=str(gb.vendor[g]) if geared and gb is not None else None, ratio=float(c.ratio(k)),
+        inertia_ratio=float(d.inertia_ratio[0]), rms_torque_Nm=float(d.rms_torque[0]),
+        peak_torque_Nm=float(d.peak_torque[0]),
+        ok=ok, status="fails" if not ok else ("unknown" if unknown else "ok"), unknown=unknown,
+        failed=failures[0] if failures else "", failures=failures,
+        approximate_envelope=bool(~motors.has_curve[m]), rated_torque_derived=bool(motors.approx_rated[m]),
+        derived=_derived(motors, m), unverified=unverified, unverified_reason=unverified_reason,
+        checks=list(checks.values()), brake=brake_variant(motors, m) if c.brake_needed else None)
 
 
-def _derived(motors: MotorTable, m: int) -> dict[str, Any]:
+def _derived(motors: MotorTable, m: int) -> dict[str, str] | None:
     """``derived``: the motor's catalog values computed rather than read, each with its formula
-    (catalog.derive.formulas); left out for a motor whose every value was read."""
+    (catalog.derive.formulas); None for a motor whose every value was read."""
     if not motors.derived[m]:
-        return {}
+        return None
     from drivetrain.catalog.derive import formulas
 
-    return {"derived": formulas({"derived": str(motors.derived[m]), "derivation": str(motors.derivation[m]),
-                                 "rated_torque_basis": str(motors.rated_torque_basis[m])})}
+    return formulas({"derived": str(motors.derived[m]), "derivation": str(motors.derivation[m]),
+                     "rated_torque_basis": str(motors.rated_torque_basis[m])})
 
 
-def _trace(motors: MotorTable, m: int, gb: GearboxTable | None, g: int) -> dict[str, Any]:
+def _trace(motors: MotorTable, m: int, gb: GearboxTable | None, g: int) -> tuple[bool, str | None]:
     """``unverified`` and its reason: the motor's or the gearbox's catalog row is not traced to a vendor
     document, or a rating the sizing uses was derived (catalog.schema.trace)."""
     reasons = [f"motor: {motors.unverified_reason[m]}"] if motors.unverified[m] else []
     if gb is not None and g >= 0 and gb.unverified[g]:
         reasons.append(f"gearbox: {gb.unverified_reason[g]}")
-    return {"unverified": bool(reasons), "unverified_reason": "; ".join(reasons) or None}
+    return bool(reasons), "; ".join(reasons) or None
 
 
 def advice(c: Candidates, margins: Margins, spec: SelectSpec, motors: MotorTable | None = None,
@@ -234,7 +235,7 @@ def advice(c: Candidates, margins: Margins, spec: SelectSpec, motors: MotorTable
         need, have = d.required[n][0], d.available[n][0]
         fixes: list[str] = []
         if too_slow and n in ("peak_torque", "rms_torque") and not have > 0.0:
-            # not judged (as candidate_dict says): the motor offers no torque at a speed it cannot reach, so a
+            # not judged (as candidate_answer says): the motor offers no torque at a speed it cannot reach, so a
             # shortfall against it is no measure of anything; say what would judge it instead of a percentage
             lines.append(f"{n} not judged: {_unknown_note(n, c, '').removeprefix('not judged: ')}; a motor that "
                          "reaches the cycle's speed is judged on it")
@@ -279,7 +280,7 @@ def advice(c: Candidates, margins: Margins, spec: SelectSpec, motors: MotorTable
     return "\n".join(lines)
 
 
-def explain(result_selection: dict[str, Any], ranking: Ranking, model: str) -> str:
+def explain(result_selection: SelectionSummary, ranking: Ranking, model: str) -> str:
     """Why a catalog motor was accepted or rejected, in its best configuration (``result_selection``: the
     selection's summary, ``ranking``: the candidates it was read from)."""
     c: Candidates = ranking.candidates
@@ -302,24 +303,24 @@ def explain(result_selection: dict[str, Any], ranking: Ranking, model: str) -> s
         best = closest(c, ok_rows)
     else:
         best = fewest_failures(c, rows)
-    d = candidate_dict(c, best, motors, gb, None)
+    d = candidate_answer(c, best, motors, gb, None)
     n_ok = len(ok_rows)
-    mounting = d["gearbox"] or (f"on the axis's {result_selection['transmission_gearbox']}"
-                                if result_selection.get("transmission_gearbox") else "direct drive")
+    mounting = d.gearbox or (f"on the axis's {result_selection.transmission_gearbox}"
+                             if result_selection.transmission_gearbox else "direct drive")
     lines = [f"{model}: {n_ok} of {len(rows)} configurations pass; best configuration: "
-             f"{mounting} (catalog ratio {d['ratio']:.4g}, inertia ratio {d['inertia_ratio']:.3g})"]
+             f"{mounting} (catalog ratio {d.ratio:.4g}, inertia ratio {d.inertia_ratio:.3g})"]
     mark = {"pass": "ok  ", "fail": "FAIL", "unknown": "??  ", "not_judged": "--  "}
-    for ch in d["checks"]:
-        mar = percent(ch["margin"])
-        avail = "n/a" if ch["available"] is None else f"{ch['available']:.4g}"
-        note = f": {ch['note']}" if ch.get("note") else ""
-        lines.append(f"  {mark[ch['status']]} {ch['name']}: required {ch['required']:.4g}, available "
-                     f"{avail} {ch['unit']} ({mar}){note}")
-    if d["failures"]:
+    for ch in d.checks:
+        mar = percent(ch.margin)
+        avail = "n/a" if ch.available is None else f"{ch.available:.4g}"
+        note = f": {ch.note}" if ch.note else ""
+        lines.append(f"  {mark[ch.status]} {ch.name}: required {ch.required:.4g}, available "
+                     f"{avail} {ch.unit} ({mar}){note}")
+    if d.failures:
         lines.append("  rejected because:")
-        lines += [f"    {f}" for f in d["failures"]]
-    elif d["unknown"]:
-        lines.append(f"  passes with checks the catalog cannot judge: {', '.join(d['unknown'])}")
+        lines += [f"    {f}" for f in d.failures]
+    elif d.unknown:
+        lines.append(f"  passes with checks the catalog cannot judge: {', '.join(d.unknown)}")
     per_check = {n: int(np.count_nonzero(c.failed[rows] & (1 << b))) for b, n in enumerate(CHECK_UNITS)}
     counts = ", ".join(f"{n} {v}" for n, v in per_check.items() if v)
     if counts:
@@ -327,4 +328,4 @@ def explain(result_selection: dict[str, Any], ranking: Ranking, model: str) -> s
     return "\n".join(lines)
 
 
-__all__ = ["advice", "candidate_dict", "explain", "fewest_failures", "percent"]
+__all__ = ["advice", "candidate_answer", "explain", "fewest_failures", "percent"]

@@ -13,6 +13,7 @@ import numpy as np
 from drivetrain.axis.model import Axis, MotorData
 from drivetrain.duty.cycle import Demand, DutyCycle, load_metrics
 from drivetrain.physics.acceleration import acceleration_power, minimum_accel_time, minimum_decel_time, operation_power
+from drivetrain.sizing.answer import Candidate, MotorAnswer, SelectionSummary
 from drivetrain.sizing.axis_blocks import (
     GearboxCheck,
     GearboxChecks,
@@ -50,12 +51,12 @@ class SizingResult:
         The load's demand at the motor shaft, rotor excluded (``duty.cycle.Demand``): RMS, peak,
         accel/run/decel torque [N m], speeds [rpm], load inertia [kg m^2], power [W], energy [J] (fields carry
         their unit).
-    motor : dict or None
+    motor : MotorAnswer or None
         A given motor: the demand with its rotor, the figures of the lecture and every check
         (required, available, margin). None for a catalog selection or no motor.
-    candidates : list of dict
+    candidates : list of Candidate
         A catalog selection's listed candidates, each with its checks (empty without a selection).
-    selection : dict or None
+    selection : SelectionSummary or None
         A catalog selection's summary: counts, the ``selected`` candidate, next smaller motor, advice.
     warnings : list of str
         What is implausible in the axis file, in words (empty when nothing is).
@@ -70,10 +71,10 @@ class SizingResult:
         A brake stage's holding torque against the braked dwells [N m].
     drive : DriveAnswer or None
         A given motor's drive (``sizing.electrical.DriveAnswer``); a catalog selection's are in
-        ``selection["selected"]`` and each listed candidate's ``drive``.
+        ``selection.selected.drive`` and each listed candidate's ``drive``.
     regen : Regen or None
-        A given motor's regeneration block (``sizing.electrical.Regen``); the selected candidate's is in
-        ``selection["selected"]``.
+        A given motor's regeneration block (``sizing.electrical.Regen``); the selected candidate's is
+        ``selection.selected.regen``.
     gearbox_checks : GearboxChecks or None
         The ratings of the rated gearboxes of ``transmission:`` with the given or selected motor.
     load_share : float or None
@@ -88,9 +89,9 @@ class SizingResult:
     axis: Axis
     duty: DutyCycle
     metrics: Demand
-    motor: dict[str, Any] | None = None
-    candidates: list[dict[str, Any]] = field(default_factory=list)
-    selection: dict[str, Any] | None = None
+    motor: MotorAnswer | None = None
+    candidates: list[Candidate] = field(default_factory=list)
+    selection: SelectionSummary | None = None
     warnings: list[str] = field(default_factory=list)
     guide: GuideReport | None = None
     slip_check: RatingCheck | None = None
@@ -165,14 +166,11 @@ class SizingResult:
         out.update(self.metrics.to_dict())
         out.update(self.own_blocks())
         if self.motor is not None:
-            out["motor"] = self.motor
+            out["motor"] = self.motor.to_dict()
         if self.selection is not None:
-            out["selection"] = self.selection
-            pick = self.selection.get("selected")
-            if isinstance(pick, dict) and any(isinstance(v, TYPED_BLOCKS) for v in pick.values()):
-                out["selection"] = {**self.selection, "selected": {k: plain_block(v) for k, v in pick.items()}}
+            out["selection"] = self.selection.to_dict()
         if self.candidates:
-            out["candidates"] = [{k: plain_block(v) for k, v in c.items()} for c in self.candidates]
+            out["candidates"] = [c.to_dict() for c in self.candidates]
         if self.modes is not None:
             out["modes"] = self.modes.to_dict()
         import importlib  # the order sheet reads the result: looked up by name, so no circle of files
@@ -224,11 +222,11 @@ class SizingResult:
         if self.selection is None or self.ranking is None:
             raise InputError("--explain", "needs a catalog selection (motor: {select: ...})", model)
         text = explain(self.selection, self.ranking, model)
-        if self.selection.get("dynamics"):  # the dynamic checks: the dynamics layer's, looked up by name
+        if self.selection.dynamics:  # the dynamic checks: the dynamics layer's, looked up by name
             import importlib
 
             text += importlib.import_module("drivetrain.dynamics.dynamic_selection").explain_dynamics(
-                self.selection["dynamics"], model)
+                self.selection.dynamics, model)
         return text
 
     def series(self) -> dict[str, np.ndarray]:
@@ -335,7 +333,8 @@ class SizingResult:
 
 
 TYPED_BLOCKS = (DriveAnswer, Regen)
-"""The typed blocks of the answer that sit in the selected candidate (their JSON: ``to_dict``)."""
+"""The typed blocks of the answer that are not dataclasses of ``sizing.answer`` or ``sizing.axis_blocks`` (their
+JSON: ``to_dict``); a candidate's are written by ``Candidate.to_dict``."""
 
 
 def plain_block(value: Any) -> Any:
@@ -374,7 +373,7 @@ def motor_arrays(motors: list[MotorData]) -> MotorArrays:
     )
 
 
-def motor_result(axis: Axis, duty: DutyCycle, motor: MotorData) -> tuple[dict[str, Any], dict[str, Any]]:
+def motor_result(axis: Axis, duty: DutyCycle, motor: MotorData) -> tuple[MotorAnswer, dict[str, Any]]:
     """The ``motor`` block of the JSON (demand with the rotor, lecture figures and checks) and the
     electrical half's blocks that sit beside it in the answer (``drive``, ``regen``, where known)."""
     margins = axis.spec.motor.margins if axis.spec.motor is not None else None
@@ -409,32 +408,34 @@ def motor_result(axis: Axis, duty: DutyCycle, motor: MotorData) -> tuple[dict[st
         beside["drive"] = elec.drive
     if elec.regen is not None:
         beside["regen"] = elec.regen
-    return {
-        "name": motor.name,
-        "source": motor.source,
-        "unverified": bool(motor.unverified_reason),
-        "unverified_reason": motor.unverified_reason or None,
-        "inertia_kgm2": motor.inertia,
-        "inertia_ratio": duty.load_inertia / motor.inertia,
-        "peak_torque_Nm": with_rotor["peak_torque_Nm"],
-        "rms_torque_Nm": with_rotor["rms_torque_Nm"],
-        "accel_torque_Nm": with_rotor["accel_torque_Nm"],
-        "run_torque_Nm": with_rotor["run_torque_Nm"],
-        "decel_torque_Nm": with_rotor["decel_torque_Nm"],
-        "holding_torque_Nm": with_rotor["holding_torque_Nm"],
-        "peak_power_W": with_rotor["peak_power_W"],
-        "regen_energy_J": with_rotor["regen_energy_J"],
-        "min_accel_time_s": minimum_accel_time(n, motor.inertia, duty.load_inertia, motor.peak_torque, run),
-        "min_decel_time_s": minimum_decel_time(n, motor.inertia, duty.load_inertia, motor.peak_torque, run),
-        "operation_power_W": operation_power(n, run),
-        "acceleration_power_W": acceleration_power(n, duty.load_inertia, first) if first > 0 else None,
-        **gearbox,
-        **extra,
-        "ok": ok,
-        "failed": failed,
-        "checks": [c.to_dict() for c in checks],
-        "segments": with_rotor["segments"],
-    }, beside
+    return MotorAnswer(
+        name=motor.name,
+        source=motor.source,
+        unverified=bool(motor.unverified_reason),
+        unverified_reason=motor.unverified_reason or None,
+        inertia_kgm2=motor.inertia,
+        inertia_ratio=duty.load_inertia / motor.inertia,
+        peak_torque_Nm=with_rotor["peak_torque_Nm"],
+        rms_torque_Nm=with_rotor["rms_torque_Nm"],
+        accel_torque_Nm=with_rotor["accel_torque_Nm"],
+        run_torque_Nm=with_rotor["run_torque_Nm"],
+        decel_torque_Nm=with_rotor["decel_torque_Nm"],
+        holding_torque_Nm=with_rotor["holding_torque_Nm"],
+        peak_power_W=with_rotor["peak_power_W"],
+        regen_energy_J=with_rotor["regen_energy_J"],
+        min_accel_time_s=minimum_accel_time(n, motor.inertia, duty.load_inertia, motor.peak_torque, run),
+        min_decel_time_s=minimum_decel_time(n, motor.inertia, duty.load_inertia, motor.peak_torque, run),
+        operation_power_W=operation_power(n, run),
+        acceleration_power_W=acceleration_power(n, duty.load_inertia, first) if first > 0 else None,
+        gearbox_torque_split_k=gearbox.get("gearbox_torque_split_k"),
+        gearbox_output_torque_at_motor_peak_Nm=gearbox.get("gearbox_output_torque_at_motor_peak_Nm"),
+        gearbox_output_peak_torque_Nm=gearbox.get("gearbox_output_peak_torque_Nm"),
+        electrical=extra,
+        ok=ok,
+        failed=failed,
+        checks=list(checks),
+        segments=with_rotor["segments"],
+    ), beside
 
 
 def _gearbox_split(axis: Axis, motor: MotorData, duty: DutyCycle, run_torque: float) -> dict[str, Any]:
@@ -552,11 +553,11 @@ def verdict(result: SizingResult) -> bool:
     if not all(own):
         return False
     if result.motor is not None:
-        return bool(result.motor["ok"])
+        return bool(result.motor.ok)
     if result.selection is not None:
         # the selection's best passing candidate, with a drive that can be ordered (drive_select.orderable)
         return (result.ranking is not None and result.ranking.best is not None
-                and "drive_advice" not in result.selection)
+                and result.selection.drive_advice is None)
     return True
 
 

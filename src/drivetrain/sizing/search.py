@@ -444,23 +444,24 @@ def _summary(c: Candidates, motors: MotorTable, gb: GearboxTable | None, order: 
              spec: SelectSpec, duty: DutyCycle, evaluated_all: bool) -> Selection:
     """``select``'s answer, keys as there: the first candidate, and the counts where every candidate
     was evaluated."""
-    from drivetrain.sizing.reasons import candidate_dict
+    from drivetrain.sizing.answer import SelectionSummary
+    from drivetrain.sizing.reasons import candidate_answer
 
-    summary: dict[str, Any] = {"objective": spec.objective, "motors": len(tb.motors),
-                               "gearbox_rows": 0 if tb.gb is None else len(tb.gb), "unknown_policy": spec.unknown,
-                               "cycles_per_hour": 3600.0 / duty.period}
+    summary = SelectionSummary(objective=spec.objective, motors=len(tb.motors),
+                               gearbox_rows=0 if tb.gb is None else len(tb.gb), unknown_policy=spec.unknown,
+                               cycles_per_hour=3600.0 / duty.period)
     if evaluated_all:
-        summary.update({"evaluated": len(c.motor), "passing": len(order),
-                        "passing_motors": len(np.unique(c.motor[order])), "failures_by_check": c.failures(),
-                        "unknown_by_check": c.unknowns()})
+        summary.evaluated, summary.passing = len(c.motor), len(order)
+        summary.passing_motors = len(np.unique(c.motor[order]))
+        summary.failures_by_check, summary.unknown_by_check = c.failures(), c.unknowns()
     best: int | None = None
     if len(order):
         best = k = int(order[0])
-        first = candidate_dict(c, k, motors, gb, 1)
-        summary["selected"] = first
+        first = candidate_answer(c, k, motors, gb, 1)
+        summary.selected = first  # the same object as the listed one: what joins it later joins both
     else:
         k = int(closest_failing(c, 1)[0])
-        first = candidate_dict(c, k, motors, gb, None)
+        first = candidate_answer(c, k, motors, gb, None)
     return Selection(listed=[first], summary=summary,
                      ranking=Ranking(candidates=c, ranked=order, motors=motors, gearboxes=gb, best=best, shown=[k]))
 

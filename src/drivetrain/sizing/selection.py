@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 from drivetrain.errors import InputError
 from drivetrain.physics.averages import cubic_mean
 from drivetrain.physics.stage import Stage
+from drivetrain.sizing.answer import Candidate, OptimalRatio, SelectionSummary
 from drivetrain.sizing.candidates import (
     BRAKE_BIT,
     CHECK_UNITS,
@@ -48,7 +49,7 @@ from drivetrain.sizing.envelope import continuous_torque, intermittent_torque, m
 from drivetrain.sizing.mechanism_checks import output_loads
 from drivetrain.sizing.motor_brake import braked_motors, holding_need
 from drivetrain.sizing.motor_fit import demand
-from drivetrain.sizing.reasons import advice, candidate_dict, explain
+from drivetrain.sizing.reasons import advice, candidate_answer, explain
 from drivetrain.units import to_rpm
 
 if TYPE_CHECKING:
@@ -367,35 +368,35 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
     failing = closest_failing(c, n_fail * 8, passes)
     failing = failing if all_pairs else best_per_motor(c, failing)
 
-    def row(k: int, rank: int | None) -> dict[str, Any]:
-        return candidate_dict(c, k, motors, gb, rank)
+    def row(k: int, rank: int | None) -> Candidate:
+        return candidate_answer(c, k, motors, gb, rank)
 
     shown_ks = [int(k) for k in shown_ok]
     shown_ks += [int(k) for k in failing[: max(spec.top - len(shown_ks), 3)]]
     shown = [row(k, r + 1 if r < len(shown_ok) else None) for r, k in enumerate(shown_ks)]
-    summary: dict[str, Any] = {
-        "objective": spec.objective, "evaluated": len(c.motor), "motors": len(motors),
-        "gearbox_rows": 0 if gb is None else len(gb), "passing": len(passing),
-        "passing_motors": len(_distinct(c.motor[passing])),
-        "listing": "all_pairs" if all_pairs else "best_per_motor",
-        "unknown_policy": spec.unknown, "failures_by_check": c.failures(), "unknown_by_check": c.unknowns(),
-        "cycles_per_hour": 3600.0 / duty.period,
-    }
+    summary = SelectionSummary(
+        objective=spec.objective, evaluated=len(c.motor), motors=len(motors),
+        gearbox_rows=0 if gb is None else len(gb), passing=len(passing),
+        passing_motors=len(_distinct(c.motor[passing])),
+        listing="all_pairs" if all_pairs else "best_per_motor",
+        unknown_policy=spec.unknown, failures_by_check=c.failures(), unknown_by_check=c.unknowns(),
+        cycles_per_hour=3600.0 / duty.period,
+    )
     best: int | None = None
     if len(passing):
         best = int(passing[0])
-        summary["selected"] = row(best, 1)
-        summary["next_smaller"] = next_smaller(c, motors, gb, best)
-        summary["optimal_ratio"] = optimal_ratio(axis, duty, motors, int(c.motor[best]), gb)
+        summary.selected = row(best, 1)
+        summary.next_smaller = next_smaller(c, motors, gb, best)
+        summary.optimal_ratio = optimal_ratio(axis, duty, motors, int(c.motor[best]), gb)
         top = passing[:2000]
         front = pareto_front(size_key(motors)[c.motor[top]], c.worst_margin[top], c.details(top).inertia_ratio)
-        summary["pareto_front"] = [_label(c, int(top[k]), motors, gb) for k in front[:50]]
+        summary.pareto_front = [_label(c, int(top[k]), motors, gb) for k in front[:50]]
         flagged = int(np.count_nonzero(c.unknown[passing]))
         if flagged:
-            summary["unverified"] = (f"{flagged} of {len(passing)} passing configurations have checks the catalog "
-                                     "cannot judge (status unknown): confirm them with the vendor")
+            summary.unverified = (f"{flagged} of {len(passing)} passing configurations have checks the catalog "
+                                  "cannot judge (status unknown): confirm them with the vendor")
     else:
-        summary["advice"] = advice(c, margins, spec, motors, gb)
+        summary.advice = advice(c, margins, spec, motors, gb)
     ranking = Ranking(candidates=c, ranked=passing, motors=motors, gearboxes=gb, best=best, shown=shown_ks)
     return Selection(listed=shown, summary=summary, ranking=ranking)
 
@@ -408,7 +409,7 @@ def _label(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None) -
 _MAX_SPEED_BIT = list(CHECK_UNITS).index("max_speed")
 
 
-def next_smaller(c: Candidates, motors: MotorTable, gb: GearboxTable | None, best: int) -> dict[str, Any] | None:
+def next_smaller(c: Candidates, motors: MotorTable, gb: GearboxTable | None, best: int) -> Candidate | None:
     """The next smaller motor than the selected one, in its best configuration, and why it fails."""
     size = size_key(motors)
     smaller = np.flatnonzero(size < size[c.motor[best]])  # every motor has candidates
@@ -421,11 +422,11 @@ def next_smaller(c: Candidates, motors: MotorTable, gb: GearboxTable | None, bes
     if fast[smaller].any():
         smaller = smaller[fast[smaller]]
     k = closest(c, c.of_motors(smaller[size[smaller] == np.max(size[smaller])]))
-    out = candidate_dict(c, k, motors, gb, None)
-    if out["ok"]:  # it passes, and ranks after the selected one: a fit or brake the catalog cannot judge
-        gaps = [n for n in ("motor_brake", "mechanical_fit") if n in out["unknown"]]
+    out = candidate_answer(c, k, motors, gb, None)
+    if out.ok:  # it passes, and ranks after the selected one: a fit or brake the catalog cannot judge
+        gaps = [n for n in ("motor_brake", "mechanical_fit") if n in out.unknown]
         why = f"ranked after the selected motor: {' and '.join(gaps) or 'its checks'} cannot be judged"
-        out.update({"failed": why, "failures": [why]})
+        out.failed, out.failures = why, [why]
     return out
 
 
@@ -453,7 +454,7 @@ def candidate_cycle(axis: Axis, duty: DutyCycle, ranking: Ranking,
 
 
 def optimal_ratio(axis: Axis, duty: DutyCycle, motors: MotorTable, m: int,
-                  gb: GearboxTable | None) -> dict[str, Any]:
+                  gb: GearboxTable | None) -> OptimalRatio:
     """Best ratio for one motor: sqrt(J_L / J_M) for pure inertia, and the ratio minimising RMS torque.
 
     Behind an ideal gearbox of ratio i the motor torque is T / i + J_M alpha i (T, alpha the load
@@ -479,9 +480,9 @@ def optimal_ratio(axis: Axis, duty: DutyCycle, motors: MotorTable, m: int,
     if gb is not None and len(gb):
         ratios = _distinct(gb.ratio)
         nearest = float(ratios[np.argmin(np.abs(np.log(ratios / best)))])
-    return {"motor": str(motors.ids[m]), "inertia_match_ratio": math.sqrt(duty.load_inertia / j_m),
-            "min_rms_ratio": best, "min_rms_torque_Nm": math.sqrt(max(mean_square, 0.0)),
-            "max_ratio_for_speed": top, "nearest_catalog_ratio": nearest}
+    return OptimalRatio(motor=str(motors.ids[m]), inertia_match_ratio=math.sqrt(duty.load_inertia / j_m),
+                        min_rms_ratio=best, min_rms_torque_Nm=math.sqrt(max(mean_square, 0.0)),
+                        max_ratio_for_speed=top, nearest_catalog_ratio=nearest)
 
 
 __all__ = ["CHECK_UNITS", "MOTOR_CHECKS", "Candidates", "Details", "Ranking", "Selection", "best_per_motor",

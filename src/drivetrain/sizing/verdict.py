@@ -12,7 +12,9 @@ from drivetrain.sizing.axis_blocks import GearboxCheck, own_checks
 
 if TYPE_CHECKING:
     from drivetrain.axis.model import Axis
+    from drivetrain.sizing.answer import MotorAnswer, SelectionSummary
     from drivetrain.sizing.axis_blocks import GearboxChecks, GuideReport, MechanismCheck, RatingCheck
+    from drivetrain.sizing.checks import Check
     from drivetrain.sizing.electrical import DriveAnswer
 
 
@@ -26,8 +28,8 @@ class Answer(Protocol):
     brake_check: RatingCheck | None
     gearbox_checks: GearboxChecks | None
     drive: DriveAnswer | None
-    motor: dict[str, Any] | None
-    selection: dict[str, Any] | None
+    motor: MotorAnswer | None
+    selection: SelectionSummary | None
     ranking: Any
 
 
@@ -98,6 +100,11 @@ def _decide(check: dict[str, Any], default: str) -> str:
     return str(check.get("note") or check.get("reason") or default)
 
 
+def _motor_not_judged(check: Check) -> bool:
+    """A given motor's check (``sizing.checks.Check``) that cannot be judged: its margin is NaN."""
+    return math.isnan(check.margin)
+
+
 def _drive_unknowns(block: DriveAnswer | None) -> list[Unknown]:
     """A drive block (``drive_select.pick_drive``, or a given motor's): unknown or none as a whole, or
     its own checks that cannot be judged."""
@@ -131,26 +138,25 @@ def collect_unknowns(result: Answer, sheet: Any = True) -> list[Unknown]:
             part, default = _OWN_PARTS[key]
             out.append(Unknown(own.name, part, own.note or default))
     if result.motor is not None:
-        out += [Unknown(c["name"], "motor" if c["name"] in _MOTOR_CHECKS else "electrical",
-                        _decide(c, "a rating of the motor is not given"))
-                for c in _check_list(result.motor) if _not_judged(c)]
+        out += [Unknown(c.name, "motor" if c.name in _MOTOR_CHECKS else "electrical",
+                        c.note or "a rating of the motor is not given")
+                for c in result.motor.checks if _motor_not_judged(c)]
         drive = result.drive
         out += _drive_unknowns(drive)
-    elif result.selection is not None and result.selection.get("selected"):
-        pick = result.selection["selected"]
-        for c in _check_list(pick):
-            if _not_judged(c):
-                part = ("motor" if c["name"] in _MOTOR_CHECKS else "brake" if c["name"] == "motor_brake" else
-                        "motor-gearbox fit" if c["name"] == "mechanical_fit" else "gearbox")
-                out.append(Unknown(c["name"], part, _decide(c, "the catalog lacks a rating it needs")))
-        vc = pick.get("voltage_class")
-        if isinstance(vc, dict) and _not_judged(vc):
+    elif result.selection is not None and result.selection.selected is not None:
+        pick = result.selection.selected
+        for row in pick.checks:
+            if row.status == "unknown":
+                part = ("motor" if row.name in _MOTOR_CHECKS else "brake" if row.name == "motor_brake" else
+                        "motor-gearbox fit" if row.name == "mechanical_fit" else "gearbox")
+                out.append(Unknown(row.name, part, row.note or "the catalog lacks a rating it needs"))
+        vc = pick.voltage_class
+        if vc is not None and _not_judged(vc):
             out.append(Unknown("voltage_class", "electrical", _decide(vc, "a voltage class is not known")))
-        drive = pick.get("drive")
-        out += _drive_unknowns(drive)
+        out += _drive_unknowns(pick.drive)
         out += [Unknown(c["name"], "electrical", _decide(c, "an electrical datum is not known"))
-                for c in _check_list(pick.get("electrical")) if _not_judged(c)]
-        dyn = result.selection.get("dynamics")
+                for c in _check_list(pick.electrical) if _not_judged(c)]
+        dyn = result.selection.dynamics
         chosen = dyn.get("chosen") if isinstance(dyn, dict) else None
         out += [Unknown(c["name"], "dynamics", _decide(c, "the simulation could not judge it"))
                 for c in _check_list(chosen) if _not_judged(c)]
@@ -207,16 +213,16 @@ def failures(result: Answer) -> list[str]:
             stage = own.stage if isinstance(own, GearboxCheck) else ""
             out.append(f"{_OWN_PARTS[key][0]}: {own.name}" + (f" [{stage}]" if stage else ""))
     if result.motor is not None:
-        out += [f"motor: {c['name']}" for c in _check_list(result.motor) if _failed(c)]
+        out += [f"motor: {c.name}" for c in result.motor.checks if not c.ok]
         drive = result.drive
         if drive is not None and (drive.status == "fails" or drive.ok is False):
             bad = ", ".join(c["name"] for c in drive.checks or () if _failed(c))
             out.append(f"drive: {drive.reason or bad}")
     elif result.selection is not None:
         sel = result.selection
-        if sel.get("drive_advice"):
-            out.append(f"not orderable: {str(sel['drive_advice']).split('; ')[0]}")
-        elif not sel.get("selected") or result.ranking is None or result.ranking.best is None:
+        if sel.drive_advice:
+            out.append(f"not orderable: {sel.drive_advice.split('; ')[0]}")
+        elif sel.selected is None or result.ranking is None or result.ranking.best is None:
             out.append("no catalog motor passes every check")
     return out
 

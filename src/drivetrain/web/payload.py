@@ -9,11 +9,14 @@ import logging
 import math
 import time
 from collections.abc import Callable
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 
 from drivetrain.errors import InputError
+
+if TYPE_CHECKING:
+    from drivetrain.sizing.answer import Candidate
 
 log = logging.getLogger("drivetrain.web")
 
@@ -93,12 +96,11 @@ def _envelopes(names: list[str], rated: np.ndarray, peak: np.ndarray, rated_spee
             for i, (name, rank) in enumerate(zip(names, ranks, strict=True))]
 
 
-def _candidate_envelopes(candidates: list[dict[str, Any]], notes: list[str]) -> list[dict[str, Any]]:
+def _candidate_envelopes(candidates: list[Candidate], notes: list[str]) -> list[dict[str, Any]]:
     ids: list[str] = []
     for c in candidates:
-        mid = c.get("motor_id") or c.get("motor")
-        if isinstance(mid, str) and mid not in ids:
-            ids.append(mid)
+        if c.motor not in ids:
+            ids.append(c.motor)
         if len(ids) >= MAX_ENVELOPES:
             break
     if not ids:
@@ -112,8 +114,7 @@ def _candidate_envelopes(candidates: list[dict[str, Any]], notes: list[str]) -> 
         return []
     at = {str(mid): i for i, mid in enumerate(table.ids)}
     idx = np.array([at[mid] for mid in ids])
-    ranks = [next((k + 1 for k, c in enumerate(candidates) if (c.get("motor_id") or c.get("motor")) == mid), None)
-             for mid in ids]
+    ranks = [next((k + 1 for k, c in enumerate(candidates) if c.motor == mid), None) for mid in ids]
     return _envelopes(ids, table.rated_torque[idx], table.peak_torque[idx], table.rated_speed[idx],
                       table.max_speed[idx], table.stall_torque[idx], [table.curves[i] for i in idx], ranks)
 
@@ -169,7 +170,7 @@ def candidate_payload(axis: dict[str, Any], motor_id: str, gearbox_id: str | Non
     series = {k: np.asarray(cols[k], dtype=float) for k in ("t_s", "omega_motor_rad_s", "torque_motor_Nm")
               if k in cols}
     return {"motor": motor_id, "gearbox": gearbox_id, "ratio": float(parsed.transmission[0].ratio) if gearbox_id
-            else 1.0, "series": series, "motor_result": result.motor or {},
+            else 1.0, "series": series, "motor_result": {} if result.motor is None else result.motor.to_dict(),
             "envelope": motor_envelope(motor_id)}
 
 
@@ -178,12 +179,13 @@ def selected_payload(parsed: Any, result: Any, envelopes: list[dict[str, Any]]) 
     selection checked it), the selection's figures for it and its envelope."""
     from drivetrain.sizing.selection import candidate_cycle
 
-    best = result.selection["selected"]
+    best: Candidate = result.selection.selected
     cycle, rotor = candidate_cycle(parsed, result.duty, result.ranking)
     series = {"t_s": cycle.t, "omega_motor_rad_s": cycle.omega, "torque_motor_Nm": cycle.motor_torque(rotor)}
-    figures = {k: best[k] for k in ("rms_torque_Nm", "peak_torque_Nm", "inertia_ratio", "checks")}
-    envelope = next((e for e in envelopes if e["name"] == best["motor"]), None) or motor_envelope(best["motor"])
-    return {"motor": best["motor"], "gearbox": best["gearbox"], "ratio": best["ratio"], "series": series,
+    figures = {"rms_torque_Nm": best.rms_torque_Nm, "peak_torque_Nm": best.peak_torque_Nm,
+               "inertia_ratio": best.inertia_ratio, "checks": [c.to_dict() for c in best.checks]}
+    envelope = next((e for e in envelopes if e["name"] == best.motor), None) or motor_envelope(best.motor)
+    return {"motor": best.motor, "gearbox": best.gearbox, "ratio": best.ratio, "series": series,
             "motor_result": figures, "envelope": envelope}
 
 
@@ -222,16 +224,17 @@ def electrical_payload(result: Any) -> dict[str, Any] | None:
     """
     if result.motor is not None:
         m = result.motor
-        electrical = {k: v for k, v in m.items() if k not in ("checks", "supply_curve")}
-        electrical["checks"] = [c for c in m.get("checks", []) if str(c.get("name", "")).startswith(
+        # the motor's JSON block as the panel reads it, less its checks but the electrical ones
+        electrical = {k: v for k, v in m.to_dict().items() if k not in ("checks", "supply_curve")}
+        electrical["checks"] = [c.to_dict() for c in m.checks if c.name.startswith(
             ("motor_rms_current", "motor_peak_current", "peak_torque_at_supply", "winding_"))]
         out = {"drive": result.drive, "electrical": electrical, "regen": result.regen}
     else:
-        sel = (result.selection or {}).get("selected")
-        if not sel:
+        sel = result.selection.selected if result.selection is not None else None
+        if sel is None:
             return None
-        elec = {k: v for k, v in (sel.get("electrical") or {}).items() if k != "curve"}
-        out = {"drive": sel.get("drive"), "electrical": elec or None, "regen": sel.get("regen")}
+        elec = {k: v for k, v in (sel.electrical or {}).items() if k != "curve"}
+        out = {"drive": sel.drive, "electrical": elec or None, "regen": sel.regen}
     if out["drive"] is not None:
         out["drive"] = out["drive"].to_dict()
     if out["regen"] is not None:  # the panel shows the figures, not the events
