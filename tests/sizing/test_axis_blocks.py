@@ -30,7 +30,7 @@ from drivetrain.sizing.axis_blocks import (
 from drivetrain.sizing.pipeline import size
 from drivetrain.sizing.result import SizingResult
 from drivetrain.sizing.verdict import collect_unknowns, failures
-from tests.sizing.test_typed_blocks import attributes
+from tests.sizing.test_typed_blocks import assert_documented
 
 ROOT = Path(__file__).resolve().parents[2]
 JSON_DATA = ROOT / "tests" / "data" / "json"
@@ -48,12 +48,7 @@ GEARBOX_AXIS: dict[str, Any] = {
 
 @pytest.mark.parametrize("cls", TYPED, ids=lambda c: c.__name__)
 def test_every_field_is_documented_in_order_with_its_unit(cls: type) -> None:
-    documented = attributes(cls)
-    assert [d[0] for d in documented] == [f.name for f in dataclasses.fields(cls)]
-    for name, typ, text in documented:
-        assert text, f"{cls.__name__}.{name} has no description"
-        if typ.startswith("float"):  # a quantity states its unit
-            assert re.search(r"\[[^\]]+\]", text), f"{cls.__name__}.{name}: no unit in {text!r}"
+    assert_documented(cls)
 
 
 @pytest.mark.parametrize(("name", "keys"), [

@@ -9,7 +9,6 @@ import ast
 import copy
 import dataclasses
 import json
-import re
 from pathlib import Path
 from typing import Any
 
@@ -28,7 +27,7 @@ from drivetrain.sizing.answer import (
 )
 from drivetrain.sizing.checks import Check
 from drivetrain.sizing.pipeline import size
-from tests.sizing.test_typed_blocks import attributes
+from tests.sizing.test_typed_blocks import assert_documented
 
 ROOT = Path(__file__).resolve().parents[2]
 JSON_DATA = ROOT / "tests" / "data" / "json"
@@ -54,12 +53,7 @@ def example(request: pytest.FixtureRequest) -> tuple[Any, dict[str, Any]]:
 
 @pytest.mark.parametrize("cls", TYPED, ids=lambda c: c.__name__)
 def test_every_field_is_documented_in_order_with_its_unit(cls: type) -> None:
-    documented = attributes(cls)
-    assert [d[0] for d in documented] == [f.name for f in dataclasses.fields(cls)]
-    for name, typ, text in documented:
-        assert text, f"{cls.__name__}.{name} has no description"
-        if typ.startswith("float"):  # a quantity states its unit
-            assert re.search(r"\[[^\]]+\]", text), f"{cls.__name__}.{name}: no unit in {text!r}"
+    assert_documented(cls)
 
 
 def test_each_block_is_its_saved_json_byte_for_byte(example: tuple[Any, dict[str, Any]]) -> None:
