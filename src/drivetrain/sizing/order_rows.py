@@ -36,7 +36,7 @@ class _Ctx:
     motor_id: str | None = None
     motor_row: dict[str, Any] | None = None
     motor: MotorAnswer | Candidate | None = None
-    checks: list[dict[str, Any]] = field(default_factory=list)  # the motor's checks as the JSON rows, as extras'
+    checks: list[dict[str, Any]] = field(default_factory=list)  # the motor's checks as the JSON rows
     drive: DriveAnswer | None = None
     regen: Regen | None = None
     elec: dict[str, Any] = field(default_factory=dict)
@@ -47,11 +47,9 @@ class _Ctx:
 
     def catalog(self, cid: str | None) -> dict[str, Any] | None:
         """The catalog row of ``cid`` (``_catalog``), read once per sheet."""
-        if not cid:
-            return None
-        if cid not in self.rows:
+        if cid and cid not in self.rows:
             self.rows[cid] = _catalog(cid)
-        return self.rows[cid]
+        return self.rows.get(cid) if cid else None
 
 
 def _catalog(cid: str | None) -> dict[str, Any] | None:
