@@ -449,3 +449,23 @@ def test_a_thread_count_the_user_set_is_kept(fresh_env: dict[str, str]) -> None:
     out = subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True, check=True).stdout
     setting, threads, cpus = out.split()[-3:]
     assert setting == "None" and int(threads) == min(2, int(cpus))  # OpenBLAS: at most one thread per CPU
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_a_candidates_details_in_a_batch_are_its_own_to_the_bit(name: str, whole_catalog: tuple[Any, Any]) -> None:
+    """``details(ks).column(j)`` (the listing's one kernel call) is what ``details([ks[j]])`` gives alone, for
+    passing and failing, fast and too-slow, direct and geared candidates of the whole catalog."""
+    motors, gb = whole_catalog
+    axis = load_axis(ROOT / "examples" / f"{name}.yaml")
+    c = selection.evaluate(axis, duty_cycle(axis), motors, gb, Margins())
+    rng = np.random.default_rng(sum(map(ord, name)))
+    ks = np.concatenate([np.flatnonzero(c.ok)[:5], np.flatnonzero(~c.ok)[:5],
+                         rng.choice(len(c.motor), min(20, len(c.motor)), replace=False)])
+    batch = c.details(ks)
+    for j, k in enumerate(ks):
+        alone, one = c.details([k]), batch.column(j)
+        for field in ("required", "available", "margin", "approximate"):
+            assert getattr(one, field).keys() == getattr(alone, field).keys()
+            assert all(_same_bits(getattr(one, field)[n], getattr(alone, field)[n]) for n in getattr(alone, field))
+        assert all(_same_bits(getattr(one, f), getattr(alone, f))
+                   for f in ("rms_torque", "peak_torque", "inertia_ratio"))

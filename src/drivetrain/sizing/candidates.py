@@ -46,6 +46,17 @@ class Details:
     peak_torque: Array  # peak motor torque over the cycle [N m]
     inertia_ratio: Array
 
+    def column(self, j: int) -> Details:
+        """The details of the j-th candidate asked for alone (views, each of length 1): what
+        ``details([k])`` gives for that candidate, to the bit (the kernel's arithmetic is elementwise)."""
+        at = slice(j, j + 1)
+        return Details(required={n: v[at] for n, v in self.required.items()},
+                       available={n: v[at] for n, v in self.available.items()},
+                       margin={n: v[at] for n, v in self.margin.items()},
+                       approximate={n: v[at] for n, v in self.approximate.items()},
+                       rms_torque=self.rms_torque[at], peak_torque=self.peak_torque[at],
+                       inertia_ratio=self.inertia_ratio[at])
+
 
 @dataclass(frozen=True)
 class Candidates:

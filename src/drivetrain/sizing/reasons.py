@@ -12,7 +12,7 @@ from numpy.typing import NDArray
 
 from drivetrain.errors import InputError
 from drivetrain.sizing.answer import Candidate, CheckRow
-from drivetrain.sizing.candidates import CHECK_UNITS, MOTOR_CHECKS, Candidates, closest, column
+from drivetrain.sizing.candidates import CHECK_UNITS, MOTOR_CHECKS, Candidates, Details, closest, column
 from drivetrain.sizing.checks import adapter_arrays, adapter_margin
 from drivetrain.sizing.motor_brake import brake_variant
 
@@ -141,15 +141,16 @@ def _reason(ch: CheckRow, fit_bad: str) -> str:
 
 
 def candidate_answer(c: Candidates, k: int, motors: MotorTable, gb: GearboxTable | None,
-                     rank: int | None) -> Candidate:
+                     rank: int | None, details: Details | None = None) -> Candidate:
     """One candidate as in docs/axis-file.md: motor, gearbox, ratio, inertia ratio, status, checks, why it failed.
 
     ``status`` is ``ok`` (every check passes), ``unknown`` (none fails, some cannot be judged:
     ``unknown`` names them) or ``fails``; ``failures`` holds one sentence per failing check, a
-    motor too slow for the cycle first; ``failed`` is the first of them.
+    motor too slow for the cycle first; ``failed`` is the first of them. ``details``: candidate k's
+    (``Details.column`` of a batch that holds it), else computed here.
     """
     m, g = int(c.motor[k]), int(c.gearbox(k))
-    d = c.details([k])
+    d = c.details([k]) if details is None else details
     geared = g >= 0 and gb is not None
     fit_bad, fit_gap = _fit_reason(motors, m, gb, g) if geared and gb is not None else ("", "")
     checks: dict[str, CheckRow] = {}

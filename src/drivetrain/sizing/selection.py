@@ -368,11 +368,16 @@ def select(axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
     failing = closest_failing(c, n_fail * 8, passes)
     failing = failing if all_pairs else best_per_motor(c, failing)
 
-    def row(k: int, rank: int | None) -> Candidate:
-        return candidate_answer(c, k, motors, gb, rank)
-
     shown_ks = [int(k) for k in shown_ok]
     shown_ks += [int(k) for k in failing[: max(spec.top - len(shown_ks), 3)]]
+    # the details of every listed candidate and the selected one in one kernel call (not one call each)
+    asked = [*shown_ks, int(passing[0])] if len(passing) else shown_ks
+    batch = c.details(asked) if asked else None
+    at = {k: j for j, k in enumerate(asked)}
+
+    def row(k: int, rank: int | None) -> Candidate:
+        return candidate_answer(c, k, motors, gb, rank, None if batch is None else batch.column(at[k]))
+
     shown = [row(k, r + 1 if r < len(shown_ok) else None) for r, k in enumerate(shown_ks)]
     summary = SelectionSummary(
         objective=spec.objective, evaluated=len(c.motor), motors=len(motors),
