@@ -42,8 +42,27 @@ def _failed(status: str | None, ok: bool | None) -> bool:
     return status in ("fail", "fails") if status is not None else ok is False
 
 
+class Judged:
+    """What the verdict reads of a check block (docs/checks.md, "The verdict"): a check is unknown where its
+    ``status`` says so, or, without a status, where ``ok`` is undecided or the margin is not a number; it fails
+    where its status says so, else where ``ok`` is False. A block without a ``status`` field has None."""
+
+    ok: bool | None
+    margin: float | None
+
+    @property
+    def unknown(self) -> bool:
+        """Whether the check could not be judged."""
+        return _unknown(getattr(self, "status", None), self.ok, self.margin)
+
+    @property
+    def failed(self) -> bool:
+        """Whether the check fails."""
+        return _failed(getattr(self, "status", None), self.ok)
+
+
 @dataclass(frozen=True)
-class RatingCheck:
+class RatingCheck(Judged):
     """A rating of the axis against what the cycle needs of it: the load's slip on its carrier
     (``slip_check``), the brake's holding torque (``brake_check``) and each rating check of the guide
     (``guide.checks``).
@@ -78,15 +97,6 @@ class RatingCheck:
     approximate: bool = False
     note: str | None = None
 
-    @property
-    def unknown(self) -> bool:
-        """Whether the check could not be judged (a margin that is not a number)."""
-        return _unknown(None, self.ok, self.margin)
-
-    @property
-    def failed(self) -> bool:
-        """Whether the check fails."""
-        return _failed(None, self.ok)
 
     def to_dict(self) -> dict[str, Any]:
         """The check's object of the JSON: name, required, available, unit, margin, ok, approximate (and note)."""
@@ -144,7 +154,7 @@ class GuideReport:
 
 
 @dataclass(frozen=True)
-class MechanismCheck:
+class MechanismCheck(Judged):
     """One entry of ``mechanism_checks``: a limit of the screw, nut, guide life, belt or rack against what the
     cycle needs of it (``sizing.mechanism_checks``; docs/checks.md lists the formulas and their sources).
 
@@ -188,15 +198,6 @@ class MechanismCheck:
     note: str = ""
     status: str | None = None
 
-    @property
-    def unknown(self) -> bool:
-        """Whether the check could not be judged."""
-        return _unknown(self.status, self.ok, self.margin)
-
-    @property
-    def failed(self) -> bool:
-        """Whether the check fails."""
-        return _failed(self.status, self.ok)
 
     def to_dict(self) -> dict[str, Any]:
         """The entry of the JSON's ``mechanism_checks`` list."""
@@ -211,7 +212,7 @@ class MechanismCheck:
 
 
 @dataclass(frozen=True)
-class GearboxCheck:
+class GearboxCheck(Judged):
     """One rating of a gearbox of ``transmission:`` against the cycle (``result.gearbox_rating_checks``).
 
     Attributes
@@ -251,15 +252,6 @@ class GearboxCheck:
     approximate: bool = False
     note: str | None = None
 
-    @property
-    def unknown(self) -> bool:
-        """Whether the check could not be judged."""
-        return _unknown(self.status, self.ok, self.margin)
-
-    @property
-    def failed(self) -> bool:
-        """Whether the check fails."""
-        return _failed(self.status, self.ok)
 
     def to_dict(self) -> dict[str, Any]:
         """The check's object of the JSON's ``gearbox_checks.checks``."""
@@ -295,7 +287,7 @@ class GearboxChecks:
 
 
 @dataclass(frozen=True)
-class BandwidthCheck:
+class BandwidthCheck(Judged):
     """The modes' ``servo_bandwidth`` check: the lowest first mode against k times the velocity bandwidth the
     axis asks for (``dynamics.mechanism_modes.servo_bandwidth_check``). Reported, not part of the verdict.
 
@@ -334,15 +326,6 @@ class BandwidthCheck:
     status: str
     note: str
 
-    @property
-    def unknown(self) -> bool:
-        """Whether the check could not be judged."""
-        return _unknown(self.status, self.ok, self.margin)
-
-    @property
-    def failed(self) -> bool:
-        """Whether the check fails."""
-        return _failed(self.status, self.ok)
 
     def to_dict(self) -> dict[str, Any]:
         """The check's object of the JSON's ``modes.checks``."""
@@ -547,5 +530,5 @@ def slip_check(accel: Array, limit: float, incline: float, g: float) -> RatingCh
     return RatingCheck("slip_limit", need, avail, "m/s^2", margin, margin >= 0.0, note=note)
 
 
-__all__ = ["AxisCheck", "AxisChecks", "BandwidthCheck", "GearboxCheck", "GearboxChecks", "GuideReport",
+__all__ = ["AxisCheck", "AxisChecks", "BandwidthCheck", "GearboxCheck", "GearboxChecks", "GuideReport", "Judged",
            "MechanismCheck", "ModeAtPosition", "Modes", "RatingCheck", "guide_report", "own_checks", "slip_check"]
