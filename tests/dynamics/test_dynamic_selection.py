@@ -48,9 +48,9 @@ def test_the_static_pick_is_passed_over_for_how_it_moves(dynamic: Any, static: A
     assert dynamic.ok
     # its simulation lumped the drive pulley (the gearbox's output lump), whose 1.3-1.8 kHz mode lies far
     # above the loop; the pick not simulated has nothing lumped
-    lumped = judged[pick["motor"]]["simulation_lumped"]
+    lumped = judged[pick.motor]["simulation_lumped"]
     assert len(lumped) == 1 and lumped[0].startswith("gearbox planetary 5:1 lumped into its neighbours")
-    assert judged[first["motor"]]["simulation_lumped"] == []
+    assert judged[first.motor]["simulation_lumped"] == []
 
 
 def test_the_cli_names_the_static_pick_and_why(capsys: pytest.CaptureFixture[str], static: Any) -> None:

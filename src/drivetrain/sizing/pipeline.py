@@ -188,7 +188,12 @@ def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listi
                 judged_first = judge.first(str(chosen.ranking.motors.ids[int(c.motor[best])]),
                                            str(gb.ids[g]) if g >= 0 and gb is not None else None)
             if not judged_first and reselect is not None:
-                chosen, reselect = reselect(), None
+                # passed over: the whole ranking for the walk, without the listing's rows (only the answer's
+                # rows are built, by the walk); the judge keeps its set-up and the static pick's answer
+                from drivetrain.sizing.search import select_first
+
+                chosen, reselect = select_first((context or Context()).tables, axis, duty, spec, margins,
+                                                whole=True), None
     if not judged_first:
         chosen = orderable(axis, duty, chosen, reselect, memo, judge)
     if judge is not None:
