@@ -101,7 +101,9 @@ class Judge:
     accepts that one only and refuses the ones before it with why.
     """
 
-    def __init__(self, axis: Axis, *, objective: str = "first_passing") -> None:
+    def __init__(self, axis: Axis, *, objective: str = "first_passing", duty: DutyCycle | None = None) -> None:
+        """``duty``: the axis's duty cycle at ``duty_cycle``'s default sampling, where the caller has it
+        (the mechanism's stroke is read from it instead of sampling the cycle again)."""
         from drivetrain.dynamics.axis_model import TABLE_POINTS
         from drivetrain.dynamics.axis_stiffness import mechanism_stiffness_of
         from drivetrain.dynamics.response import profile_samples
@@ -112,7 +114,7 @@ class Judge:
         self.req = axis.requirements
         spec = axis.spec.motor.select if axis.spec.motor is not None else None
         self.accept_unknown = spec is None or spec.unknown == "flag"
-        self.stiffness = mechanism_stiffness_of(axis, TABLE_POINTS)
+        self.stiffness = mechanism_stiffness_of(axis, TABLE_POINTS, duty)
         self.samples = profile_samples(axis)  # the load profile, sampled once for every candidate
         self.answer = DynamicSelection(chosen=None, objective=objective)
         self.collect = False

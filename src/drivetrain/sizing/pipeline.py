@@ -163,8 +163,10 @@ def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listi
         import importlib
 
         fastest = spec.objective == "fastest_settling"
+        # the stroke from the duty cycle at hand where it is sampled as duty_cycle samples it (64 per phase)
+        sampled = duty if context is not None and context.points_per_phase == 64 else None
         judge = importlib.import_module("drivetrain.dynamics.dynamic_selection").Judge(
-            axis, objective="fastest_settling" if fastest else "first_passing")
+            axis, objective="fastest_settling" if fastest else "first_passing", duty=sampled)
         if fastest:  # judge the top candidates (refusing all) on a copy, then walk again to the fastest
             import copy
 
