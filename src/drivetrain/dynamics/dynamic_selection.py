@@ -22,6 +22,10 @@ if TYPE_CHECKING:
     from drivetrain.dynamics.response import Response, Samples
 
 
+_PROFILES: dict[str, Samples] = {}
+"""The load profiles sampled (``response.profile_samples``), by repr of the axis's profile and motion."""
+
+
 @dataclass
 class DynamicSelection:
     """The dynamic walk's answer.
@@ -115,7 +119,18 @@ class Judge:
         spec = axis.spec.motor.select if axis.spec.motor is not None else None
         self.accept_unknown = spec is None or spec.unknown == "flag"
         self.stiffness = mechanism_stiffness_of(axis, TABLE_POINTS, duty)
-        self.samples = profile_samples(axis)  # the load profile, sampled once for every candidate
+        # the load profile, sampled once for every candidate and kept for the next axis of the same profile
+        # (a study's variants of load, ratio or requirements): the cycle is its profile's and motion's alone
+        key = repr((axis.spec.profile, axis.mechanism.motion))
+        samples = _PROFILES.get(key)
+        if samples is None:
+            samples = profile_samples(axis)
+            for a in samples:
+                a.setflags(write=False)  # shared: read only
+            if len(_PROFILES) >= 64:
+                _PROFILES.clear()
+            _PROFILES[key] = samples
+        self.samples = samples
         self.answer = DynamicSelection(chosen=None, objective=objective)
         self.collect = False
         self._seen: dict[tuple[str, str | None], Response] = {}
