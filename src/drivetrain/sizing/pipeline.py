@@ -144,10 +144,11 @@ def select_motor(axis: Axis, duty: DutyCycle, *, all_pairs: bool = False, listin
 
 
 def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listing = "ranked",
-               context: Context | None = None) -> Selection:
+               context: Context | None = None, prepared: Prepared | None = None) -> Selection:
     """The drive rule of the drives stage: the selected motor is the best-ranked passing one whose drive
     can be ordered (``drive_select.orderable``); a search's answer is ranked in full first where the
-    first candidate's drive decides."""
+    first candidate's drive decides. ``prepared``: the search's (``select_motor``), whose hulls a
+    ranking of the whole catalog reuses."""
     from drivetrain.sizing.drive_select import orderable
     from drivetrain.sizing.selection import select
 
@@ -194,7 +195,7 @@ def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listi
                 # rows are built, by the walk); the judge keeps its set-up and the static pick's answer
                 from drivetrain.sizing.search import select_first
 
-                chosen, reselect = select_first((context or Context()).tables, axis, duty, spec, margins,
+                chosen, reselect = select_first((context or Context()).tables, axis, duty, spec, margins, prepared,
                                                 whole=True), None
     if not judged_first:
         chosen = orderable(axis, duty, chosen, reselect, memo, judge)
@@ -265,7 +266,7 @@ def size_duty(axis: Axis, duty: DutyCycle, *, all_pairs: bool = False, listing: 
         from drivetrain.sizing.drive_select import attach_drives
 
         chosen = select_motor(axis, duty, all_pairs=all_pairs, listing=listing, context=context, prepared=prepared)
-        chosen = drive_rule(axis, duty, chosen, listing=listing, context=context)
+        chosen = drive_rule(axis, duty, chosen, listing=listing, context=context, prepared=prepared)
         if drives:
             attach_drives(axis, duty, chosen, axis.spec.motor.margins, context.drives)
         result.candidates, result.selection, result.ranking = chosen.listed, chosen.summary, chosen.ranking

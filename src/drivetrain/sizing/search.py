@@ -296,11 +296,13 @@ def select_first(known: dict[str, Tables], axis: Axis, duty: DutyCycle, spec: Se
                  prepared: Prepared | None = None, *, whole: bool = False) -> Selection:
     """``selection.select``'s answer for its first candidate: the same selected (or closest)
     candidate, found by the search of the module docstring (``prepared``: what :func:`prepare_hulls`
-    computed for this axis with this spec and margins). ``whole``: every candidate evaluated and
-    ranked as ``select`` ranks them (the ranking a walk goes down, ``drive_select.orderable``), with
-    the counts, but only the first candidate's row (no listing, Pareto front or next smaller motor)."""
+    computed for this axis with this spec and margins; the hulls computed here are added to it).
+    ``whole``: every candidate evaluated and ranked as ``select`` ranks them (the ranking a walk goes
+    down, ``drive_select.orderable``), with the counts, but only the first candidate's row (no
+    listing, Pareto front or next smaller motor)."""
     tb = selection_tables(known, axis, spec, duty)
-    demands: dict[float, Demand] = {} if prepared is None else dict(prepared.demands)
+    # the hulls computed are kept in ``prepared`` for a later ranking of the same axis (``whole``)
+    demands: dict[float, Demand] = {} if prepared is None else prepared.demands
 
     def ev(motors: MotorTable, gb: GearboxTable | None, allow_direct: bool, effs: list[float]) -> Candidates:
         missing = [e for e in effs if e not in demands]
