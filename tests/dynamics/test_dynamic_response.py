@@ -230,3 +230,22 @@ def test_the_tridiagonal_frequency_response_equals_the_state_space_solve(n: int)
             for out in ("motor_position", "motor_speed", "load_position", "load_speed"):
                 ours, ss = frequency_response(chain, f, inp, out), _frequency_response_ss(chain, f, inp, out)
                 assert np.max(np.abs(ours - ss)) <= 1e-8 * np.max(np.abs(ss))
+
+
+def test_closed_loop_poles_kept_for_the_same_chain_and_loop_only() -> None:
+    """``tune`` checks the loop it returns; ``analyse_loop`` of that chain and loop reuses those poles: the
+    same values as computed afresh, a copy the caller may change, and another loop's own poles."""
+    from drivetrain.dynamics.control import _closed_loop_poles
+
+    chain = Chain(inertia=np.array([5e-4, 2e-3]), stiffness=np.array([3000.0]))
+    loop = tune(chain, None)
+    fresh = _closed_loop_poles(chain, loop)
+    first = closed_loop_poles(chain, loop)
+    first[0][:] = 0.0  # the caller's copy
+    again = closed_loop_poles(chain, loop)
+    for a, b in zip(again, fresh, strict=True):
+        assert np.array_equal(a, b)
+    other = loop.with_(velocity_kp=loop.velocity_kp * 0.5)
+    for a, b in zip(closed_loop_poles(chain, other), _closed_loop_poles(chain, other), strict=True):
+        assert np.array_equal(a, b)
+    assert not np.array_equal(closed_loop_poles(chain, other)[0], fresh[0])

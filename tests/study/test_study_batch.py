@@ -313,3 +313,27 @@ def test_a_variant_value_of_bad_text_is_refused_in_its_row() -> None:
     assert rows[0]["error"] == "" and rows[0]["ok"] == drivetrain.size(BASE).ok
     assert rows[1]["ok"] is False
     assert "axis" in rows[1]["error"] and "Unicode" in rows[1]["error"]
+
+
+BELT_DYNAMIC = yaml.safe_load((EXAMPLES / "belt_dynamic.yaml").read_text(encoding="utf-8"))
+
+
+@pytest.mark.parametrize("mass", [6.0, 9.0, 12.0, 15.0, 20.0])
+def test_requirements_variants_equal_size(engine: Engine, mass: float) -> None:
+    """examples/belt_dynamic.yaml over load masses where its static pick passes its dynamic requirements
+    and where it fails them (the search's pick passed over: the walk down the whole ranking): the study's
+    answer is ``drivetrain.size``'s on the selected motor, gearbox, every margin, the next smaller motor,
+    the optimal ratio and the whole dynamics block."""
+    v = copy.deepcopy(BELT_DYNAMIC)
+    v["mechanism"]["load"]["mass"] = mass
+    axis = parse_axis(v)
+    ref = drivetrain.size(axis)
+    fast, d = engine.size(axis), ref.to_dict()
+    assert fast["ok"] == ref.ok
+    _same_candidate(fast["selection"]["selected"], d["selection"]["selected"])
+    assert fast["selection"]["dynamics"] == d["selection"]["dynamics"]
+    assert fast["selection"].get("drive_passed_over") == d["selection"].get("drive_passed_over")
+    passed = fast["selection"]["dynamics"]["passed_over"]
+    if passed:  # the walk's answer: its neighbours as size's
+        for key in ("next_smaller", "optimal_ratio"):
+            assert fast["selection"].get(key) == d["selection"].get(key)

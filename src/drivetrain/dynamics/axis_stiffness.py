@@ -9,6 +9,7 @@ the stroke) both read it here.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -16,19 +17,26 @@ from drivetrain.axis.model import Axis
 from drivetrain.dynamics import mechanism_stiffness as ms
 from drivetrain.errors import InputError
 
+if TYPE_CHECKING:
+    from drivetrain.duty.cycle import DutyCycle
+
 POINTS = 41
 """Positions across the stroke at which the chain is solved."""
 
 
-def _stroke(axis: Axis, points: int) -> np.ndarray:
+def _stroke(axis: Axis, points: int, duty: DutyCycle | None = None) -> np.ndarray:
     from drivetrain.duty.cycle import duty_cycle
 
-    x = np.asarray(duty_cycle(axis).samples.x, dtype=float)
+    x = np.asarray((duty if duty is not None else duty_cycle(axis)).samples.x, dtype=float)
     return np.linspace(float(x.min()), float(x.max()), points)
 
 
-def mechanism_stiffness_of(axis: Axis, points: int = POINTS) -> ms.MechanismStiffness | None:
+def mechanism_stiffness_of(axis: Axis, points: int = POINTS,
+                           duty: DutyCycle | None = None) -> ms.MechanismStiffness | None:
     """The mechanism's stiffness across the axis's stroke, from ``mechanism.screw/nut``, ``belt`` or ``rack``.
+
+    ``duty``: the axis's ``duty.cycle.duty_cycle`` where the caller has it (sampled at its default
+    points per phase: the stroke is read from its positions), else computed here.
 
     None when the axis file gives no stiffness data for its mechanism (the mechanism is then
     rigid in the chain, as before). Positions in the result are the load positions [m].
@@ -46,7 +54,7 @@ def mechanism_stiffness_of(axis: Axis, points: int = POINTS) -> ms.MechanismStif
         from drivetrain.sizing.mechanism_checks import nut_travel_positions
 
         nut = getattr(spec, "nut", None)
-        pos, span = nut_travel_positions(axis, duty_cycle(axis), points)
+        pos, span = nut_travel_positions(axis, duty if duty is not None else duty_cycle(axis), points)
         parts = ms.screw_drive_stiffness(screw.root_diameter, pos, span, screw.mounting,
                                          nut_stiffness=nut.stiffness if nut is not None and nut.stiffness else math.inf,
                                          bearing_stiffness=screw.support_bearing_stiffness or math.inf,
@@ -61,7 +69,7 @@ def mechanism_stiffness_of(axis: Axis, points: int = POINTS) -> ms.MechanismStif
             c = ms.belt_specific_stiffness_from_tension(belt.permissible_tension, belt.strain_at_permissible)
         if c is None or belt.centre_distance is None:
             return None
-        x = _stroke(axis, points)
+        x = _stroke(axis, points, duty)
         try:
             k = ms.linear_belt_stiffness(c, belt.home_position + x, belt.centre_distance, belt.layout,
                                          belt.clamp_offset)
@@ -70,7 +78,7 @@ def mechanism_stiffness_of(axis: Axis, points: int = POINTS) -> ms.MechanismStif
                              f"({exc.rule})", belt.home_position) from None
         return ms.MechanismStiffness(position=x, parts={"belt": k}, lever=mech.lever)
     if kind == "rack_pinion" and rack is not None and rack.face_width is not None:
-        x = _stroke(axis, points)
+        x = _stroke(axis, points, duty)
         k_mesh = ms.rack_mesh_stiffness(rack.face_width, rack.mesh_stiffness, rack.pressure_angle)
         return ms.MechanismStiffness(position=x, parts={"rack mesh": np.full_like(x, k_mesh)}, lever=mech.lever)
     return None

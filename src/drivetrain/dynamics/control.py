@@ -329,8 +329,22 @@ def _velocity_open_loop_ss(chain: Chain, loop: ServoLoop) -> _SS:
     return sys.then(_SS(a, b, c, 0.0))
 
 
+_LAST_POLES: list[tuple[Chain, ServoLoop, ComplexArray, ComplexArray]] = []
+"""The last chain and loop whose poles were computed (both frozen), with their poles: ``tune`` checks the
+loop it returns for stability, and ``analyse_loop`` of that chain and loop needs the same poles."""
+
+
 def closed_loop_poles(chain: Chain, loop: ServoLoop) -> tuple[ComplexArray, ComplexArray]:
     """Closed-loop poles of the velocity loop and of the position loop [1/s] (delays as Pade-3)."""
+    last = _LAST_POLES[0] if _LAST_POLES else None  # one read: another thread may replace it
+    if last is not None and last[0] is chain and last[1] is loop:
+        return last[2].copy(), last[3].copy()
+    p_vel, p_pos = _closed_loop_poles(chain, loop)
+    _LAST_POLES[:] = [(chain, loop, p_vel.copy(), p_pos.copy())]
+    return p_vel, p_pos
+
+
+def _closed_loop_poles(chain: Chain, loop: ServoLoop) -> tuple[ComplexArray, ComplexArray]:
     vel_cl = _velocity_open_loop_ss(chain, loop).feedback()
     p_vel = np.asarray(np.linalg.eigvals(vel_cl.a), dtype=complex)
     if loop.position_kv == 0.0:

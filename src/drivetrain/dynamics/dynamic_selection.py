@@ -22,6 +22,10 @@ if TYPE_CHECKING:
     from drivetrain.dynamics.response import Response, Samples
 
 
+_PROFILES: dict[str, Samples] = {}
+"""The load profiles sampled (``response.profile_samples``), by repr of the axis's profile and motion."""
+
+
 @dataclass
 class DynamicSelection:
     """The dynamic walk's answer.
@@ -101,7 +105,9 @@ class Judge:
     accepts that one only and refuses the ones before it with why.
     """
 
-    def __init__(self, axis: Axis, *, objective: str = "first_passing") -> None:
+    def __init__(self, axis: Axis, *, objective: str = "first_passing", duty: DutyCycle | None = None) -> None:
+        """``duty``: the axis's duty cycle at ``duty_cycle``'s default sampling, where the caller has it
+        (the mechanism's stroke is read from it instead of sampling the cycle again)."""
         from drivetrain.dynamics.axis_model import TABLE_POINTS
         from drivetrain.dynamics.axis_stiffness import mechanism_stiffness_of
         from drivetrain.dynamics.response import profile_samples
@@ -112,8 +118,19 @@ class Judge:
         self.req = axis.requirements
         spec = axis.spec.motor.select if axis.spec.motor is not None else None
         self.accept_unknown = spec is None or spec.unknown == "flag"
-        self.stiffness = mechanism_stiffness_of(axis, TABLE_POINTS)
-        self.samples = profile_samples(axis)  # the load profile, sampled once for every candidate
+        self.stiffness = mechanism_stiffness_of(axis, TABLE_POINTS, duty)
+        # the load profile, sampled once for every candidate and kept for the next axis of the same profile
+        # (a study's variants of load, ratio or requirements): the cycle is its profile's and motion's alone
+        key = repr((axis.spec.profile, axis.mechanism.motion))
+        samples = _PROFILES.get(key)
+        if samples is None:
+            samples = profile_samples(axis)
+            for a in samples:
+                a.setflags(write=False)  # shared: read only
+            if len(_PROFILES) >= 64:
+                _PROFILES.clear()
+            _PROFILES[key] = samples
+        self.samples = samples
         self.answer = DynamicSelection(chosen=None, objective=objective)
         self.collect = False
         self._seen: dict[tuple[str, str | None], Response] = {}

@@ -144,10 +144,11 @@ def select_motor(axis: Axis, duty: DutyCycle, *, all_pairs: bool = False, listin
 
 
 def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listing = "ranked",
-               context: Context | None = None) -> Selection:
+               context: Context | None = None, prepared: Prepared | None = None) -> Selection:
     """The drive rule of the drives stage: the selected motor is the best-ranked passing one whose drive
     can be ordered (``drive_select.orderable``); a search's answer is ranked in full first where the
-    first candidate's drive decides."""
+    first candidate's drive decides. ``prepared``: the search's (``select_motor``), whose hulls a
+    ranking of the whole catalog reuses."""
     from drivetrain.sizing.drive_select import orderable
     from drivetrain.sizing.selection import select
 
@@ -163,8 +164,10 @@ def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listi
         import importlib
 
         fastest = spec.objective == "fastest_settling"
+        # the stroke from the duty cycle at hand where it is sampled as duty_cycle samples it (64 per phase)
+        sampled = duty if context is not None and context.points_per_phase == 64 else None
         judge = importlib.import_module("drivetrain.dynamics.dynamic_selection").Judge(
-            axis, objective="fastest_settling" if fastest else "first_passing")
+            axis, objective="fastest_settling" if fastest else "first_passing", duty=sampled)
         if fastest:  # judge the top candidates (refusing all) on a copy, then walk again to the fastest
             import copy
 
@@ -188,7 +191,12 @@ def drive_rule(axis: Axis, duty: DutyCycle, chosen: Selection, *, listing: Listi
                 judged_first = judge.first(str(chosen.ranking.motors.ids[int(c.motor[best])]),
                                            str(gb.ids[g]) if g >= 0 and gb is not None else None)
             if not judged_first and reselect is not None:
-                chosen, reselect = reselect(), None
+                # passed over: the whole ranking for the walk, without the listing's rows (only the answer's
+                # rows are built, by the walk); the judge keeps its set-up and the static pick's answer
+                from drivetrain.sizing.search import select_first
+
+                chosen, reselect = select_first((context or Context()).tables, axis, duty, spec, margins, prepared,
+                                                whole=True), None
     if not judged_first:
         chosen = orderable(axis, duty, chosen, reselect, memo, judge)
     if judge is not None:
@@ -258,7 +266,7 @@ def size_duty(axis: Axis, duty: DutyCycle, *, all_pairs: bool = False, listing: 
         from drivetrain.sizing.drive_select import attach_drives
 
         chosen = select_motor(axis, duty, all_pairs=all_pairs, listing=listing, context=context, prepared=prepared)
-        chosen = drive_rule(axis, duty, chosen, listing=listing, context=context)
+        chosen = drive_rule(axis, duty, chosen, listing=listing, context=context, prepared=prepared)
         if drives:
             attach_drives(axis, duty, chosen, axis.spec.motor.margins, context.drives)
         result.candidates, result.selection, result.ranking = chosen.listed, chosen.summary, chosen.ranking

@@ -293,12 +293,16 @@ def prepare_hulls(known: dict[str, Tables], pairs: list[tuple[Axis, DutyCycle]])
 
 
 def select_first(known: dict[str, Tables], axis: Axis, duty: DutyCycle, spec: SelectSpec, margins: Margins,
-                 prepared: Prepared | None = None) -> Selection:
+                 prepared: Prepared | None = None, *, whole: bool = False) -> Selection:
     """``selection.select``'s answer for its first candidate: the same selected (or closest)
     candidate, found by the search of the module docstring (``prepared``: what :func:`prepare_hulls`
-    computed for this axis with this spec and margins)."""
+    computed for this axis with this spec and margins; the hulls computed here are added to it).
+    ``whole``: every candidate evaluated and ranked as ``select`` ranks them (the ranking a walk goes
+    down, ``drive_select.orderable``), with the counts, but only the first candidate's row (no
+    listing, Pareto front or next smaller motor)."""
     tb = selection_tables(known, axis, spec, duty)
-    demands: dict[float, Demand] = {} if prepared is None else dict(prepared.demands)
+    # the hulls computed are kept in ``prepared`` for a later ranking of the same axis (``whole``)
+    demands: dict[float, Demand] = {} if prepared is None else prepared.demands
 
     def ev(motors: MotorTable, gb: GearboxTable | None, allow_direct: bool, effs: list[float]) -> Candidates:
         missing = [e for e in effs if e not in demands]
@@ -310,7 +314,7 @@ def select_first(known: dict[str, Tables], axis: Axis, duty: DutyCycle, spec: Se
                         max_inertia_ratio=spec.max_inertia_ratio, strict=spec.unknown == "fail",
                         given_demands=demands)
 
-    if spec.objective == "smallest":
+    if spec.objective == "smallest" and not whole:
         bounds = search_bounds(tb, duty, margins, spec) if prepared is None else prepared.bounds
         found = _smallest_first(ev, tb, bounds, duty)
         if found is not None:
