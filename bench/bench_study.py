@@ -78,12 +78,12 @@ def _children_cpu() -> float:
     return ru.ru_utime + ru.ru_stime
 
 
-def _cold_sweep(path: Path, src: str) -> tuple[float, float]:
+def _cold_sweep(path: Path, src: str, extra_env: dict[str, str] | None = None) -> tuple[float, float]:
     """Wall and CPU time of ``sweep`` on 2 workers in a new Python process (with ``src`` first on
-    its path if given); the CPU time of that process and its workers."""
+    its path if given, and ``extra_env`` in its environment); the CPU time of that process and its workers."""
     code = ("import sys; from drivetrain.study import load_study, sweep; "
             "sweep(load_study(sys.argv[1]), workers=2)")
-    env = {**os.environ}
+    env = {**os.environ, **(extra_env or {})}
     if src:
         env["PYTHONPATH"] = os.pathsep.join([str(Path(src).resolve()), env.get("PYTHONPATH", "")])
     k0 = _children_cpu()
@@ -102,10 +102,13 @@ def main() -> None:
     ap.add_argument("--against", default="", help="the src directory of another checkout: its cold `sweep` "
                     "and this one's, alternated --rounds times, side by side")
     ap.add_argument("--rounds", type=int, default=3, help="alternations of --against")
+    ap.add_argument("--against-env", default="", help="VAR=VALUE[,VAR=VALUE] for the --against side only "
+                    "(e.g. its own DRIVETRAIN_DATA_DIR and DRIVETRAIN_CACHE_DIR)")
     args = ap.parse_args()
     counts = [int(x) for x in args.grid.split(",")]
     for key, num in zip(STUDY["parameters"], counts, strict=True):
         STUDY["parameters"][key]["num"] = num
+    against_env = dict(kv.split("=", 1) for kv in args.against_env.split(",") if kv)
     load0 = _load()
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "grid.yaml"
@@ -149,7 +152,7 @@ def main() -> None:
         cold, cold_cpu = _cold_sweep(path, "")
         against: dict[str, list[tuple[float, float]]] = {"this": [], "against": []}
         for _ in range(args.rounds if args.against else 0):
-            against["against"].append(_cold_sweep(path, args.against))
+            against["against"].append(_cold_sweep(path, args.against, against_env))
             against["this"].append(_cold_sweep(path, ""))
         # warm clusters of 1, 2, 4 workers
         import dask
