@@ -32,6 +32,9 @@ with objective ``s`` ranks before every candidate of a motor of size key ``>= s 
 are taken by size key, a chunk at a time (motors of equal size in the same chunk), and the search
 stops when the best of the chunks with a passing candidate (evaluated together, ranked by
 ``ranked``) is known to assemble (and to hold) and its objective is below the next motor's size key x 1e6.
+Where the best is known to assemble but its brake's holding torque is not known, only a pair known to
+assemble and to hold can rank before it: the search goes on through the motors whose brake's holding
+torque the catalog has, and no other.
 Motors that fail the max-speed or the inertia-ratio check behind every ratio are not tried. A
 chunk's gearbox rows keep their catalog order, so its candidates keep their relative order and
 ``ranked`` breaks ties as over the whole catalog.
@@ -52,7 +55,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from drivetrain.physics.averages import cubic_mean
-from drivetrain.sizing.candidates import KNOWN_FIRST, Ranking, Selection
+from drivetrain.sizing.candidates import BRAKE_BIT, KNOWN_FIRST, Ranking, Selection
 from drivetrain.sizing.checks import shock_factor
 from drivetrain.sizing.hull import fast_demands
 from drivetrain.sizing.motor_brake import holding_need
@@ -349,6 +352,11 @@ def _smallest_first(ev: Any, tb: Tables, bounds: Search, duty: DutyCycle) -> Fou
             assert found is not None
             c, sub, gb = found
             best = (c, sub, gb, ranked(c, sub, gb, "smallest", duty))
+            if int(c.unknown[best[3][0]]) & KNOWN_FIRST == BRAKE_BIT:
+                # known to assemble, its brake not known: only a pair known to assemble and to hold ranks
+                # before it, so only a motor whose brake's holding torque is known is still worth a chunk
+                rest = order[start:]
+                order = np.concatenate([order[:start], rest[np.isfinite(tb.motors.brake_holding_torque[rest])]])
         if best is not None and (stop == len(order) or _beats_the_rest(best, tb, duty,
                                                                        float(tb.size_key[order[stop]]))):
             return best
