@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import json
 import math
-import shutil
 import textwrap
 from pathlib import Path
 
@@ -17,6 +16,7 @@ from drivetrain.catalog import check, db, voltage_class
 from drivetrain.catalog.cli import main
 from drivetrain.catalog.derive import derive_motor, kt_from_back_emf
 from drivetrain.errors import InputErrors
+from tests.catalog.folders import fresh_dir
 
 RPM = 2 * math.pi / 60
 HEAD = ("id,vendor,series,rated_torque [N*m],peak_torque [N*m],rated_speed [rpm],max_speed [rpm],"
@@ -31,10 +31,7 @@ def built(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 @pytest.fixture(autouse=True)
 def data_dir(tmp_path: Path, built: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    base = tmp_path / "data"
-    base.mkdir()
-    shutil.copy(built, base / db.BUILTIN_NAME)
-    monkeypatch.setenv(db.ENV_DATA_DIR, str(base))
+    base = fresh_dir(tmp_path / "data", built, monkeypatch)
     monkeypatch.delenv(db.ENV_CATALOG, raising=False)
     return base
 

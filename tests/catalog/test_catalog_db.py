@@ -7,7 +7,6 @@ import csv
 import io
 import json
 import math
-import shutil
 import sqlite3
 import sys
 from pathlib import Path
@@ -19,6 +18,7 @@ from drivetrain import catalog
 from drivetrain.catalog import cli, db
 from drivetrain.catalog.schema import MOTOR, ROW_TABLES, SHIPPED_FILES
 from drivetrain.errors import InputError
+from tests.catalog.folders import fresh_dir
 from tests.conftest import family_drive_rows, family_gearbox_rows, family_motor_rows
 
 USER_MOTORS = (
@@ -36,11 +36,7 @@ def built(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 @pytest.fixture(autouse=True)
 def data_dir(tmp_path: Path, built: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    d = tmp_path / "data"
-    d.mkdir()
-    shutil.copy(built, d / db.BUILTIN_NAME)
-    monkeypatch.setenv(db.ENV_DATA_DIR, str(d))
-    return d
+    return fresh_dir(tmp_path / "data", built, monkeypatch)
 
 
 @pytest.fixture

@@ -9,7 +9,6 @@ import io
 import json
 import math
 import os
-import shutil
 import signal
 import sqlite3
 import subprocess
@@ -22,6 +21,7 @@ import pytest
 from drivetrain import catalog
 from drivetrain.catalog import db, importer
 from drivetrain.errors import InputError, InputErrors
+from tests.catalog.folders import fresh_dir
 from tests.conftest import family_gearbox_rows, family_motor_rows
 
 RPM = 2 * math.pi / 60
@@ -39,13 +39,6 @@ GOOD_MOTORS = (
 def built(tmp_path_factory: pytest.TempPathFactory) -> Path:
     directory = tmp_path_factory.mktemp("catalog-import")
     return db.builtin_db(directory)
-
-
-def fresh_dir(base: Path, built: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    base.mkdir(parents=True)
-    shutil.copy(built, base / db.BUILTIN_NAME)
-    monkeypatch.setenv(db.ENV_DATA_DIR, str(base))
-    return base
 
 
 @pytest.fixture(autouse=True)

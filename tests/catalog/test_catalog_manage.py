@@ -18,6 +18,7 @@ from drivetrain.catalog.cli import UNVERIFIED_MARK
 from drivetrain.catalog.schema import FIELD_GROUPS, GEARBOX, MOTOR, trace
 from drivetrain.cli import main
 from drivetrain.errors import InputError, InputErrors
+from tests.catalog.folders import fresh_dir
 from tests.conftest import family_motor_rows
 
 EXAMPLES = Path(__file__).parents[2] / "examples" / "catalog"
@@ -38,10 +39,7 @@ def built(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 @pytest.fixture(autouse=True)
 def data_dir(tmp_path: Path, built: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    base = tmp_path / "data"
-    base.mkdir()
-    shutil.copy(built, base / db.BUILTIN_NAME)
-    monkeypatch.setenv(db.ENV_DATA_DIR, str(base))
+    base = fresh_dir(tmp_path / "data", built, monkeypatch)
     # set (empty: the default file), not deleted, so that teardown also undoes a --catalog of a test
     monkeypatch.setenv(db.ENV_CATALOG, "")
     catalog._CACHE.clear()

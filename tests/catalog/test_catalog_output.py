@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import json
 import re
-import shutil
 from pathlib import Path
 
 import pytest
@@ -20,6 +19,7 @@ from drivetrain.catalog.cli import _LIST_COLUMNS, CHECK_DROP, UNVERIFIED_MARK, _
 from drivetrain.catalog.schema import TABLES
 from drivetrain.cli import main
 from drivetrain.terminal import _frame, layout
+from tests.catalog.folders import fresh_dir
 
 ROOT = Path(__file__).resolve().parents[2]
 BOX = "┏┃┡│└"
@@ -33,10 +33,7 @@ def built(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 @pytest.fixture(autouse=True)
 def data_dir(tmp_path: Path, built: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    base = tmp_path / "data"
-    base.mkdir()
-    shutil.copy(built, base / db.BUILTIN_NAME)
-    monkeypatch.setenv(db.ENV_DATA_DIR, str(base))
+    base = fresh_dir(tmp_path / "data", built, monkeypatch)
     monkeypatch.setenv(db.ENV_CATALOG, "")
     monkeypatch.delenv("COLUMNS", raising=False)
     catalog._CACHE.clear()

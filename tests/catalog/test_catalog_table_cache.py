@@ -5,7 +5,6 @@ touching the file."""
 from __future__ import annotations
 
 import dataclasses
-import shutil
 from pathlib import Path
 
 import numpy as np
@@ -13,6 +12,7 @@ import pytest
 
 from drivetrain import catalog
 from drivetrain.catalog import db, table_cache
+from tests.catalog.folders import fresh_dir
 
 USER_MOTOR = (
     "id,vendor,series,kind,rated_torque [N*m],peak_torque [N*m],rated_speed [rpm],max_speed [rpm],"
@@ -28,10 +28,7 @@ def built(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 @pytest.fixture(autouse=True)
 def folders(tmp_path: Path, built: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    d = tmp_path / "data"
-    d.mkdir()
-    shutil.copy(built, d / db.BUILTIN_NAME)
-    monkeypatch.setenv(db.ENV_DATA_DIR, str(d))
+    fresh_dir(tmp_path / "data", built, monkeypatch)
     monkeypatch.setenv("DRIVETRAIN_CACHE_DIR", str(tmp_path / "cache"))
     catalog._CACHE.clear()  # a new process
     yield tmp_path / "cache" / "catalog"
