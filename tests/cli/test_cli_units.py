@@ -16,6 +16,7 @@ import yaml
 
 from drivetrain import cli
 from drivetrain.study.cli import objective_text
+from tests.sizing.test_sizing_electrical import Z_LIFT as ELECTRICAL_Z_LIFT
 
 ROOT = Path(__file__).resolve().parents[2]
 BALL = ROOT / "examples" / "ball_screw.yaml"
@@ -25,18 +26,9 @@ LB_IN2_KGCM2 = 0.45359237 * 2.54**2  # [kg*cm^2] one pound inch squared
 IN = 0.0254  # [m]
 LBF_PER_IN = 4.4482216152605 / 0.0254  # [N/m] one pound-force per inch
 
-# A given catalog motor with electrical data and a drive, so the check and electrical blocks print.
-Z_LIFT = {
-    "axis": "Z lift",
-    "mechanism": {"type": "ball_screw", "lead": "10 mm", "diameter": "20 mm", "length": "600 mm",
-                  "efficiency": 0.9, "incline": "90 deg", "load": {"mass": "40 kg"}},
-    "profile": [{"move": "300 mm", "time": "0.6 s", "accel": "0.15 s"}, {"dwell": "0.3 s"},
-                {"move": "-300 mm", "time": "0.6 s", "accel": "0.15 s"}, {"dwell": "0.3 s"}],
-    "motor": {"id": "1FT7044-5AK7", "rated_rise": "100 K"},
-    "drive": {"id": "test drive", "vendor": "test", "continuous_current": "9 A", "peak_current": "18 A",
-              "peak_time": "0.25 s", "supply_voltage": "400 V", "bus_capacitance": "110 uF",
-              "bus_max_voltage": "720 V", "regen_on_voltage": "700 V", "min_resistance": "40 ohm"},
-}
+# A given catalog motor with electrical data and a drive, so the check and electrical blocks print: the
+# electrical tests' Z lift at the default environment.
+Z_LIFT = {k: v for k, v in ELECTRICAL_Z_LIFT.items() if k != "environment"}
 
 
 def run(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str]:
