@@ -74,6 +74,13 @@ class Harness:
     def finish(self, name: str) -> None:
         self.gates[name].set()
 
+    async def queue(self, names: str) -> None:
+        """Submit ``names`` one by one, each after the one before is waiting: their order in the queue."""
+        for name in names:
+            waiting = len(self.pool.waiting)
+            self.submit(name)
+            await until(lambda waiting=waiting: len(self.pool.waiting) == waiting + 1)  # type: ignore[misc]
+
 
 async def until(condition: Callable[[], bool]) -> None:
     for _ in range(STEP_LIMIT):
@@ -92,9 +99,7 @@ def test_a_freed_worker_goes_to_the_longest_waiting_request(tmp_path: Path) -> N
         h = Harness(tmp_path)
         h.submit("A")
         await until(lambda: h.started == ["A"])
-        for k, name in enumerate("BCD", start=1):
-            h.submit(name)
-            await until(lambda k=k: len(h.pool.waiting) == k)  # type: ignore[misc]
+        await h.queue("BCD")
         h.finish("A")
         assert await h.tasks["A"] == "A"
         # a request arriving the moment a worker comes free queues behind the ones already waiting
@@ -115,9 +120,7 @@ def test_with_two_workers_the_order_holds(tmp_path: Path) -> None:
         h.submit("A")
         h.submit("B")
         await until(lambda: sorted(h.started) == ["A", "B"])
-        for k, name in enumerate("CDEF", start=1):
-            h.submit(name)
-            await until(lambda k=k: len(h.pool.waiting) == k)  # type: ignore[misc]
+        await h.queue("CDEF")
         h.finish("B")
         await until(lambda: len(h.started) == 3)
         h.finish("A")
@@ -142,9 +145,7 @@ def test_a_waiter_that_gives_up_is_skipped(tmp_path: Path) -> None:
         h = Harness(tmp_path)
         h.submit("A")
         await until(lambda: h.started == ["A"])
-        for k, name in enumerate("BCD", start=1):
-            h.submit(name)
-            await until(lambda k=k: len(h.pool.waiting) == k)  # type: ignore[misc]
+        await h.queue("BCD")
         h.tasks["C"].cancel()  # its time limit fired while it waited
         await until(lambda: len(h.pool.waiting) == 2)
         for name in "ABD":
